@@ -1,0 +1,192 @@
+// Timing of the roll-bite solve (MODEL.md §4) for the default scenario.
+//
+// Output, one figure per line on stdout, in a stable format that scripts can parse:
+//     <bench>.<figure>: <value> <unit>
+// e.g. "roll_gap.distributions.median: 123.456 us". Diagnostics go to stderr.
+//
+// Usage: bench_roll_gap [--filter SUBSTRING] [--min-time SECONDS] [--reps N] [--list]
+//
+// To add a bench (critical speed, amplitude, sweep, ...): write a function
+// `int bench_xxx(const Config&)` that calls time_it() and print_timing(), and add it to
+// kBenches at the bottom. A bench returns non-zero when the thing it timed did not succeed
+// (timing a failure path would give meaningless figures).
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <functional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "core/roll_bite.h"
+#include "core/scenario.h"
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+struct Config {
+    double min_time_s = 1.0;    // measure at least this long ...
+    long min_reps = 2000;       // ... and at least this many repetitions,
+    double max_time_s = 20.0;   // but stop after this long once min_reps_hard are done
+    long min_reps_hard = 20;
+    double warmup_s = 0.2;      // warm-up: this long or warmup_reps, whichever comes first
+    long warmup_reps = 200;
+};
+
+struct Timing {
+    std::vector<double> us;  // per-call wall time, microseconds, sorted ascending
+    double total_s = 0.0;
+};
+
+// Keeps the optimiser from discarding the timed work.
+volatile double g_sink = 0.0;
+
+// Times `call` repeatedly, one clock reading around each call.
+Timing time_it(const Config& cfg, const std::function<double()>& call) {
+    const auto warm_start = Clock::now();
+    for (long i = 0; i < cfg.warmup_reps; ++i) {
+        g_sink = g_sink + call();
+        if (std::chrono::duration<double>(Clock::now() - warm_start).count() >= cfg.warmup_s) break;
+    }
+
+    Timing t;
+    t.us.reserve(static_cast<std::size_t>(cfg.min_reps));
+    const auto start = Clock::now();
+    for (;;) {
+        const auto t0 = Clock::now();
+        g_sink = g_sink + call();
+        const auto t1 = Clock::now();
+        t.us.push_back(std::chrono::duration<double, std::micro>(t1 - t0).count());
+        const double elapsed = std::chrono::duration<double>(t1 - start).count();
+        const auto n = static_cast<long>(t.us.size());
+        const bool enough = n >= cfg.min_reps && elapsed >= cfg.min_time_s;
+        const bool out_of_time = elapsed >= cfg.max_time_s && n >= cfg.min_reps_hard;
+        if (enough || out_of_time) {
+            t.total_s = elapsed;
+            break;
+        }
+    }
+    std::sort(t.us.begin(), t.us.end());
+    return t;
+}
+
+// Percentile of sorted data, linear interpolation between order statistics (q in [0, 1]).
+double percentile(const std::vector<double>& sorted, double q) {
+    if (sorted.empty()) return std::nan("");
+    const double pos = q * static_cast<double>(sorted.size() - 1);
+    const auto lo = static_cast<std::size_t>(std::floor(pos));
+    const auto hi = std::min(lo + 1, sorted.size() - 1);
+    const double frac = pos - static_cast<double>(lo);
+    return sorted[lo] + frac * (sorted[hi] - sorted[lo]);
+}
+
+void print_figure(const std::string& name, double value, const char* unit) {
+    std::printf("%s: %.6g %s\n", name.c_str(), value, unit);
+}
+
+void print_count(const std::string& name, long value) {
+    std::printf("%s: %ld count\n", name.c_str(), value);
+}
+
+void print_timing(const std::string& name, const Timing& t) {
+    print_figure(name + ".median", percentile(t.us, 0.50), "us");
+    print_figure(name + ".p10", percentile(t.us, 0.10), "us");
+    print_figure(name + ".p90", percentile(t.us, 0.90), "us");
+    print_count(name + ".samples", static_cast<long>(t.us.size()));
+    std::fflush(stdout);
+}
+
+// ---- benches --------------------------------------------------------------------------------
+
+// solve_roll_bite(scenario, steady_bite_state(scenario)) for the default scenario, with and
+// without the distributions p(x), tau(x), ... (the state is computed inside the timed call).
+int bench_roll_gap(const Config& cfg) {
+    const rollgap::core::Scenario scenario{};
+
+    // One untimed solve to check that we time the real path, not an early failure.
+    const auto check = rollgap::core::solve_roll_bite(
+        scenario, rollgap::core::steady_bite_state(scenario));
+    if (check.status != rollgap::core::BiteStatus::ok) {
+        std::fprintf(stderr, "roll_gap: default scenario did not solve: %s (%s)\n",
+                     rollgap::core::to_string(check.status), check.message);
+        return 1;
+    }
+    print_figure("roll_gap.force", check.force, "N");
+    print_count("roll_gap.distribution_points", static_cast<long>(check.distribution.size()));
+
+    for (const bool distributions : {true, false}) {
+        rollgap::core::BiteOptions options;
+        options.distributions = distributions;
+        const Timing t = time_it(cfg, [&] {
+            const auto r = rollgap::core::solve_roll_bite(
+                scenario, rollgap::core::steady_bite_state(scenario), options);
+            return r.force;
+        });
+        print_timing(distributions ? "roll_gap.distributions" : "roll_gap.no_distributions", t);
+    }
+    return 0;
+}
+
+struct Bench {
+    const char* name;
+    int (*run)(const Config&);
+};
+
+// Register new benches here.
+constexpr Bench kBenches[] = {
+    {"roll_gap", bench_roll_gap},
+};
+
+[[noreturn]] void usage(const char* argv0, int code) {
+    std::fprintf(code == 0 ? stdout : stderr,
+                 "usage: %s [--filter SUBSTRING] [--min-time SECONDS] [--reps N] [--list]\n",
+                 argv0);
+    std::exit(code);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    Config cfg;
+    std::string filter;
+    bool list = false;
+    for (int i = 1; i < argc; ++i) {
+        const std::string_view arg = argv[i];
+        const bool has_value = i + 1 < argc;
+        if (arg == "--filter" && has_value) {
+            filter = argv[++i];
+        } else if (arg == "--min-time" && has_value) {
+            cfg.min_time_s = std::atof(argv[++i]);
+        } else if (arg == "--reps" && has_value) {
+            cfg.min_reps = std::atol(argv[++i]);
+        } else if (arg == "--list") {
+            list = true;
+        } else if (arg == "--help" || arg == "-h") {
+            usage(argv[0], 0);
+        } else {
+            usage(argv[0], 2);
+        }
+    }
+
+    int failures = 0;
+    int ran = 0;
+    for (const Bench& b : kBenches) {
+        if (!filter.empty() && std::string_view(b.name).find(filter) == std::string_view::npos) continue;
+        if (list) {
+            std::printf("%s\n", b.name);
+            continue;
+        }
+        ++ran;
+        if (b.run(cfg) != 0) ++failures;
+    }
+    if (!list && ran == 0) {
+        std::fprintf(stderr, "no bench matches filter '%s'\n", filter.c_str());
+        return 2;
+    }
+    return failures == 0 ? 0 : 1;
+}

@@ -1,0 +1,61 @@
+#!/usr/bin/env bash
+# Install rollgap's build and test dependencies on Debian 12 (bookworm).
+#
+# Idempotent: if every package is already installed it returns at once without touching apt
+# (no apt-get update, no root needed), so every other script can call it first.
+# Runs as root; otherwise uses sudo when it is available.
+set -euo pipefail
+
+# --- The packages (see /work/shared/BUILD-NOTES.md) ---------------------------------------
+# Add new packages to one of these groups (or a new group) and to PACKAGES below.
+BUILD_PACKAGES=(build-essential cmake pkg-config)
+LIBRARY_PACKAGES=(libeigen3-dev libsundials-dev libcpp-httplib-dev nlohmann-json3-dev libspdlog-dev)
+TEST_PACKAGES=(doctest-dev)
+# Tools for scripts, CI and later issues (e.g. python3 python3-numpy for the paper plots,
+# curl for the HTTP smoke test). Empty for now.
+TOOL_PACKAGES=()
+
+PACKAGES=("${BUILD_PACKAGES[@]}" "${LIBRARY_PACKAGES[@]}" "${TEST_PACKAGES[@]}" "${TOOL_PACKAGES[@]}")
+# -------------------------------------------------------------------------------------------
+
+log() { printf 'install-deps: %s\n' "$*" >&2; }
+
+if ! command -v dpkg-query >/dev/null 2>&1; then
+    log "dpkg-query not found: this script targets Debian 12 (bookworm)."
+    log "Install the equivalents of: ${PACKAGES[*]}"
+    exit 1
+fi
+
+# A package counts as installed only when dpkg says "install ok installed".
+missing=()
+for pkg in "${PACKAGES[@]}"; do
+    status=$(dpkg-query -W -f='${Status}' "$pkg" 2>/dev/null || true)
+    if [[ "$status" != "install ok installed" ]]; then
+        missing+=("$pkg")
+    fi
+done
+
+if [[ ${#missing[@]} -eq 0 ]]; then
+    log "all ${#PACKAGES[@]} packages already installed; nothing to do."
+    exit 0
+fi
+
+log "missing: ${missing[*]}"
+
+SUDO=()
+if [[ $(id -u) -ne 0 ]]; then
+    if command -v sudo >/dev/null 2>&1; then
+        SUDO=(sudo)
+    else
+        log "not root and sudo is not available: run as root, or install: ${missing[*]}"
+        exit 1
+    fi
+fi
+
+export DEBIAN_FRONTEND=noninteractive
+"${SUDO[@]}" env DEBIAN_FRONTEND=noninteractive apt-get update
+# Install the whole list (not only the missing ones) so apt resolves them together; packages
+# already present are left as they are.
+"${SUDO[@]}" env DEBIAN_FRONTEND=noninteractive \
+    apt-get install -y --no-install-recommends "${PACKAGES[@]}" </dev/null
+log "done."
