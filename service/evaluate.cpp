@@ -1,0 +1,124 @@
+#include "service/evaluate.h"
+
+#include <exception>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include <spdlog/spdlog.h>
+
+#include "api/field_errors.h"
+#include "api/json_text.h"
+#include "api/name_suggestion.h"
+#include "api/request_json.h"
+#include "api/scenario_json.h"
+#include "api/text.h"
+#include "service/analyses.h"
+
+namespace rollgap::service {
+namespace {
+
+Outcome internal_error(std::string_view what) {
+    spdlog::error("internal error while evaluating a request: {}", what);
+    return problem_outcome(api::make_problem(
+        api::ProblemCode::internal, "the analysis failed unexpectedly; the service log has the cause"));
+}
+
+Outcome evaluate_unguarded(const nlohmann::json& request, std::span<const Analysis> offered) {
+    // Everything below walks the request recursively; text input was bounded by the parser
+    // already, this covers JSON built in code.
+    if (api::nests_deeper_than(request, api::max_json_depth)) {
+        return problem_outcome(api::make_problem(
+            api::ProblemCode::invalid_request,
+            api::concat("request nests deeper than ", std::to_string(api::max_json_depth), " levels")));
+    }
+
+    api::FieldErrors envelope_errors;
+    const api::AnalysisRequest parsed = api::analysis_request_from_json(request, envelope_errors);
+    if (!envelope_errors.empty()) {
+        return problem_outcome(envelope_errors.to_problem(api::ProblemCode::invalid_request,
+                                                          "the request envelope is invalid"));
+    }
+
+    const Analysis* analysis = find_analysis(offered, parsed.analysis);
+    if (analysis == nullptr) {
+        std::vector<std::string_view> names;
+        for (const Analysis& row : offered) names.push_back(row.name);
+        std::string detail = api::concat("unknown analysis ", api::quoted_for_message(parsed.analysis));
+        if (const auto suggestion = api::closest_name(parsed.analysis, names)) {
+            detail += api::concat("; did you mean '", *suggestion, "'?");
+        }
+        return problem_outcome(api::make_problem(
+            api::ProblemCode::unknown_analysis,
+            api::concat("no analysis named ", api::quoted_for_message(parsed.analysis)),
+            {{"/analysis", std::move(detail), api::choices_text(names), std::nullopt}}));
+    }
+
+    // Scenario and options violations are reported together.
+    api::FieldErrors errors;
+    const core::Scenario scenario = api::scenario_from_patch(parsed.scenario_patch, "/scenario", errors);
+    const bool scenario_valid = errors.empty();
+    PreparedAnalysis prepared = analysis->prepare(scenario, parsed.options, "/options", errors);
+    if (!errors.empty()) {
+        const std::string detail = api::concat(std::to_string(errors.size()),
+                                               errors.size() == 1 ? " violation" : " violations",
+                                               scenario_valid ? " in the options" : " in the scenario and options");
+        return problem_outcome(errors.to_problem(
+            scenario_valid ? api::ProblemCode::invalid_options : api::ProblemCode::invalid_scenario, detail));
+    }
+
+    Outcome outcome;
+    outcome.body = {
+        {"analysis", analysis->name},
+        {"scenario", api::resolved_scenario_json(scenario)},
+        {"options", std::move(prepared.resolved_options)},
+        {"result", prepared.run()},
+    };
+    return outcome;
+}
+
+}  // namespace
+
+std::string_view Outcome::media_type() const {
+    return ok() ? std::string_view("application/json") : api::problem_media_type;
+}
+
+Outcome problem_outcome(const api::Problem& problem) {
+    Outcome outcome;
+    outcome.http_status = problem.http_status();
+    outcome.body = api::problem_json(problem);
+    outcome.problem = problem.code;
+    return outcome;
+}
+
+Outcome evaluate(const nlohmann::json& request) { return evaluate(request, analyses()); }
+
+Outcome evaluate(const nlohmann::json& request, std::span<const Analysis> offered) {
+    try {
+        return evaluate_unguarded(request, offered);
+    } catch (const std::exception& error) {
+        return internal_error(error.what());
+    } catch (...) {
+        return internal_error("a non-standard exception");
+    }
+}
+
+Outcome evaluate_text(std::string_view text) {
+    try {
+        if (text.size() > max_request_bytes) {
+            return problem_outcome(api::make_problem(
+                api::ProblemCode::payload_too_large,
+                api::concat("the request has ", std::to_string(text.size()), " bytes; the limit is ",
+                            std::to_string(max_request_bytes))));
+        }
+        auto parsed = api::parse_json_text(text);
+        if (auto* problem = std::get_if<api::Problem>(&parsed)) return problem_outcome(*problem);
+        return evaluate(std::get<nlohmann::json>(parsed));
+    } catch (const std::exception& error) {
+        return internal_error(error.what());
+    } catch (...) {
+        return internal_error("a non-standard exception");
+    }
+}
+
+}  // namespace rollgap::service
