@@ -1,0 +1,76 @@
+#pragma once
+// Linear stability of the coupled model about its steady operating point, and the critical
+// rolling speed (MODEL.md §7.3).
+
+#include <complex>
+#include <vector>
+
+#include <Eigen/Dense>
+
+#include "core/control.h"
+#include "core/coupled_model.h"
+
+namespace rollgap::core {
+
+struct Linearisation {
+    DynamicsStatus status = DynamicsStatus::solver_failure;
+    Eigen::MatrixXd jacobian;
+};
+
+// Central differences of f at (t, z) with MODEL.md's steps: q 1e-7 m, q' 1e-3 m/s,
+// h0 1e-5 h0, tensions 1 kPa.
+Linearisation linearise(const CoupledModel& model, const Eigen::VectorXd& z, double t = 0.0);
+
+struct Eigenmode {
+    std::complex<double> eigenvalue;  // 1/s
+    double frequency_Hz = 0.0;        // Im / 2 pi
+    double damping_ratio = 1.0;       // -Re / |lambda|
+    Vector6 shape = Vector6::Zero();  // |q| per mass (m1..m6), largest 1
+};
+
+struct SpeedStability {
+    double speed = 0.0;
+    BiteStatus steady_status = BiteStatus::solver_failure;  // no steady state unless ok
+    DynamicsStatus status = DynamicsStatus::solver_failure;
+    bool stable = false;
+    double max_real_part = 0.0;     // over all eigenvalues, 1/s
+    Eigenmode least_damped;         // the oscillatory eigenvalue with the largest real part
+    std::vector<Eigenmode> oscillatory;  // Im > 0, ascending frequency
+    std::vector<std::complex<double>> eigenvalues;
+    double strip_stiffness = 0.0;
+    double force = 0.0;
+};
+
+// Eigenvalues of the linearisation at the scenario's own speed.
+SpeedStability stability_at(const Scenario& s);
+
+struct CriticalSpeedOptions {
+    double speed_min = 1.0;   // m/s
+    double speed_max = 60.0;  // m/s
+    double speed_step = 0.5;  // m/s, at most 0.5
+    double relative_tolerance = 1e-4;
+    int threads = 1;
+};
+
+enum class CriticalSpeedStatus { found, stable_in_range, unstable_at_lower_bound, no_steady_state, cancelled };
+const char* to_string(CriticalSpeedStatus);
+
+// One oscillatory eigenvalue followed over speed by frequency continuity.
+struct DampingBranch {
+    std::vector<double> speed, frequency_Hz, damping_ratio;
+};
+
+struct CriticalSpeedResult {
+    CriticalSpeedStatus status = CriticalSpeedStatus::no_steady_state;
+    double critical_speed = 0.0;  // m/s, when found
+    Eigenmode unstable_mode;      // the eigenvalue crossing zero there
+    std::vector<SpeedStability> scan;  // without the per-speed mode lists
+    std::vector<DampingBranch> branches;
+};
+
+CriticalSpeedResult critical_speed(const Scenario& s, const CriticalSpeedOptions& options = {},
+                                   const Control& control = {});
+
+const char* to_string(CriticalSpeedStatus);
+
+}  // namespace rollgap::core
