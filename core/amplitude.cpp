@@ -50,8 +50,9 @@ AmplitudeResult vibration_amplitude(const Scenario& s, const AmplitudeOptions& o
     out.excitation_frequency_Hz =
         options.excitation_frequency_Hz > 0.0 ? options.excitation_frequency_Hz : linear.least_damped.frequency_Hz;
 
-    const ReferenceState ref = reference_state(s, false);
-    const CoupledModel model(s, ref, Excitation{options.excitation_amplitude, out.excitation_frequency_Hz});
+    const Scenario dynamics = dynamics_scenario(s);
+    const ReferenceState ref = reference_state(dynamics, false);
+    const CoupledModel model(dynamics, ref, Excitation{options.excitation_amplitude, out.excitation_frequency_Hz});
 
     // Sample fast enough for the excitation and for the stack's ~400 Hz modes.
     const double fastest = std::max(out.excitation_frequency_Hz, 400.0);

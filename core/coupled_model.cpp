@@ -20,6 +20,11 @@ const char* to_string(DynamicsStatus status) {
     return "unknown";
 }
 
+Scenario dynamics_scenario(Scenario s) {
+    s.numerics.bite_intervals = s.numerics.dynamics_bite_intervals;
+    return s;
+}
+
 ReferenceState reference_state(const Scenario& s, bool with_strip_stiffness) {
     ReferenceState ref;
     const BiteState steady = steady_bite_state(s);

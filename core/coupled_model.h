@@ -27,6 +27,9 @@ struct ReferenceState {
     double strip_stiffness = 0.0;   // k4 = -dP/dy2 at the steady film, N/m
 };
 
+// The scenario the dynamics run on: the bite with numerics.dynamics_bite_intervals steps.
+Scenario dynamics_scenario(Scenario s);
+
 // k4 by central differences (delta = 1e-7 m) with the film at its steady value h00(y2).
 // k4 cancels from the coupled equations; `with_strip_stiffness = false` skips it.
 ReferenceState reference_state(const Scenario& s, bool with_strip_stiffness = true);

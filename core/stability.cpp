@@ -122,8 +122,9 @@ Eigenmode make_mode(std::complex<double> lambda, const Eigen::VectorXcd& vector)
     return mode;
 }
 
-SpeedStability analyse(const Scenario& s, bool with_strip_stiffness) {
+SpeedStability analyse(const Scenario& scenario, bool with_strip_stiffness) {
     SpeedStability out;
+    const Scenario s = dynamics_scenario(scenario);
     out.speed = s.rolls.speed;
     const ReferenceState ref = reference_state(s, with_strip_stiffness);
     out.steady_status = ref.status;

@@ -12,13 +12,14 @@ TensionCycleResult tension_cycle(Scenario s, const TensionCycleOptions& options,
     s.tensions.back.mode = TensionMode::sinusoid;
     out.frequency_Hz = s.tensions.back.frequency;
 
-    const ReferenceState ref = reference_state(s, false);
+    const Scenario dynamics = dynamics_scenario(s);
+    const ReferenceState ref = reference_state(dynamics, false);
     out.steady_status = ref.status;
     if (ref.status != BiteStatus::ok) {
         out.message = "no steady state at the mean tension: the bite skids or loses contact";
         return out;
     }
-    const CoupledModel model(s, ref);
+    const CoupledModel model(dynamics, ref);
 
     std::vector<double> phases = options.phases;
     std::sort(phases.begin(), phases.end());
@@ -52,7 +53,7 @@ TensionCycleResult tension_cycle(Scenario s, const TensionCycleOptions& options,
         p.back_tension = state.back_tension;
         p.gap = states[i](2) - states[i](3);
         p.inlet_film = states[i](CoupledModel::kFilm);
-        p.bite = solve_roll_bite(s, state);
+        p.bite = solve_roll_bite(s, state);  // the distributions at the scenario's own resolution
         out.phases.push_back(std::move(p));
     }
     return out;

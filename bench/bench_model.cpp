@@ -1,10 +1,11 @@
-// Timing of the roll-bite solve (MODEL.md §4) for the default scenario.
+// Timing of rollgap's analyses for the default scenario: the roll-bite solve (MODEL.md §4), the
+// critical speed (§7.3), the amplitude (§7.4) and a critical-speed sweep (§7.5).
 //
 // Output, one figure per line on stdout, in a stable format that scripts can parse:
 //     <bench>.<figure>: <value> <unit>
 // e.g. "roll_gap.distributions.median: 123.456 us". Diagnostics go to stderr.
 //
-// Usage: bench_roll_gap [--filter SUBSTRING] [--min-time SECONDS] [--reps N] [--list]
+// Usage: bench_model [--filter SUBSTRING] [--min-time SECONDS] [--reps N] [--list]
 //
 // To add a bench (critical speed, amplitude, sweep, ...): write a function
 // `int bench_xxx(const Config&)` that calls time_it() and print_timing(), and add it to
@@ -22,8 +23,12 @@
 #include <string_view>
 #include <vector>
 
+#include "core/amplitude.h"
+#include "core/parallel_for.h"
 #include "core/roll_bite.h"
 #include "core/scenario.h"
+#include "core/stability.h"
+#include "core/sweep.h"
 
 namespace {
 
@@ -132,6 +137,66 @@ int bench_roll_gap(const Config& cfg) {
     return 0;
 }
 
+// The expensive analyses repeat a few times, not thousands.
+Config heavy(const Config& cfg, long reps) {
+    Config c = cfg;
+    c.min_reps = std::min(cfg.min_reps, reps);
+    c.min_reps_hard = std::min(c.min_reps, 3L);
+    c.warmup_reps = 1;
+    return c;
+}
+
+// The critical speed of the default scenario over 1-60 m/s, on one thread and on all cores.
+int bench_critical_speed(const Config& cfg) {
+    const rollgap::core::Scenario scenario{};
+    for (const int threads : {1, rollgap::core::default_thread_count()}) {
+        rollgap::core::CriticalSpeedOptions options;
+        options.threads = threads;
+        const auto check = rollgap::core::critical_speed(scenario, options);
+        if (check.status != rollgap::core::CriticalSpeedStatus::found) {
+            std::fprintf(stderr, "critical_speed: not found (%s)\n", rollgap::core::to_string(check.status));
+            return 1;
+        }
+        if (threads == 1) print_figure("critical_speed.value", check.critical_speed, "m/s");
+        const Timing t = time_it(heavy(cfg, 20), [&] { return rollgap::core::critical_speed(scenario, options).critical_speed; });
+        print_timing("critical_speed.threads_" + std::to_string(threads), t);
+    }
+    return 0;
+}
+
+// One second of simulated time of the excited nonlinear model at the default 19 m/s.
+int bench_amplitude(const Config& cfg) {
+    const rollgap::core::Scenario scenario{};
+    rollgap::core::AmplitudeOptions options;
+    options.window = 1.0;
+    const auto check = rollgap::core::vibration_amplitude(scenario, options);
+    if (check.end_status != rollgap::core::DynamicsStatus::ok) {
+        std::fprintf(stderr, "amplitude: run ended early (%s)\n", check.message);
+        return 1;
+    }
+    print_figure("amplitude_1s.upper_roll", check.upper_roll * 1e6, "um");
+    print_count("amplitude_1s.rhs_evaluations", check.rhs_evaluations);
+    const Timing t = time_it(heavy(cfg, 5), [&] { return rollgap::core::vibration_amplitude(scenario, options).upper_roll; });
+    print_timing("amplitude_1s", t);
+    return 0;
+}
+
+// A 100-point critical-speed sweep over the viscosity (Fig. 8's axis) on all cores.
+int bench_sweep(const Config& cfg) {
+    std::vector<rollgap::core::Scenario> scenarios(100);
+    for (std::size_t i = 0; i < scenarios.size(); ++i) {
+        scenarios[i].lubricant.viscosity = 2e-4 + 1.8e-3 * static_cast<double>(i) / 99.0;
+    }
+    const int threads = rollgap::core::default_thread_count();
+    print_count("sweep_100.threads", threads);
+    const Timing t = time_it(heavy(cfg, 2), [&] {
+        const auto results = rollgap::core::sweep_critical_speed(scenarios, {}, threads);
+        return results.front().critical_speed;
+    });
+    print_timing("sweep_100", t);
+    return 0;
+}
+
 struct Bench {
     const char* name;
     int (*run)(const Config&);
@@ -140,6 +205,9 @@ struct Bench {
 // Register new benches here.
 constexpr Bench kBenches[] = {
     {"roll_gap", bench_roll_gap},
+    {"critical_speed", bench_critical_speed},
+    {"amplitude", bench_amplitude},
+    {"sweep", bench_sweep},
 };
 
 [[noreturn]] void usage(const char* argv0, int code) {
