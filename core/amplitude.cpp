@@ -54,9 +54,18 @@ AmplitudeResult vibration_amplitude(const Scenario& s, const AmplitudeOptions& o
     const ReferenceState ref = reference_state(dynamics, false);
     const CoupledModel model(dynamics, ref, Excitation{options.excitation_amplitude, out.excitation_frequency_Hz});
 
-    // Sample fast enough for the excitation and for the stack's ~400 Hz modes.
-    const double fastest = std::max(out.excitation_frequency_Hz, 400.0);
-    const double dt = 1.0 / (options.samples_per_period * fastest);
+    // Sample fast enough for the excitation and for the stack's modes (~400 Hz at the defaults),
+    // within a memory budget; a stack too fast to resolve in the window is refused, not run.
+    double fastest = std::max(out.excitation_frequency_Hz, 400.0);
+    for (const Eigenmode& mode : linear.oscillatory) fastest = std::max(fastest, mode.frequency_Hz);
+    constexpr double kMaxSamples = 400'000;
+    const double per_period = std::min(options.samples_per_period, kMaxSamples / (fastest * options.window));
+    if (per_period < 8.0) {
+        out.status = AmplitudeStatus::solver_failure;
+        out.message = "the stack's fastest mode is too fast to resolve in this window: shorten the window";
+        return out;
+    }
+    const double dt = 1.0 / (per_period * fastest);
     const int samples = std::max(10, static_cast<int>(std::ceil(options.window / dt)));
     std::vector<double> times(static_cast<std::size_t>(samples));
     for (int i = 0; i < samples; ++i) times[static_cast<std::size_t>(i)] = options.window * (i + 1) / samples;

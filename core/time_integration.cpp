@@ -150,6 +150,13 @@ IntegrationResult integrate(const CoupledModel& model, Eigen::VectorXd& z, doubl
         }
         result.end_time = t;
         if (on_output) on_output(Sample{t, state, rate});
+        long steps = 0;
+        CVodeGetNumSteps(cv.memory, &steps);
+        if (steps > options.max_total_steps) {
+            result.status = DynamicsStatus::solver_failure;
+            result.message = "the step budget of the run is exhausted (the stack's modes are too fast for the window)";
+            break;
+        }
     }
     for (int i = 0; i < n; ++i) z(i) = y[i];
     CVodeGetNumSteps(cv.memory, &result.steps);

@@ -15,7 +15,8 @@ namespace rollgap::core {
 struct IntegrationOptions {
     double relative_tolerance = 1e-6;  // the bite is solved to ~1e-13, far below 1e-3 of this
     double max_step = 0.0;             // s; 0: no limit
-    long max_steps = 100'000;  // between two output times
+    long max_steps = 100'000;          // between two output times
+    long max_total_steps = 1'000'000;  // the whole run: bounds the work of any input
 };
 
 struct IntegrationResult {
