@@ -24,6 +24,10 @@ constexpr std::array kinds{
     ProblemKind{ProblemCode::unsupported_media_type, "unsupported_media_type", 415, "Unsupported media type"},
     ProblemKind{ProblemCode::overloaded, "overloaded", 503, "Service is overloaded"},
     ProblemKind{ProblemCode::deadline_exceeded, "deadline_exceeded", 504, "Analysis exceeded its deadline"},
+    // The facade cannot tell why its Control said stop: a caller whose reason is a deadline
+    // reports deadline_exceeded (504) instead (service/evaluate.h). 409: the request was valid
+    // but conflicts with the state of its job, which was cancelled.
+    ProblemKind{ProblemCode::cancelled, "cancelled", 409, "Analysis was cancelled"},
     ProblemKind{ProblemCode::internal, "internal", 500, "Internal error"},
 };
 

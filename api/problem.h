@@ -25,6 +25,7 @@ enum class ProblemCode {
     unsupported_media_type,  // HTTP: not application/json
     overloaded,              // HTTP: every worker busy and the queue full
     deadline_exceeded,       // the analysis did not finish within its time budget
+    cancelled,               // the caller stopped the analysis (core::Control), e.g. a deleted job
     internal,                // a bug: an exception escaped an analysis
 };
 

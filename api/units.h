@@ -19,7 +19,7 @@ double to_si(double value, Unit unit);
 
 // The inverse. A value with up to 15 significant digits converted to SI and back is the
 // same double, so an echoed scenario shows what the client sent and reruns bit-identically.
-double from_si(double si_value, Unit unit);
+double from_si(double value_si, Unit unit);
 
 // Shortest text that reads back to the same double, without an exponent for everyday
 // magnitudes ("0.05", "100000", "1e-08"), for bounds in messages.
@@ -31,6 +31,8 @@ inline constexpr Unit metre{"m", 0};
 inline constexpr Unit millimetre{"mm", -3};
 inline constexpr Unit micrometre{"um", -6};
 inline constexpr Unit metre_per_second{"m/s", 0};
+inline constexpr Unit second{"s", 0};
+inline constexpr Unit per_second{"/s", 0};
 inline constexpr Unit megapascal{"MPa", 6};
 inline constexpr Unit gigapascal{"GPa", 9};
 inline constexpr Unit pascal_second{"Pa.s", 0};

@@ -3,7 +3,12 @@
 #include <algorithm>
 #include <array>
 
+#include "service/amplitude_analysis.h"
+#include "service/evaluation_analysis.h"
 #include "service/roll_gap_analysis.h"
+#include "service/stability_analysis.h"
+#include "service/sweep_analysis.h"
+#include "service/tension_cycle_analysis.h"
 
 namespace rollgap::service {
 namespace {
@@ -11,6 +16,16 @@ namespace {
 constexpr std::array table{
     Analysis{"roll_gap", "steady roll-bite pressure, friction and film distributions (MODEL.md §7.1)",
              &prepare_roll_gap},
+    Analysis{"tension_cycle", "distributions at phases of a sinusoidal back-tension cycle (MODEL.md §7.2)",
+             &prepare_tension_cycle},
+    Analysis{"stability", "eigenvalues and modes at the scenario's speed, critical chatter speed (MODEL.md §7.3)",
+             &prepare_stability},
+    Analysis{"amplitude", "vibration amplitude under a back-tension excitation, per speed (MODEL.md §7.4)",
+             &prepare_amplitude},
+    Analysis{"sweep", "critical speed or amplitude over the values of one scenario field (MODEL.md §7.5)",
+             &prepare_sweep},
+    Analysis{"evaluate", "roll gap, stability, critical speed and amplitude of the scenario at once",
+             &prepare_evaluation},
 };
 
 }  // namespace

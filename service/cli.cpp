@@ -1,5 +1,6 @@
 #include "service/cli.h"
 
+#include <algorithm>
 #include <array>
 #include <fstream>
 #include <iostream>
@@ -35,8 +36,10 @@ void print_usage(std::ostream& stream) {
               "A request is {\"analysis\": NAME, \"scenario\": {...}, \"options\": {...}}; its\n"
               "scenario is a JSON merge patch (RFC 7396) onto the default scenario.\n"
               "analyses:\n";
+    std::size_t name_width = 12;  // the command column above
+    for (const Analysis& analysis : analyses()) name_width = std::max(name_width, analysis.name.size());
     for (const Analysis& analysis : analyses()) {
-        stream << "  " << analysis.name << std::string(analysis.name.size() < 12 ? 14 - analysis.name.size() : 2, ' ')
+        stream << "  " << analysis.name << std::string(name_width + 2 - analysis.name.size(), ' ')
                << analysis.summary << '\n';
     }
     stream << "\n"

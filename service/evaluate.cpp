@@ -24,7 +24,13 @@ Outcome internal_error(std::string_view what) {
         api::ProblemCode::internal, "the analysis failed unexpectedly; the service log has the cause"));
 }
 
-Outcome evaluate_unguarded(const nlohmann::json& request, std::span<const Analysis> offered) {
+Outcome cancelled() {
+    return problem_outcome(api::make_problem(api::ProblemCode::cancelled,
+                                             "the analysis was stopped by its caller before it finished"));
+}
+
+Outcome evaluate_unguarded(const nlohmann::json& request, std::span<const Analysis> offered,
+                           const core::Control& control) {
     // Everything below walks the request recursively; text input was bounded by the parser
     // already, this covers JSON built in code.
     if (api::nests_deeper_than(request, api::max_json_depth)) {
@@ -57,8 +63,9 @@ Outcome evaluate_unguarded(const nlohmann::json& request, std::span<const Analys
     // Scenario and options violations are reported together.
     api::FieldErrors errors;
     const core::Scenario scenario = api::scenario_from_patch(parsed.scenario_patch, "/scenario", errors);
-    const bool scenario_valid = errors.empty();
     PreparedAnalysis prepared = analysis->prepare(scenario, parsed.options, "/options", errors);
+    // An analysis may add scenario violations of its own (tension_cycle: the sinusoid's limits).
+    const bool scenario_valid = !errors.has_error_at_or_below("/scenario");
     if (!errors.empty()) {
         const std::string detail = api::concat(std::to_string(errors.size()),
                                                errors.size() == 1 ? " violation" : " violations",
@@ -67,12 +74,20 @@ Outcome evaluate_unguarded(const nlohmann::json& request, std::span<const Analys
             scenario_valid ? api::ProblemCode::invalid_options : api::ProblemCode::invalid_scenario, detail));
     }
 
+    if (control.should_stop()) return cancelled();  // e.g. the deadline passed while queued
+    nlohmann::json result;
+    try {
+        result = prepared.run(control);
+    } catch (const AnalysisCancelled&) {
+        return cancelled();
+    }
+    control.report(1.0);  // not every analysis reports its own end
     Outcome outcome;
     outcome.body = {
         {"analysis", analysis->name},
         {"scenario", api::resolved_scenario_json(scenario)},
         {"options", std::move(prepared.resolved_options)},
-        {"result", prepared.run()},
+        {"result", std::move(result)},
     };
     return outcome;
 }
@@ -91,11 +106,13 @@ Outcome problem_outcome(const api::Problem& problem) {
     return outcome;
 }
 
-Outcome evaluate(const nlohmann::json& request) { return evaluate(request, analyses()); }
+Outcome evaluate(const nlohmann::json& request, const core::Control& control) {
+    return evaluate(request, analyses(), control);
+}
 
-Outcome evaluate(const nlohmann::json& request, std::span<const Analysis> offered) {
+Outcome evaluate(const nlohmann::json& request, std::span<const Analysis> offered, const core::Control& control) {
     try {
-        return evaluate_unguarded(request, offered);
+        return evaluate_unguarded(request, offered, control);
     } catch (const std::exception& error) {
         return internal_error(error.what());
     } catch (...) {
@@ -103,7 +120,7 @@ Outcome evaluate(const nlohmann::json& request, std::span<const Analysis> offere
     }
 }
 
-Outcome evaluate_text(std::string_view text) {
+Outcome evaluate_text(std::string_view text, const core::Control& control) {
     try {
         if (text.size() > max_request_bytes) {
             return problem_outcome(api::make_problem(
@@ -113,7 +130,7 @@ Outcome evaluate_text(std::string_view text) {
         }
         auto parsed = api::parse_json_text(text);
         if (auto* problem = std::get_if<api::Problem>(&parsed)) return problem_outcome(*problem);
-        return evaluate(std::get<nlohmann::json>(parsed));
+        return evaluate(std::get<nlohmann::json>(parsed), control);
     } catch (const std::exception& error) {
         return internal_error(error.what());
     } catch (...) {

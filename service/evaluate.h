@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "api/problem.h"
+#include "core/control.h"
 #include "service/analysis.h"
 
 namespace rollgap::service {
@@ -32,12 +33,29 @@ Outcome problem_outcome(const api::Problem& problem);
 // {"analysis": "roll_gap", "scenario": {...merge patch...}, "options": {...}} →
 // {"analysis", "scenario": <resolved>, "options": <resolved>, "result": {...}} or a problem.
 // Never throws: an exception inside an analysis becomes the problem `internal` (and is logged).
-Outcome evaluate(const nlohmann::json& request);
+//
+// `control` reaches every core computation of the analysis:
+// - control.cancelled() is polled between units of work (scan speeds, sweep points, output
+//   times of a time integration), from the calling thread and from worker threads at once, so
+//   it must be thread-safe and cheap (an atomic flag, a clock read). Once it returns true the
+//   analysis stops within one unit of work and evaluate() returns the problem `cancelled`
+//   (409). The facade cannot know why: a caller whose reason is a deadline replaces it with
+//   `deadline_exceeded` (504), e.g.
+//       Outcome outcome = evaluate(request, control);
+//       if (outcome.problem == api::ProblemCode::cancelled && deadline_passed())
+//           outcome = problem_outcome(api::make_problem(api::ProblemCode::deadline_exceeded, "..."));
+//   Validation problems are returned as usual whatever the Control says; a Control that is
+//   already cancelled when the request is valid gives `cancelled` without computing.
+// - control.progress(fraction) reports 0..1 as core computes; it too may be called from
+//   several threads at once, not necessarily in increasing order (keep the largest). Not every
+//   analysis reports (roll_gap is a single fast solve).
+// The default Control never cancels and reports nowhere (the CLI).
+Outcome evaluate(const nlohmann::json& request, const core::Control& control = {});
 
 // The same against another table of analyses (tests: an analysis that throws).
-Outcome evaluate(const nlohmann::json& request, std::span<const Analysis> offered);
+Outcome evaluate(const nlohmann::json& request, std::span<const Analysis> offered, const core::Control& control = {});
 
 // The same from request text: size limit, then JSON syntax (invalid_json), then evaluate().
-Outcome evaluate_text(std::string_view text);
+Outcome evaluate_text(std::string_view text, const core::Control& control = {});
 
 }  // namespace rollgap::service

@@ -1,0 +1,52 @@
+#pragma once
+// Strict reading of an analysis's options object, member by member: the object itself, its
+// unknown members, then each member with its type, bounds and unit. A missing member keeps the
+// default already in the target; a violation is recorded (and the default stays, so reading
+// goes on and every violation is reported at once).
+
+#include <span>
+#include <string>
+#include <string_view>
+
+#include <nlohmann/json.hpp>
+
+#include "api/field_errors.h"
+#include "api/interval.h"
+#include "api/units.h"
+
+namespace rollgap::api {
+
+class OptionsReader {
+public:
+    // Records "must be an object" or the unknown members of `options` under `pointer`.
+    OptionsReader(const nlohmann::json& options, std::string pointer, std::span<const std::string_view> known,
+                  FieldErrors& errors);
+
+    bool is_object() const { return object_ != nullptr; }
+    const std::string& pointer() const { return pointer_; }
+    std::string at(std::string_view name) const;  // the pointer of a member
+    FieldErrors& errors() const { return errors_; }
+
+    // The member, or nullptr if absent (or if the options are not an object).
+    const nlohmann::json* find(std::string_view name) const;
+
+    // Each returns true if the member was present and valid (and stored), false otherwise.
+    // Numbers are stored in SI: `unit` is the unit of the member as the client writes it.
+    bool number(std::string_view name, Unit unit, const Interval& range, double& si_target) const;
+    bool integer(std::string_view name, const Interval& range, int& target) const;
+    bool boolean(std::string_view name, bool& target) const;
+
+    // Whether a violation was recorded at or below a member.
+    bool failed(std::string_view name) const { return errors_.has_error_at_or_below(at(name)); }
+
+private:
+    const nlohmann::json* object_ = nullptr;
+    std::string pointer_;
+    FieldErrors& errors_;
+};
+
+// A number in the client's unit, ready to echo: the SI value converted back (exact for values
+// the client sent, units.h).
+inline double echo(double value_si, Unit unit) { return from_si(value_si, unit); }
+
+}  // namespace rollgap::api

@@ -1,0 +1,67 @@
+#pragma once
+// Options and results of a sweep (MODEL.md §7.5): one numeric scenario field over a list or a
+// range of values, the critical speed or the vibration amplitude at each.
+//
+// Options:
+//   parameter       required: the JSON pointer of a numeric field of the scenario, in the
+//                   scenario's own names and units, e.g. "/lubricant/viscosity_Pa_s"
+//   values          [v0, v1, ...], 1 to max_sweep_points values      } exactly one of
+//   range           {"from", "to", "count"}, count in [2, 1000]      } values and range
+//                   (from + (to − from)·i/(count − 1), i = 0..count − 1)
+//   quantity        "critical_speed" (default) | "amplitude"
+//   critical_speed  the search options of stability_json.h (quantity critical_speed only)
+//   amplitude       the run options of amplitude_json.h, without speeds and time series
+//                   (quantity amplitude only; the speed is the scenario's or the swept one)
+//
+// Every value is set into the request's scenario and read through the same validation as a
+// scenario (field bounds and cross-field rules), so a value the scenario could not have is a
+// problem at /options/values/<i> (or /options/range/from, /to, or /options/range for a point
+// in between) with the field's bound and unit.
+
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "api/field_errors.h"
+#include "api/scenario_schema.h"
+#include "core/amplitude.h"
+#include "core/scenario.h"
+#include "core/stability.h"
+
+namespace rollgap::api {
+
+inline constexpr int max_sweep_points = 1000;
+// Work bounds of one sweep: simulated seconds over all values (amplitude), scan speeds over all
+// values (critical speed; the default search is 119 speeds, 1000 values fit).
+inline constexpr double max_sweep_simulated_time_s = 2000.0;
+inline constexpr long max_sweep_scan_points = 250'000;
+
+enum class SweepQuantity { critical_speed, amplitude };
+
+struct SweepPlan {
+    const ScenarioField* field = nullptr;    // the swept field
+    std::vector<double> values;              // in the field's unit, as the client wrote them
+    std::vector<core::Scenario> scenarios;   // one per value; filled only for a valid request
+    SweepQuantity quantity = SweepQuantity::critical_speed;
+    core::CriticalSpeedOptions critical_speed;
+    core::AmplitudeOptions amplitude;
+    nlohmann::json resolved_options;         // the echo
+};
+
+// `valid_scenario` is the request's scenario if it passed validation, else nullptr (then the
+// values are not checked against it and no scenarios are built).
+SweepPlan sweep_plan_from_json(const nlohmann::json& options, const std::string& pointer,
+                               const core::Scenario* valid_scenario, FieldErrors& errors);
+
+// {"parameter", "unit", "quantity", "points": [{"value", "status", "critical_speed_m_per_s",
+// "frequency_Hz"}]}: the critical speed and the frequency of the mode that goes unstable there
+// (null unless found; the frequency also for unstable_at_lower_bound).
+nlohmann::json sweep_critical_speed_json(const SweepPlan& plan, const std::vector<core::CriticalSpeedResult>& results);
+
+// The same with amplitude points: {"value", "status", "message", "frequency_Hz" (of the
+// excitation), "upper_roll_amplitude_um", "gap_amplitude_um", "force_amplitude_kN", "settled",
+// "growth_rate_per_s", "end_time_s"}.
+nlohmann::json sweep_amplitude_json(const SweepPlan& plan, const std::vector<core::AmplitudeResult>& results);
+
+}  // namespace rollgap::api

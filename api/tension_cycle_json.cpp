@@ -1,0 +1,140 @@
+#include "api/tension_cycle_json.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <string_view>
+#include <vector>
+
+#include "api/json_pointer.h"
+#include "api/options_reader.h"
+#include "api/quantity_json.h"
+#include "api/result_json.h"
+#include "api/scenario_consistency.h"
+#include "api/text.h"
+
+namespace rollgap::api {
+namespace {
+
+constexpr std::string_view cycles_name = "cycles";
+constexpr std::string_view phases_name = "phases";
+constexpr std::string_view tolerance_name = "relative_tolerance";
+constexpr std::array<std::string_view, 3> members{cycles_name, phases_name, tolerance_name};
+
+void read_phases(const OptionsReader& reader, std::vector<double>& phases) {
+    const nlohmann::json* value = reader.find(phases_name);
+    if (value == nullptr) return;
+    const std::string pointer = reader.at(phases_name);
+    if (!value->is_array()) {
+        reader.errors().add({pointer, concat("must be an array of phases, got ", json_type_name(*value)),
+                             std::nullopt, std::nullopt});
+        return;
+    }
+    const std::string count_bound = concat("1 to ", std::to_string(max_phases), " phases");
+    if (value->empty() || value->size() > static_cast<std::size_t>(max_phases)) {
+        reader.errors().add({pointer, concat("has ", std::to_string(value->size()), " phases; give ", count_bound),
+                             count_bound, std::nullopt});
+        return;
+    }
+    std::vector<double> parsed;
+    bool valid = true;
+    for (std::size_t i = 0; i < value->size(); ++i) {
+        const std::string item = append_pointer(pointer, std::to_string(i));
+        const auto phase = read_number((*value)[i], item, closed_open(0.0, 1.0), units::one, reader.errors());
+        if (!phase) {
+            valid = false;
+            continue;
+        }
+        if (std::find(parsed.begin(), parsed.end(), *phase) != parsed.end()) {
+            reader.errors().add({item, concat("phase ", format_number(*phase), " is listed twice"),
+                                 "distinct values in [0, 1)", std::string(units::one.code)});
+            valid = false;
+            continue;
+        }
+        parsed.push_back(*phase);
+    }
+    if (!valid) return;
+    std::sort(parsed.begin(), parsed.end());
+    phases = std::move(parsed);
+}
+
+std::string run_status(const core::TensionCycleResult& result) {
+    if (result.steady_status != core::BiteStatus::ok) return "no_steady_state";
+    return core::to_string(result.status);
+}
+
+}  // namespace
+
+core::TensionCycleOptions tension_cycle_options_from_json(const nlohmann::json& options, const std::string& pointer,
+                                                          const core::Scenario* valid_scenario, FieldErrors& errors) {
+    core::TensionCycleOptions parsed;
+    const OptionsReader reader(options, pointer, members, errors);
+    reader.integer(cycles_name, closed(1.0, 20.0), parsed.cycles);
+    read_phases(reader, parsed.phases);
+    reader.number(tolerance_name, units::one, closed(1e-9, 1e-3), parsed.relative_tolerance);
+
+    // A slow sinusoid makes many cycles a long simulation.
+    if (valid_scenario != nullptr && !reader.failed(cycles_name)) {
+        const double frequency = valid_scenario->tensions.back.frequency;
+        const double simulated = parsed.cycles / frequency;
+        if (simulated > max_simulated_time_s) {
+            const double most_cycles = std::floor(max_simulated_time_s * frequency);
+            std::string detail = concat(std::to_string(parsed.cycles), " cycles of the ", format_number(frequency),
+                                        " Hz back-tension sinusoid (/scenario/tension/back/frequency_Hz) are ",
+                                        format_number(simulated), " s of simulated time; at most ",
+                                        format_number(max_simulated_time_s), " s are allowed");
+            if (most_cycles < 1.0) {
+                detail += concat(": raise the frequency to at least ",
+                                 format_number(1.0 / max_simulated_time_s), " Hz");
+            }
+            errors.add({reader.at(cycles_name), std::move(detail),
+                        most_cycles < 1.0 ? std::optional<std::string>() : closed(1.0, std::min(20.0, most_cycles)).text(),
+                        std::string(units::one.code)});
+        }
+    }
+    return parsed;
+}
+
+nlohmann::json tension_cycle_options_json(const core::TensionCycleOptions& options) {
+    return {
+        {cycles_name, options.cycles},
+        {phases_name, options.phases},
+        {tolerance_name, options.relative_tolerance},
+    };
+}
+
+void check_tension_cycle_scenario(const core::Scenario& scenario, const std::string& scenario_pointer,
+                                  FieldErrors& errors) {
+    if (scenario.tensions.back.mode == core::TensionMode::sinusoid) return;  // checked with the scenario
+    core::Scenario as_run = scenario;
+    as_run.tensions.back.mode = core::TensionMode::sinusoid;
+    FieldErrors sinusoid_errors;
+    check_scenario_consistency(as_run, scenario_pointer, sinusoid_errors);
+    for (FieldError error : sinusoid_errors.reported()) {
+        error.detail = concat("tension_cycle runs the back tension as a sinusoid: ", error.detail);
+        errors.add(std::move(error));
+    }
+}
+
+nlohmann::json tension_cycle_result_json(const core::TensionCycleResult& result) {
+    nlohmann::json phases = nlohmann::json::array();
+    for (const core::PhaseDistribution& phase : result.phases) {
+        phases.push_back({
+            {"phase", quantity_json(phase.phase, units::one)},
+            {"time_s", quantity_json(phase.time, units::second)},
+            {"back_tension_MPa", quantity_json(phase.back_tension, units::megapascal)},
+            {"gap_um", quantity_json(phase.gap, units::micrometre)},
+            {"inlet_film_um", quantity_json(phase.inlet_film, units::micrometre)},
+            {"roll_gap", bite_result_json(phase.bite)},
+        });
+    }
+    return {
+        {"status", run_status(result)},
+        {"message", result.message != nullptr ? result.message : ""},
+        {"steady_status", core::to_string(result.steady_status)},
+        {"frequency_Hz", quantity_json(result.frequency_Hz, units::hertz)},
+        {"phases", std::move(phases)},
+    };
+}
+
+}  // namespace rollgap::api

@@ -1,0 +1,17 @@
+#pragma once
+// Analysis "sweep": the critical speed or the vibration amplitude over the values of one
+// numeric scenario field, in parallel (MODEL.md §7.5).
+
+#include "service/analysis.h"
+
+namespace rollgap::service {
+
+// On every hardware thread.
+PreparedAnalysis prepare_sweep(const core::Scenario& scenario, const nlohmann::json& options,
+                               const std::string& options_pointer, api::FieldErrors& errors);
+
+// On `threads` threads: the result is the same for any count (tests check it).
+PreparedAnalysis prepare_sweep_on_threads(const core::Scenario& scenario, const nlohmann::json& options,
+                                          const std::string& options_pointer, api::FieldErrors& errors, int threads);
+
+}  // namespace rollgap::service
