@@ -11,9 +11,11 @@ set -euo pipefail
 BUILD_PACKAGES=(build-essential cmake pkg-config)
 LIBRARY_PACKAGES=(libeigen3-dev libsundials-dev libcpp-httplib-dev nlohmann-json3-dev libspdlog-dev)
 TEST_PACKAGES=(doctest-dev)
-# Tools for scripts, CI and later issues (e.g. python3 python3-numpy for the paper plots,
-# curl for the HTTP smoke test). Empty for now.
-TOOL_PACKAGES=()
+# Tools for scripts, CI and later issues (e.g. python3 python3-numpy for the paper plots).
+# curl: the test that runs the README's HTTP examples; nginx: the test that runs two service
+# instances behind a load balancer. (wrk and prometheus/promtool are installed by the scripts
+# that use them, bench-http.sh and check-http.sh, not in CI.)
+TOOL_PACKAGES=(curl nginx)
 
 PACKAGES=("${BUILD_PACKAGES[@]}" "${LIBRARY_PACKAGES[@]}" "${TEST_PACKAGES[@]}" "${TOOL_PACKAGES[@]}")
 # -------------------------------------------------------------------------------------------

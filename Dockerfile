@@ -1,0 +1,38 @@
+# rollgap HTTP service: multi-stage build on Debian 12 (bookworm).
+#   build:   the project's own dependency script, then a Release build of build/rollgap
+#   runtime: the shared libraries rollgap links and nothing else, as a non-root user
+# Build with scripts/build-image.sh (buildah, no Docker engine needed) or `docker build .`.
+
+FROM debian:bookworm-slim AS build
+WORKDIR /src
+# The dependency script alone first, so its layer is reused while only sources change.
+COPY scripts/install-deps.sh scripts/install-deps.sh
+RUN bash scripts/install-deps.sh </dev/null && rm -rf /var/lib/apt/lists/*
+COPY . .
+RUN cmake -S . -B /build -DCMAKE_BUILD_TYPE=Release -DROLLGAP_WERROR=ON \
+ && cmake --build /build -j"$(nproc)" --target rollgap \
+ && strip /build/rollgap \
+ && /build/rollgap --version
+
+FROM debian:bookworm-slim AS runtime
+# Runtime libraries of build/rollgap (ldd → dpkg -S): cpp-httplib (pulls OpenSSL, zlib,
+# brotli), spdlog (pulls fmt), SUNDIALS CVODE. Not the -dev packages, not OpenMPI/PETSc.
+RUN apt-get update \
+ && DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends \
+      libcpp-httplib0.11 libspdlog1.10 libsundials-cvode6 \
+ && rm -rf /var/lib/apt/lists/* \
+ && useradd --system --uid 10001 --user-group --no-create-home --shell /usr/sbin/nologin rollgap
+COPY --from=build /build/rollgap /usr/local/bin/rollgap
+# Fail the build if a shared library is missing.
+RUN ! ldd /usr/local/bin/rollgap | grep -q "not found" && rollgap --version
+
+USER 10001:10001
+# In a container the service listens on every interface (outside one it defaults to 127.0.0.1).
+ENV ROLLGAP_BIND=0.0.0.0 \
+    ROLLGAP_PORT=8080
+EXPOSE 8080
+# No curl in the image: the binary checks its own /readyz (127.0.0.1:$ROLLGAP_PORT).
+HEALTHCHECK --interval=10s --timeout=3s --start-period=5s --retries=3 \
+  CMD ["/usr/local/bin/rollgap", "healthcheck"]
+ENTRYPOINT ["/usr/local/bin/rollgap"]
+CMD ["serve"]

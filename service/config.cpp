@@ -1,0 +1,242 @@
+#include "service/config.h"
+
+#include <algorithm>
+#include <array>
+#include <charconv>
+#include <cstdlib>
+#include <fstream>
+#include <iterator>
+#include <sstream>
+#include <thread>
+
+#include <unistd.h>
+
+#include "api/text.h"
+
+namespace rollgap::service {
+namespace {
+
+using api::concat;
+
+constexpr std::array settings{
+    ConfigSetting{"--bind", "ROLLGAP_BIND", "ADDRESS",
+                  "address to listen on (default 127.0.0.1; the container image sets 0.0.0.0)"},
+    ConfigSetting{"--port", "ROLLGAP_PORT", "N", "TCP port, 0 for any free port (default 8080)"},
+    ConfigSetting{"--workers", "ROLLGAP_WORKERS", "N", "compute threads (default: the machine's cores)"},
+    ConfigSetting{"--queue-length", "ROLLGAP_QUEUE_LENGTH", "N",
+                  "synchronous requests that may wait for a worker; beyond: 503 (default 64)"},
+    ConfigSetting{"--io-threads", "ROLLGAP_IO_THREADS", "N",
+                  "HTTP connection threads, one per open connection (default 64)"},
+    ConfigSetting{"--deadline-ms", "ROLLGAP_DEADLINE_MS", "MS",
+                  "time budget of a synchronous request; past it: 504 (default 30000)"},
+    ConfigSetting{"--job-deadline-ms", "ROLLGAP_JOB_DEADLINE_MS", "MS",
+                  "time budget of an asynchronous job (default 600000)"},
+    ConfigSetting{"--job-retention-ms", "ROLLGAP_JOB_RETENTION_MS", "MS",
+                  "how long a finished job is kept for polling (default 600000)"},
+    ConfigSetting{"--max-jobs", "ROLLGAP_MAX_JOBS", "N",
+                  "jobs stored at once, in any state; beyond: 503 (default 256)"},
+    ConfigSetting{"--job-workers", "ROLLGAP_JOB_WORKERS", "N",
+                  "workers that jobs may occupy at once (default max(1, workers/2))"},
+    ConfigSetting{"--retry-after", "ROLLGAP_RETRY_AFTER", "S", "Retry-After of a 503, seconds (default 1)"},
+    ConfigSetting{"--drain-timeout-ms", "ROLLGAP_DRAIN_TIMEOUT_MS", "MS",
+                  "on SIGTERM/SIGINT, how long in-flight work may finish before it is cancelled "
+                  "(default 25000)"},
+    ConfigSetting{"--max-body-bytes", "ROLLGAP_MAX_BODY_BYTES", "N",
+                  "largest request body; beyond: 413 (default 1048576)"},
+    ConfigSetting{"--log-level", "ROLLGAP_LOG_LEVEL", "LEVEL",
+                  "trace, debug, info, warn, error, critical or off (default info)"},
+    ConfigSetting{"", "ROLLGAP_TOKEN", "TOKEN",
+                  "the bearer token itself (environment only: a flag would show in ps)"},
+    ConfigSetting{"--token-file", "ROLLGAP_TOKEN_FILE", "PATH",
+                  "file holding the bearer token required by the compute endpoints"},
+    ConfigSetting{"--instance", "ROLLGAP_INSTANCE", "NAME",
+                  "this replica's name in job documents (default: the host name)"},
+};
+
+std::optional<long long> parse_integer(std::string_view text, long long min, long long max) {
+    long long value = 0;
+    const auto parsed = std::from_chars(text.data(), text.data() + text.size(), value);
+    if (parsed.ec != std::errc() || parsed.ptr != text.data() + text.size()) return std::nullopt;
+    if (value < min || value > max) return std::nullopt;
+    return value;
+}
+
+std::string trim_trailing_newlines(std::string text) {
+    while (!text.empty() && (text.back() == '\n' || text.back() == '\r')) text.pop_back();
+    return text;
+}
+
+bool valid_log_level(std::string_view level) {
+    static constexpr std::array<std::string_view, 7> levels{"trace", "debug", "info", "warn",
+                                                            "error", "critical", "off"};
+    return std::find(levels.begin(), levels.end(), level) != levels.end();
+}
+
+// Applies one setting; returns an error message or nothing.
+std::optional<std::string> apply(ServerConfig& config, const ConfigSetting& setting, const std::string& value,
+                                 std::string_view source) {
+    const auto bad = [&](std::string_view expected) {
+        return concat("invalid ", source, " '", value, "': expected ", expected);
+    };
+    const auto integer = [&](long long min, long long max) { return parse_integer(value, min, max); };
+    const std::string_view env = setting.env;
+    if (env == "ROLLGAP_BIND") {
+        if (value.empty()) return bad("an address");
+        config.bind_address = value;
+    } else if (env == "ROLLGAP_PORT") {
+        const auto n = integer(0, 65535);
+        if (!n) return bad("a port 0..65535");
+        config.port = static_cast<int>(*n);
+    } else if (env == "ROLLGAP_WORKERS") {
+        const auto n = integer(0, 1024);
+        if (!n) return bad("0..1024 (0: the machine's cores)");
+        config.workers = static_cast<std::size_t>(*n);
+    } else if (env == "ROLLGAP_QUEUE_LENGTH") {
+        const auto n = integer(0, 100000);
+        if (!n) return bad("0..100000");
+        config.queue_length = static_cast<std::size_t>(*n);
+    } else if (env == "ROLLGAP_IO_THREADS") {
+        const auto n = integer(1, 4096);
+        if (!n) return bad("1..4096");
+        config.io_threads = static_cast<std::size_t>(*n);
+    } else if (env == "ROLLGAP_DEADLINE_MS") {
+        const auto n = integer(1, 3'600'000);
+        if (!n) return bad("1..3600000 ms");
+        config.deadline = std::chrono::milliseconds(*n);
+    } else if (env == "ROLLGAP_JOB_DEADLINE_MS") {
+        const auto n = integer(1, 86'400'000);
+        if (!n) return bad("1..86400000 ms");
+        config.job_deadline = std::chrono::milliseconds(*n);
+    } else if (env == "ROLLGAP_JOB_RETENTION_MS") {
+        const auto n = integer(0, 604'800'000);
+        if (!n) return bad("0..604800000 ms");
+        config.job_retention = std::chrono::milliseconds(*n);
+    } else if (env == "ROLLGAP_MAX_JOBS") {
+        const auto n = integer(0, 1'000'000);
+        if (!n) return bad("0..1000000");
+        config.max_jobs = static_cast<std::size_t>(*n);
+    } else if (env == "ROLLGAP_JOB_WORKERS") {
+        const auto n = integer(0, 1024);
+        if (!n) return bad("0..1024 (0: max(1, workers/2))");
+        config.job_workers = static_cast<std::size_t>(*n);
+    } else if (env == "ROLLGAP_RETRY_AFTER") {
+        const auto n = integer(0, 3600);
+        if (!n) return bad("0..3600 s");
+        config.retry_after = std::chrono::seconds(*n);
+    } else if (env == "ROLLGAP_DRAIN_TIMEOUT_MS") {
+        const auto n = integer(0, 3'600'000);
+        if (!n) return bad("0..3600000 ms");
+        config.drain_timeout = std::chrono::milliseconds(*n);
+    } else if (env == "ROLLGAP_MAX_BODY_BYTES") {
+        const auto n = integer(1024, 64LL * 1024 * 1024);
+        if (!n) return bad("1024..67108864 bytes");
+        config.max_body_bytes = static_cast<std::size_t>(*n);
+    } else if (env == "ROLLGAP_LOG_LEVEL") {
+        if (!valid_log_level(value)) return bad("trace, debug, info, warn, error, critical or off");
+        config.log_level = value;
+    } else if (env == "ROLLGAP_TOKEN_FILE") {
+        std::ifstream file(value, std::ios::binary);
+        if (!file) return concat("cannot read the token file named by ", source);
+        std::string token = trim_trailing_newlines(
+            std::string(std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>()));
+        if (token.empty()) return concat("the token file named by ", source, " is empty");
+        config.token = std::move(token);
+    } else if (env == "ROLLGAP_TOKEN") {
+        // Never echo the value in a message.
+        if (value.empty()) return concat(source, " is set but empty");
+        config.token = value;
+    } else if (env == "ROLLGAP_INSTANCE") {
+        if (value.empty() || value.size() > 64) return bad("1..64 characters");
+        config.instance = value;
+    }
+    return std::nullopt;
+}
+
+std::string host_name() {
+    std::array<char, 256> name{};
+    if (gethostname(name.data(), name.size() - 1) != 0) return "rollgap";
+    return name.data();
+}
+
+}  // namespace
+
+std::span<const ConfigSetting> config_settings() { return settings; }
+
+ServerConfig ServerConfig::resolved() const {
+    ServerConfig config = *this;
+    if (config.workers == 0) config.workers = std::max(1u, std::thread::hardware_concurrency());
+    if (config.job_workers == 0) config.job_workers = std::max<std::size_t>(1, config.workers / 2);
+    config.job_workers = std::min(config.job_workers, config.workers);
+    if (config.instance.empty()) config.instance = host_name();
+    return config;
+}
+
+EnvLookup process_environment() {
+    return [](std::string_view name) -> std::optional<std::string> {
+        const char* value = std::getenv(std::string(name).c_str());
+        if (value == nullptr) return std::nullopt;
+        return std::string(value);
+    };
+}
+
+std::variant<ServerConfig, ConfigHelp, std::string> parse_server_config(
+    std::span<const std::string_view> arguments, const EnvLookup& environment) {
+    ServerConfig config;
+    // Environment first (ROLLGAP_TOKEN_FILE after ROLLGAP_TOKEN: the file wins), then flags.
+    for (const ConfigSetting& setting : settings) {
+        if (const auto value = environment(setting.env)) {
+            if (auto error = apply(config, setting, *value, setting.env)) return *error;
+        }
+    }
+    for (std::size_t i = 0; i < arguments.size(); ++i) {
+        const std::string_view argument = arguments[i];
+        if (argument == "--help" || argument == "-h") return ConfigHelp{};
+        std::string_view name = argument;
+        std::optional<std::string> value;
+        if (const auto equals = argument.find('='); equals != std::string_view::npos) {
+            name = argument.substr(0, equals);
+            value = std::string(argument.substr(equals + 1));
+        }
+        const auto setting = std::find_if(settings.begin(), settings.end(), [name](const ConfigSetting& s) {
+            return !s.flag.empty() && s.flag == name;
+        });
+        if (setting == settings.end()) return concat("unknown option '", name, "' (rollgap serve --help)");
+        if (!value) {
+            if (i + 1 >= arguments.size()) return concat("option ", name, " needs a value");
+            value = std::string(arguments[++i]);
+        }
+        if (auto error = apply(config, *setting, *value, concat("value of ", name))) return *error;
+    }
+    return config;
+}
+
+std::string config_usage() {
+    std::ostringstream text;
+    text << "usage: rollgap serve [OPTION VALUE]...\n"
+            "\n"
+            "Serves the analyses over HTTP (REST API v1, OpenAPI document at /openapi.json).\n"
+            "Each option is also read from an environment variable; a flag wins.\n"
+            "SIGTERM or SIGINT drains: /readyz answers 503, in-flight work finishes, exit 0.\n"
+            "\n";
+    for (const ConfigSetting& setting : settings) {
+        const std::string flag =
+            setting.flag.empty() ? std::string("(env only)") : concat(setting.flag, " ", setting.value);
+        text << "  " << flag << std::string(flag.size() < 24 ? 24 - flag.size() : 1, ' ') << setting.env << "\n"
+             << "      " << setting.help << "\n";
+    }
+    return text.str();
+}
+
+std::string describe(const ServerConfig& config) {
+    std::ostringstream text;
+    text << "bind=" << config.bind_address << " port=" << config.port << " workers=" << config.workers
+         << " queue_length=" << config.queue_length << " io_threads=" << config.io_threads
+         << " deadline_ms=" << config.deadline.count() << " job_deadline_ms=" << config.job_deadline.count()
+         << " job_retention_ms=" << config.job_retention.count() << " max_jobs=" << config.max_jobs
+         << " job_workers=" << config.job_workers << " max_body_bytes=" << config.max_body_bytes
+         << " log_level=" << config.log_level << " instance=" << config.instance
+         << " token=" << (config.token ? "set" : "unset");
+    return text.str();
+}
+
+}  // namespace rollgap::service

@@ -1,0 +1,62 @@
+#pragma once
+// Configuration of the HTTP service (`rollgap serve`): every setting is a flag and an
+// environment variable; a flag wins over the variable, the variable over the default.
+// The table of settings (config_settings()) is what --help prints and the README documents.
+
+#include <chrono>
+#include <cstddef>
+#include <functional>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <variant>
+
+namespace rollgap::service {
+
+struct ServerConfig {
+    std::string bind_address = "127.0.0.1";  // the container image sets ROLLGAP_BIND=0.0.0.0
+    int port = 8080;                          // 0: any free port (tests)
+    std::size_t workers = 0;                  // compute threads; 0 means the machine's cores
+    std::size_t queue_length = 64;            // synchronous requests waiting for a worker
+    std::size_t io_threads = 64;              // HTTP connection threads (one per open connection)
+    std::chrono::milliseconds deadline{30'000};       // synchronous requests, from arrival
+    std::chrono::milliseconds job_deadline{600'000};  // asynchronous jobs, from creation
+    std::chrono::milliseconds job_retention{600'000};  // finished jobs are kept this long
+    std::size_t max_jobs = 256;               // stored jobs, whatever their state
+    std::size_t job_workers = 0;              // workers jobs may occupy at once; 0: max(1, workers/2)
+    std::chrono::seconds retry_after{1};      // the Retry-After of 503 answers
+    std::chrono::milliseconds drain_timeout{25'000};  // SIGTERM: how long in-flight work may take
+    std::size_t max_body_bytes = 1024 * 1024;
+    std::string log_level = "info";           // trace debug info warn error critical off
+    std::optional<std::string> token;         // bearer token for the compute endpoints; never logged
+    std::string instance;                     // names this replica in job documents; default: host name
+
+    // Resolved values (workers = cores, job_workers = ...); call after parsing.
+    ServerConfig resolved() const;
+};
+
+struct ConfigSetting {
+    std::string_view flag;     // "--port"
+    std::string_view env;      // "ROLLGAP_PORT"
+    std::string_view value;    // "N", "ADDRESS", "MS", ...
+    std::string_view help;     // one line, with the default
+};
+std::span<const ConfigSetting> config_settings();
+
+// Environment lookup, injectable for tests.
+using EnvLookup = std::function<std::optional<std::string>(std::string_view name)>;
+EnvLookup process_environment();
+
+struct ConfigHelp {};  // --help was asked for
+
+// Parses `arguments` (after "serve") over the environment. An error is a message for stderr.
+std::variant<ServerConfig, ConfigHelp, std::string> parse_server_config(
+    std::span<const std::string_view> arguments, const EnvLookup& environment);
+
+std::string config_usage();
+
+// "bind=127.0.0.1 port=8080 workers=2 ... token=set": for the start-up log line, no secret.
+std::string describe(const ServerConfig& config);
+
+}  // namespace rollgap::service

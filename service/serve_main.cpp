@@ -1,0 +1,123 @@
+#include "service/serve_main.h"
+
+#include "service/config.h"
+#include "service/http_server.h"
+#include "service/openapi.h"
+#include "service/version.h"
+
+#include <csignal>
+#include <ostream>
+#include <string>
+#include <variant>
+
+#include <httplib.h>
+#include <pthread.h>
+#include <spdlog/spdlog.h>
+
+namespace rollgap::service {
+namespace {
+
+constexpr int exit_ok = 0;
+constexpr int exit_failure = 1;
+constexpr int exit_usage = 2;
+
+int serve(std::span<const std::string_view> options, std::ostream& out, std::ostream& err) {
+    const auto parsed = parse_server_config(options, process_environment());
+    if (std::holds_alternative<ConfigHelp>(parsed)) {
+        out << config_usage();
+        return exit_ok;
+    }
+    if (const auto* message = std::get_if<std::string>(&parsed)) {
+        err << "rollgap serve: " << *message << '\n';
+        return exit_usage;
+    }
+    const ServerConfig config = std::get<ServerConfig>(parsed).resolved();
+
+    // One line per event, UTC, logfmt-style prefix; the request lines are logfmt throughout.
+    spdlog::set_pattern("ts=%Y-%m-%dT%H:%M:%S.%eZ level=%l %v", spdlog::pattern_time_type::utc);
+    spdlog::set_level(spdlog::level::from_str(config.log_level));
+    spdlog::flush_on(spdlog::level::info);
+
+    // Block the shutdown signals in every thread (the threads started below inherit the mask);
+    // this thread waits for them with sigwait.
+    sigset_t signals;
+    sigemptyset(&signals);
+    sigaddset(&signals, SIGTERM);
+    sigaddset(&signals, SIGINT);
+    pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+
+    HttpServer server(config);
+    std::string error;
+    if (!server.start(&error)) {
+        spdlog::critical("msg=\"{}\"", error);
+        return exit_failure;
+    }
+    spdlog::info("msg=listening version={} address={}:{} {}", version(), config.bind_address, server.port(),
+                 describe(config));
+
+    int received = 0;
+    while (sigwait(&signals, &received) != 0) {
+    }
+    spdlog::info("msg=draining signal={} drain_timeout_ms={}", received == SIGTERM ? "SIGTERM" : "SIGINT",
+                 config.drain_timeout.count());
+    server.shutdown();
+    spdlog::info("msg=stopped");
+    return exit_ok;
+}
+
+int healthcheck(std::span<const std::string_view> options, std::ostream& out, std::ostream& err) {
+    std::string url;
+    if (options.size() == 2 && options[0] == "--url") {
+        url = options[1];
+    } else if (!options.empty()) {
+        err << "usage: rollgap healthcheck [--url http://HOST:PORT/PATH]\n";
+        return exit_usage;
+    } else {
+        const auto port = process_environment()("ROLLGAP_PORT");
+        url = "http://127.0.0.1:" + port.value_or("8080") + "/readyz";
+    }
+    constexpr std::string_view scheme = "http://";
+    if (!std::string_view(url).starts_with(scheme)) {
+        err << "rollgap healthcheck: only http:// URLs\n";
+        return exit_usage;
+    }
+    const std::string rest = url.substr(scheme.size());
+    const std::size_t slash = rest.find('/');
+    const std::string host_port = rest.substr(0, slash);
+    const std::string path = slash == std::string::npos ? "/" : rest.substr(slash);
+    httplib::Client client("http://" + host_port);
+    client.set_connection_timeout(2, 0);
+    client.set_read_timeout(5, 0);
+    const auto response = client.Get(path.c_str());
+    if (!response) {
+        err << "rollgap healthcheck: " << url << ": " << httplib::to_string(response.error()) << '\n';
+        return exit_failure;
+    }
+    out << url << ": " << response->status << '\n';
+    return response->status == 200 ? exit_ok : exit_failure;
+}
+
+}  // namespace
+
+bool is_server_command(std::string_view command) {
+    return command == "serve" || command == "healthcheck" || command == "openapi";
+}
+
+int run_server_command(std::span<const std::string_view> arguments, std::ostream& out, std::ostream& err) {
+    const std::string_view command = arguments.front();
+    const auto options = arguments.subspan(1);
+    if (command == "serve") return serve(options, out, err);
+    if (command == "healthcheck") return healthcheck(options, out, err);
+    if (command == "openapi") {
+        if (!options.empty()) {
+            err << "usage: rollgap openapi\n";
+            return exit_usage;
+        }
+        out << openapi_document().dump(2) << '\n';
+        return exit_ok;
+    }
+    err << "rollgap: unknown server command\n";
+    return exit_usage;
+}
+
+}  // namespace rollgap::service

@@ -1,0 +1,115 @@
+#include "service/worker_pool.h"
+
+#include <algorithm>
+#include <exception>
+
+#include <spdlog/spdlog.h>
+
+namespace rollgap::service {
+
+WorkerPool::WorkerPool(std::size_t workers, std::size_t interactive_capacity, std::size_t batch_capacity,
+                       std::size_t batch_concurrency)
+    : interactive_capacity_(interactive_capacity),
+      batch_capacity_(batch_capacity),
+      batch_concurrency_(std::max<std::size_t>(1, batch_concurrency)) {
+    workers = std::max<std::size_t>(1, workers);
+    threads_.reserve(workers);
+    for (std::size_t i = 0; i < workers; ++i) threads_.emplace_back([this] { work(); });
+}
+
+WorkerPool::~WorkerPool() { shutdown(); }
+
+bool WorkerPool::try_submit(Lane lane, Task task) {
+    {
+        std::lock_guard lock(mutex_);
+        if (stopping_) return false;
+        auto& queue = lane == Lane::interactive ? interactive_ : batch_;
+        const std::size_t capacity = lane == Lane::interactive ? interactive_capacity_ : batch_capacity_;
+        // A task is refused only when it would have to wait: an idle worker takes it at once
+        // even with a zero-length queue.
+        const std::size_t free_workers = threads_.size() - busy_;
+        // (Interactive tasks only queue behind interactive tasks: workers take them first.)
+        const bool starts_now = lane == Lane::interactive
+                                    ? interactive_.size() < free_workers
+                                    : interactive_.size() + batch_.size() < free_workers &&
+                                          batch_running_ + batch_.size() < batch_concurrency_;
+        if (!starts_now && queue.size() >= capacity) return false;
+        queue.push_back(std::move(task));
+    }
+    wake_.notify_one();
+    return true;
+}
+
+bool WorkerPool::can_take() const {
+    return !interactive_.empty() || (!batch_.empty() && batch_running_ < batch_concurrency_);
+}
+
+void WorkerPool::work() {
+    std::unique_lock lock(mutex_);
+    for (;;) {
+        wake_.wait(lock, [this] { return can_take() || (stopping_ && interactive_.empty() && batch_.empty()); });
+        if (!can_take()) return;  // stopping and nothing left
+        Task task;
+        bool batch = false;
+        if (!interactive_.empty()) {
+            task = std::move(interactive_.front());
+            interactive_.pop_front();
+        } else {
+            task = std::move(batch_.front());
+            batch_.pop_front();
+            batch = true;
+            ++batch_running_;
+        }
+        ++busy_;
+        lock.unlock();
+        try {
+            task();
+        } catch (const std::exception& error) {
+            spdlog::error("a worker task threw: {}", error.what());
+        } catch (...) {
+            spdlog::error("a worker task threw a non-standard exception");
+        }
+        task = nullptr;  // release what the task captured before counting it done
+        lock.lock();
+        --busy_;
+        if (batch) {
+            --batch_running_;
+            wake_.notify_all();  // a batch slot is free; also wakes shutdown waiters
+        }
+    }
+}
+
+void WorkerPool::shutdown() {
+    {
+        std::lock_guard lock(mutex_);
+        if (stopping_ && threads_.empty()) return;
+        stopping_ = true;
+    }
+    wake_.notify_all();
+    for (std::thread& thread : threads_) {
+        if (thread.joinable()) thread.join();
+    }
+    std::lock_guard lock(mutex_);
+    threads_.clear();
+}
+
+WorkerPoolStats WorkerPool::stats() const {
+    std::lock_guard lock(mutex_);
+    WorkerPoolStats stats;
+    stats.workers = threads_.size();
+    stats.busy = busy_;
+    stats.interactive_queued = interactive_.size();
+    stats.interactive_capacity = interactive_capacity_;
+    stats.batch_queued = batch_.size();
+    stats.batch_capacity = batch_capacity_;
+    stats.batch_running = batch_running_;
+    stats.batch_concurrency = batch_concurrency_;
+    return stats;
+}
+
+bool WorkerPool::idle() const {
+    std::lock_guard lock(mutex_);
+    return busy_ == 0 && interactive_.empty() && batch_.empty();
+}
+
+}  // namespace rollgap::service

@@ -1,0 +1,240 @@
+#pragma once
+// Helpers of the HTTP service tests (test_http_*.cpp): an in-process server on an ephemeral
+// loopback port, a client, raw socket exchanges, evaluators that block or run slowly, and
+// bounded waiting. Only 127.0.0.1 is ever contacted.
+
+#include "service/config.h"
+#include "service/http_server.h"
+
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <sys/time.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <sstream>
+#include <string>
+#include <string_view>
+#include <thread>
+
+#include <doctest/doctest.h>
+#include <httplib.h>
+#include <nlohmann/json.hpp>
+#include <spdlog/sinks/base_sink.h>
+#include <spdlog/spdlog.h>
+
+namespace rollgap::test {
+
+using nlohmann::json;
+
+// Polls `condition` every 2 ms until it holds or `timeout` passes.
+inline bool eventually(const std::function<bool()>& condition,
+                       std::chrono::milliseconds timeout = std::chrono::milliseconds(5000)) {
+    const auto until = std::chrono::steady_clock::now() + timeout;
+    while (std::chrono::steady_clock::now() < until) {
+        if (condition()) return true;
+        std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+    return condition();
+}
+
+// A small configuration for tests: loopback, any port, few threads, short drain.
+inline service::ServerConfig test_config() {
+    service::ServerConfig config;
+    config.bind_address = "127.0.0.1";
+    config.port = 0;
+    config.workers = 2;
+    config.io_threads = 8;
+    config.queue_length = 8;
+    config.drain_timeout = std::chrono::milliseconds(2000);
+    config.instance = "test";
+    return config;
+}
+
+// Collects log lines; text() may be read while the server logs.
+class CapturingSink : public spdlog::sinks::base_sink<std::mutex> {
+public:
+    std::string text() {
+        std::lock_guard lock(mutex_);
+        return text_;
+    }
+
+protected:
+    void sink_it_(const spdlog::details::log_msg& message) override {
+        spdlog::memory_buf_t formatted;
+        formatter_->format(message, formatted);
+        text_.append(formatted.data(), formatted.size());
+    }
+    void flush_() override {}
+
+private:
+    std::string text_;
+};
+
+// A server started in process, its request log captured, and a client for it.
+struct TestServer {
+    std::shared_ptr<CapturingSink> sink = std::make_shared<CapturingSink>();
+    std::shared_ptr<spdlog::logger> logger;
+    std::unique_ptr<service::HttpServer> server;
+
+    explicit TestServer(service::ServerConfig config = test_config(),
+                        service::Evaluator evaluator = service::facade_evaluator()) {
+        logger = std::make_shared<spdlog::logger>("http-test", sink);
+        logger->set_pattern("%v");
+        logger->set_level(spdlog::level::info);
+        server = std::make_unique<service::HttpServer>(config, std::move(evaluator), logger);
+        std::string error;
+        REQUIRE_MESSAGE(server->start(&error), error);
+    }
+
+    int port() const { return server->port(); }
+
+    httplib::Client client(int read_timeout_s = 30) const {
+        httplib::Client client("127.0.0.1", port());
+        client.set_connection_timeout(2, 0);
+        client.set_read_timeout(read_timeout_s, 0);
+        return client;
+    }
+
+    std::string log_text() { return sink->text(); }
+};
+
+inline httplib::Result post_json(httplib::Client& client, const std::string& path, const json& body,
+                                 const httplib::Headers& headers = {}) {
+    return client.Post(path.c_str(), headers, body.dump(), "application/json");
+}
+
+inline json body_json(const httplib::Result& result) {
+    REQUIRE(result);
+    return json::parse(result->body);
+}
+
+// Whether `received` holds a whole HTTP response (headers and a Content-Length body).
+inline bool response_complete(const std::string& received) {
+    const std::size_t end = received.find("\r\n\r\n");
+    if (end == std::string::npos) return false;
+    const std::size_t field = received.find("Content-Length: ");
+    if (field == std::string::npos || field > end) return true;  // no body
+    const std::size_t length = std::stoul(received.substr(field + 16, received.find("\r\n", field) - field - 16));
+    return received.size() >= end + 4 + length;
+}
+
+// Sends `bytes` to 127.0.0.1:port on a fresh connection and returns everything received until
+// the server closes or `timeout` passes without data.
+inline std::string raw_exchange(int port, std::string_view bytes,
+                                std::chrono::milliseconds timeout = std::chrono::milliseconds(2000)) {
+    const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+    REQUIRE(fd >= 0);
+    sockaddr_in address{};
+    address.sin_family = AF_INET;
+    address.sin_port = htons(static_cast<std::uint16_t>(port));
+    address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    REQUIRE(::connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) == 0);
+    timeval tv{};
+    tv.tv_sec = static_cast<time_t>(timeout.count() / 1000);
+    tv.tv_usec = static_cast<suseconds_t>((timeout.count() % 1000) * 1000);
+    ::setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
+    std::size_t sent = 0;
+    while (sent < bytes.size()) {
+        const ssize_t n = ::send(fd, bytes.data() + sent, bytes.size() - sent, MSG_NOSIGNAL);
+        if (n <= 0) break;  // the server may close early (e.g. after a 413)
+        sent += static_cast<std::size_t>(n);
+    }
+    std::string received;
+    char buffer[4096];
+    for (;;) {
+        const ssize_t n = ::recv(fd, buffer, sizeof buffer, 0);
+        if (n <= 0) break;
+        received.append(buffer, static_cast<std::size_t>(n));
+        if (response_complete(received)) break;  // the server may keep the connection open
+    }
+    ::close(fd);
+    return received;
+}
+
+// A port on 127.0.0.1 that was free a moment ago (bound to port 0, then released) for a child
+// process or nginx to bind.
+inline int free_loopback_port() {
+    const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+    REQUIRE(fd >= 0);
+    sockaddr_in address{};
+    address.sin_family = AF_INET;
+    address.sin_port = 0;
+    address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    REQUIRE(::bind(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) == 0);
+    socklen_t length = sizeof address;
+    REQUIRE(::getsockname(fd, reinterpret_cast<sockaddr*>(&address), &length) == 0);
+    ::close(fd);
+    return ntohs(address.sin_port);
+}
+
+// The status code of a raw HTTP response ("HTTP/1.1 413 ..."), or 0.
+inline int raw_status(std::string_view response) {
+    if (response.size() < 12 || !response.starts_with("HTTP/1.")) return 0;
+    return std::stoi(std::string(response.substr(9, 3)));
+}
+
+// An evaluator whose computations block until released (or cancelled through the Control),
+// counting how many started and how many saw the cancellation.
+class Gate {
+public:
+    service::Evaluator evaluator(std::function<service::Outcome(const json&)> after = nullptr) {
+        return [this, after](const json& request, const core::Control& control) {
+            ++started_;
+            std::unique_lock lock(mutex_);
+            const auto safety = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+            while (!open_ && !control.should_stop() && std::chrono::steady_clock::now() < safety) {
+                control.report(0.5);
+                opened_.wait_for(lock, std::chrono::milliseconds(2));
+            }
+            lock.unlock();
+            if (control.should_stop()) {
+                ++saw_cancel_;
+                return service::problem_outcome(api::make_problem(api::ProblemCode::cancelled, "cancelled"));
+            }
+            ++finished_;
+            if (after) return after(request);
+            return service::Outcome{200, json{{"analysis", request.value("analysis", "")}, {"result", {{"ok", true}}}},
+                                    std::nullopt};
+        };
+    }
+    void open() {
+        {
+            std::lock_guard lock(mutex_);
+            open_ = true;
+        }
+        opened_.notify_all();
+    }
+    int started() const { return started_; }
+    int finished() const { return finished_; }
+    int saw_cancel() const { return saw_cancel_; }
+
+private:
+    std::mutex mutex_;
+    std::condition_variable opened_;
+    bool open_ = false;
+    std::atomic<int> started_{0}, finished_{0}, saw_cancel_{0};
+};
+
+// Runs `work` on a thread and joins it on destruction.
+class Background {
+public:
+    explicit Background(std::function<void()> work) : thread_(std::move(work)) {}
+    ~Background() {
+        if (thread_.joinable()) thread_.join();
+    }
+    void join() {
+        if (thread_.joinable()) thread_.join();
+    }
+
+private:
+    std::thread thread_;
+};
+
+}  // namespace rollgap::test

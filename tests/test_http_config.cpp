@@ -1,0 +1,114 @@
+// Configuration of `rollgap serve` (service/config.h): flags over environment over defaults,
+// errors for bad values, the token from the environment or a file and never in a message.
+
+#include "service/config.h"
+
+#include <doctest/doctest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <string>
+#include <unistd.h>
+#include <variant>
+#include <vector>
+
+using namespace rollgap::service;
+
+namespace {
+
+EnvLookup environment(std::map<std::string, std::string, std::less<>> values) {
+    return [values = std::move(values)](std::string_view name) -> std::optional<std::string> {
+        const auto found = values.find(name);
+        if (found == values.end()) return std::nullopt;
+        return found->second;
+    };
+}
+
+std::variant<ServerConfig, ConfigHelp, std::string> parse(std::vector<std::string_view> arguments,
+                                                           std::map<std::string, std::string, std::less<>> env = {}) {
+    return parse_server_config(arguments, environment(std::move(env)));
+}
+
+}  // namespace
+
+TEST_CASE("serve config: defaults") {
+    const auto parsed = parse({});
+    REQUIRE(std::holds_alternative<ServerConfig>(parsed));
+    const ServerConfig config = std::get<ServerConfig>(parsed);
+    CHECK(config.bind_address == "127.0.0.1");
+    CHECK(config.port == 8080);
+    CHECK(config.deadline == std::chrono::seconds(30));
+    CHECK(config.max_body_bytes == 1024 * 1024);
+    CHECK_FALSE(config.token);
+    const ServerConfig resolved = config.resolved();
+    CHECK(resolved.workers >= 1);
+    CHECK(resolved.job_workers >= 1);
+    CHECK(resolved.job_workers <= resolved.workers);
+    CHECK_FALSE(resolved.instance.empty());
+}
+
+TEST_CASE("serve config: environment, then flags (both --flag value and --flag=value)") {
+    const auto parsed = parse({"--port", "9000", "--workers=3", "--deadline-ms", "1500"},
+                              {{"ROLLGAP_PORT", "7000"}, {"ROLLGAP_BIND", "0.0.0.0"}, {"ROLLGAP_QUEUE_LENGTH", "5"},
+                               {"ROLLGAP_LOG_LEVEL", "warn"}, {"ROLLGAP_JOB_RETENTION_MS", "1000"}});
+    REQUIRE(std::holds_alternative<ServerConfig>(parsed));
+    const ServerConfig config = std::get<ServerConfig>(parsed);
+    CHECK(config.port == 9000);  // the flag wins
+    CHECK(config.bind_address == "0.0.0.0");
+    CHECK(config.workers == 3);
+    CHECK(config.queue_length == 5);
+    CHECK(config.deadline == std::chrono::milliseconds(1500));
+    CHECK(config.log_level == "warn");
+    CHECK(config.job_retention == std::chrono::seconds(1));
+}
+
+TEST_CASE("serve config: bad values and unknown options are errors naming the option") {
+    for (const auto& [arguments, expected] : std::vector<std::pair<std::vector<std::string_view>, std::string>>{
+             {{"--port", "70000"}, "--port"},
+             {{"--workers", "many"}, "--workers"},
+             {{"--log-level", "loud"}, "--log-level"},
+             {{"--deadline-ms", "0"}, "--deadline-ms"},
+             {{"--prot", "80"}, "unknown option '--prot'"},
+             {{"--port"}, "needs a value"},
+         }) {
+        const auto parsed = parse(arguments);
+        REQUIRE(std::holds_alternative<std::string>(parsed));
+        CHECK(std::get<std::string>(parsed).find(expected) != std::string::npos);
+    }
+    const auto from_env = parse({}, {{"ROLLGAP_MAX_JOBS", "-1"}});
+    REQUIRE(std::holds_alternative<std::string>(from_env));
+    CHECK(std::get<std::string>(from_env).find("ROLLGAP_MAX_JOBS") != std::string::npos);
+    CHECK(std::holds_alternative<ConfigHelp>(parse({"--help"})));
+}
+
+TEST_CASE("serve config: the token comes from the environment or a file and is never printed") {
+    const std::string secret = "s3cret-t0ken-value";
+    const auto from_env = parse({}, {{"ROLLGAP_TOKEN", secret}});
+    REQUIRE(std::holds_alternative<ServerConfig>(from_env));
+    CHECK(std::get<ServerConfig>(from_env).token == secret);
+    CHECK(describe(std::get<ServerConfig>(from_env)).find(secret) == std::string::npos);
+    CHECK(describe(std::get<ServerConfig>(from_env)).find("token=set") != std::string::npos);
+
+    const auto path = std::filesystem::temp_directory_path() / ("rollgap-token-" + std::to_string(::getpid()));
+    std::ofstream(path) << "file-token\n";
+    const auto from_file = parse({"--token-file", path.string()}, {{"ROLLGAP_TOKEN", secret}});
+    std::filesystem::remove(path);
+    REQUIRE(std::holds_alternative<ServerConfig>(from_file));
+    CHECK(std::get<ServerConfig>(from_file).token == "file-token");  // trailing newline dropped
+
+    const auto empty = parse({}, {{"ROLLGAP_TOKEN", ""}});
+    REQUIRE(std::holds_alternative<std::string>(empty));
+    // There is no --token flag: a secret on the command line would show in ps.
+    CHECK(std::holds_alternative<std::string>(parse({"--token", secret})));
+    CHECK(std::get<std::string>(parse({"--token", secret})).find(secret) == std::string::npos);
+}
+
+TEST_CASE("serve config: --help lists every setting with its environment variable") {
+    const std::string usage = config_usage();
+    for (const ConfigSetting& setting : config_settings()) {
+        CAPTURE(setting.env);
+        CHECK(usage.find(setting.env) != std::string::npos);
+        if (!setting.flag.empty()) CHECK(usage.find(setting.flag) != std::string::npos);
+    }
+}

@@ -1,0 +1,181 @@
+// Scale-out: two service instances behind nginx on loopback, a sweep sent through the proxy,
+// requests spread over both instances, and a job polled through the proxy with the affinity
+// the README recommends (route by client address).
+
+#include "service/analyses.h"
+
+#include <doctest/doctest.h>
+
+#include <csignal>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "support/http_test.h"
+
+using namespace rollgap;
+using namespace rollgap::test;
+using nlohmann::json;
+
+namespace {
+
+const char* const nginx_binary = "/usr/sbin/nginx";
+
+// nginx in the foreground (daemon off) with everything under `directory`.
+class Nginx {
+public:
+    Nginx(const std::filesystem::path& directory, int port, const std::string& upstream_servers, bool affinity)
+        : directory_(directory) {
+        std::filesystem::create_directories(directory_);
+        const std::string dir = directory_.string();
+        std::ofstream conf(directory_ / "nginx.conf");
+        if (::geteuid() == 0) conf << "user root;\n";  // else workers run as nobody and cannot write dir
+        conf << "worker_processes 1;\ndaemon off;\npid " << dir << "/nginx.pid;\nerror_log " << dir
+             << "/error.log warn;\nevents { worker_connections 128; }\nhttp {\n  access_log off;\n"
+             << "  client_body_temp_path " << dir << "/body;\n  proxy_temp_path " << dir << "/proxy;\n"
+             << "  fastcgi_temp_path " << dir << "/fastcgi;\n  uwsgi_temp_path " << dir << "/uwsgi;\n"
+             << "  scgi_temp_path " << dir << "/scgi;\n"
+             << "  upstream rollgap {\n" << (affinity ? "    hash $remote_addr consistent;\n" : "")
+             << upstream_servers << "    keepalive 8;\n  }\n"
+             << "  server {\n    listen 127.0.0.1:" << port << ";\n    client_max_body_size 1m;\n"
+             << "    location / {\n      proxy_pass http://rollgap;\n      proxy_http_version 1.1;\n"
+             << "      proxy_set_header Connection \"\";\n      proxy_read_timeout 60s;\n    }\n  }\n}\n";
+        conf.close();
+        pid_ = ::fork();
+        REQUIRE(pid_ >= 0);
+        if (pid_ == 0) {
+            const std::string conf_path = (directory_ / "nginx.conf").string();
+            const std::string error_log = (directory_ / "error.log").string();
+            ::execl(nginx_binary, "nginx", "-p", dir.c_str(), "-c", conf_path.c_str(), "-e", error_log.c_str(),
+                    static_cast<char*>(nullptr));
+            ::_exit(127);
+        }
+    }
+    ~Nginx() {
+        if (pid_ > 0) {
+            ::kill(pid_, SIGTERM);
+            int status = 0;
+            for (int i = 0; i < 300 && ::waitpid(pid_, &status, WNOHANG) != pid_; ++i) {
+                std::this_thread::sleep_for(std::chrono::milliseconds(10));
+                if (i == 299) {
+                    ::kill(pid_, SIGKILL);
+                    ::waitpid(pid_, &status, 0);
+                }
+            }
+        }
+        std::error_code ignored;
+        std::filesystem::remove_all(directory_, ignored);
+    }
+    std::string error_log() const {
+        std::ifstream log(directory_ / "error.log");
+        return std::string(std::istreambuf_iterator<char>(log), std::istreambuf_iterator<char>());
+    }
+
+private:
+    std::filesystem::path directory_;
+    pid_t pid_ = -1;
+};
+
+service::ServerConfig instance(const char* name) {
+    service::ServerConfig config = test_config();
+    config.instance = name;
+    return config;
+}
+
+}  // namespace
+
+TEST_CASE("scale-out: two instances behind nginx serve a sweep and share the load") {
+    if (!std::filesystem::exists(nginx_binary)) {
+        MESSAGE("nginx is not installed (scripts/install-deps.sh installs it): scale-out test skipped");
+        return;
+    }
+    TestServer a(instance("a"));
+    TestServer b(instance("b"));
+    const int port = free_loopback_port();
+    REQUIRE(port > 0);
+    const std::string upstream = "    server 127.0.0.1:" + std::to_string(a.port()) + ";\n    server 127.0.0.1:" +
+                                 std::to_string(b.port()) + ";\n";
+    Nginx nginx(std::filesystem::temp_directory_path() / ("rollgap-nginx-" + std::to_string(::getpid())), port,
+                upstream, false);
+
+    httplib::Client client("127.0.0.1", port);
+    client.set_connection_timeout(0, 200'000);
+    client.set_read_timeout(30, 0);
+    const bool up = eventually([&] {
+        const auto result = client.Get("/readyz");
+        return result && result->status == 200;
+    });
+    CAPTURE(nginx.error_log());
+    REQUIRE(up);
+
+    if (service::find_analysis(service::analyses(), "sweep") != nullptr) {
+        const json sweep = {{"options", {{"parameter", "/lubricant/viscosity_Pa_s"},
+                                         {"values", {0.0004, 0.00055, 0.0007}},
+                                         {"critical_speed", {{"speed_min_m_per_s", 10}, {"speed_max_m_per_s", 40}}}}}};
+        const auto result = post_json(client, "/v1/sweeps", sweep);
+        REQUIRE(result);
+        CAPTURE(result->body.substr(0, 300));
+        CHECK(result->status == 200);
+        const json answer = json::parse(result->body);
+        CHECK(answer["analysis"] == "sweep");
+        CHECK(answer["result"]["points"].size() == 3);
+    } else {
+        MESSAGE("the facade offers no sweep yet: sending roll-gap requests only");
+    }
+
+    // Round robin: both instances answer.
+    for (int i = 0; i < 10; ++i) {
+        const auto result = post_json(client, "/v1/roll-gap", {{"options", {{"distributions", false}}}});
+        REQUIRE(result);
+        CHECK(result->status == 200);
+    }
+    const auto served_by = [](TestServer& server) {
+        return server.server->metrics().request_count("POST", "/v1/roll-gap", 200) +
+               server.server->metrics().request_count("POST", "/v1/sweeps", 200);
+    };
+    // Counted once the answers are written.
+    const std::uint64_t expected = 10 + (service::find_analysis(service::analyses(), "sweep") ? 1 : 0);
+    CHECK(eventually([&] { return served_by(a) + served_by(b) == expected; }));
+    CHECK(served_by(a) > 0);
+    CHECK(served_by(b) > 0);
+
+    // Problems pass through the proxy unchanged.
+    const auto invalid = post_json(client, "/v1/roll-gap", {{"scenario", {{"strip", {{"reduction", 5}}}}}});
+    REQUIRE(invalid);
+    CHECK(invalid->status == 422);
+    CHECK(invalid->get_header_value("Content-Type") == "application/problem+json");
+}
+
+TEST_CASE("scale-out: with affinity by client address a job is polled on the instance that holds it") {
+    if (!std::filesystem::exists(nginx_binary)) {
+        MESSAGE("nginx is not installed (scripts/install-deps.sh installs it): scale-out test skipped");
+        return;
+    }
+    TestServer a(instance("a"));
+    TestServer b(instance("b"));
+    const int port = free_loopback_port();
+    const std::string upstream = "    server 127.0.0.1:" + std::to_string(a.port()) + ";\n    server 127.0.0.1:" +
+                                 std::to_string(b.port()) + ";\n";
+    Nginx nginx(std::filesystem::temp_directory_path() / ("rollgap-nginx-affinity-" + std::to_string(::getpid())),
+                port, upstream, true);
+    httplib::Client client("127.0.0.1", port);
+    client.set_connection_timeout(0, 200'000);
+    client.set_read_timeout(30, 0);
+    REQUIRE(eventually([&] {
+        const auto result = client.Get("/readyz");
+        return result && result->status == 200;
+    }));
+    const auto created = post_json(client, "/v1/jobs", {{"analysis", "roll_gap"}, {"options", {{"distributions", false}}}});
+    REQUIRE(created);
+    REQUIRE(created->status == 202);
+    const std::string location = created->get_header_value("Location");
+    const std::string holder = json::parse(created->body)["instance"];
+    for (int i = 0; i < 5; ++i) {
+        const auto polled = client.Get(location.c_str());
+        REQUIRE(polled);
+        CHECK(polled->status == 200);
+        CHECK(json::parse(polled->body)["instance"] == holder);
+    }
+}
