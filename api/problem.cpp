@@ -18,6 +18,7 @@ constexpr std::array kinds{
     ProblemKind{ProblemCode::invalid_options, "invalid_options", 422, "Analysis options are invalid"},
     ProblemKind{ProblemCode::unknown_analysis, "unknown_analysis", 422, "Unknown analysis"},
     ProblemKind{ProblemCode::unreadable_input, "unreadable_input", 400, "Request could not be read"},
+    ProblemKind{ProblemCode::unauthorized, "unauthorized", 401, "Unauthorized"},
     ProblemKind{ProblemCode::not_found, "not_found", 404, "Not found"},
     ProblemKind{ProblemCode::method_not_allowed, "method_not_allowed", 405, "Method not allowed"},
     ProblemKind{ProblemCode::payload_too_large, "payload_too_large", 413, "Request is too large"},

@@ -19,6 +19,7 @@ enum class ProblemCode {
     invalid_options,         // the analysis options violate their schema
     unknown_analysis,        // "analysis" names no analysis the service offers
     unreadable_input,        // the request could not be read at all (CLI: missing file)
+    unauthorized,            // HTTP: a compute endpoint without the configured bearer token
     not_found,               // HTTP: no such route
     method_not_allowed,      // HTTP: route exists, method does not
     payload_too_large,       // the request exceeds the size limit

@@ -75,7 +75,9 @@ AmplitudeResult vibration_amplitude(const Scenario& s, const AmplitudeOptions& o
     const Matrix6& M = model.mill().mass;
     const Matrix6& C = model.mill().damping;
     const Matrix6& K = model.mill().structural_stiffness;
-    const int stride = options.time_series ? std::max(1, samples / std::max(1, options.time_series_points)) : 0;
+    // every stride-th sample, rounded up so the series never holds more than time_series_points
+    const int points = std::max(1, options.time_series_points);
+    const int stride = options.time_series ? std::max(1, (samples + points - 1) / points) : 0;
     int index = 0;
 
     auto on_output = [&](const Sample& sample) {

@@ -6,12 +6,13 @@ Evaluation evaluate_scenario(const Scenario& s, const CriticalSpeedOptions& crit
                              const AmplitudeOptions& amplitude_options, const Control& control) {
     Evaluation out;
     out.roll_gap = solve_roll_bite(s, steady_bite_state(s));
-    if (out.roll_gap.status != BiteStatus::ok) return out;  // no steady state: nothing vibrates about it
-    out.stability = stability_at(s);
-
+    // The critical speed is a search over speed, so it answers even when the scenario's own speed
+    // has no steady bite (a skidding set speed still has a chatter limit below it).
     // progress: the critical speed is most of the work, then the amplitude
     Control critical_control{control.cancelled, [&](double f) { control.report(0.6 * f); }};
     out.critical = critical_speed(s, critical_options, critical_control);
+    if (out.roll_gap.status != BiteStatus::ok) return out;  // no steady state: nothing vibrates about it
+    out.stability = stability_at(s);
     if (control.should_stop()) return out;
     Control amplitude_control{control.cancelled, [&](double f) { control.report(0.6 + 0.4 * f); }};
     out.amplitude = vibration_amplitude(s, amplitude_options, amplitude_control);

@@ -11,7 +11,10 @@ namespace {
 template <class Result, class Analysis>
 std::vector<Result> sweep(const std::vector<Scenario>& scenarios, int threads, const Control& control,
                           Analysis&& analysis) {
-    std::vector<Result> results(scenarios.size());
+    // A point the sweep never reached because it was cancelled says so.
+    Result not_run;
+    not_run.status = decltype(not_run.status)::cancelled;
+    std::vector<Result> results(scenarios.size(), not_run);
     std::atomic<int> done{0};
     const int n = static_cast<int>(scenarios.size());
     parallel_for(n, threads, [&](int i) {

@@ -25,9 +25,27 @@ TensionCycleResult tension_cycle(Scenario s, const TensionCycleOptions& options,
     std::sort(phases.begin(), phases.end());
     const double period = 1.0 / out.frequency_Hz;
     const int cycles = std::max(1, options.cycles);
+    // The run stops at the phase outputs and, in between, often enough (at most every 50 ms of
+    // simulated time) for a cancellation or a deadline to be heard without waiting for a cycle.
+    std::vector<double> phase_times;
+    for (double phase : phases) phase_times.push_back((cycles - 1 + phase) * period);
+    const double end = phase_times.empty() ? 0.0 : phase_times.back();
+    const double poll = std::min(period / 8.0, 0.05);
     std::vector<double> times;
-    for (double phase : phases) times.push_back((cycles - 1 + phase) * period);
-    if (!times.empty() && times.front() == 0.0) times.front() = 1e-12;  // CVODE needs t > t0
+    std::vector<bool> is_phase;
+    std::size_t next_phase = 0;
+    for (int k = 1; k * poll < end || next_phase < phase_times.size(); ++k) {
+        const double t = k * poll;
+        while (next_phase < phase_times.size() && phase_times[next_phase] <= t) {
+            times.push_back(std::max(phase_times[next_phase], 1e-12));  // CVODE needs t > t0
+            is_phase.push_back(true);
+            ++next_phase;
+        }
+        if (t < end && (times.empty() || t > times.back())) {
+            times.push_back(t);
+            is_phase.push_back(false);
+        }
+    }
 
     std::vector<Eigen::VectorXd> states;
     std::vector<double> reached;
@@ -35,11 +53,14 @@ TensionCycleResult tension_cycle(Scenario s, const TensionCycleOptions& options,
     IntegrationOptions integration;
     integration.relative_tolerance = options.relative_tolerance;
     integration.max_step = period / 50.0;
+    std::size_t output = 0;
     const IntegrationResult run = integrate(
         model, z, 0.0, times,
         [&](const Sample& sample) {
-            states.push_back(sample.z);
-            reached.push_back(sample.t);
+            if (is_phase[output++]) {
+                states.push_back(sample.z);
+                reached.push_back(sample.t);
+            }
         },
         integration, control);
     out.status = run.status;

@@ -60,6 +60,21 @@ struct Cvode {
     }
 };
 
+// Why a run ended early, for the user: the physical limits and the one non-physical end, a state
+// where the model has no answer (the inlet film squeezed to nothing, a bite that does not solve).
+const char* end_message(DynamicsStatus status) {
+    switch (status) {
+        case DynamicsStatus::contact_lost: return "the gap opened past the entry thickness: the rolls lost the strip";
+        case DynamicsStatus::skidding: return "the rolls skid on the strip (no neutral point in the bite)";
+        case DynamicsStatus::slack_strip: return "a strip tension fell to zero: the strip went slack";
+        case DynamicsStatus::solver_failure:
+            return "the model has no state here: the inlet film collapsed or the roll bite did not solve";
+        case DynamicsStatus::cancelled: return "cancelled";
+        case DynamicsStatus::ok: break;
+    }
+    return "ok";
+}
+
 }  // namespace
 
 IntegrationResult integrate(const CoupledModel& model, Eigen::VectorXd& z, double t0,
@@ -130,7 +145,7 @@ IntegrationResult integrate(const CoupledModel& model, Eigen::VectorXd& z, doubl
             }
             if (result.status != DynamicsStatus::ok) {
                 result.end_time = t;
-                result.message = "a physical limit ended the run";
+                result.message = end_message(result.status);
                 break;
             }
             // an upward crossing (a tension recovering) is no limit: go on to the output time
@@ -138,7 +153,7 @@ IntegrationResult integrate(const CoupledModel& model, Eigen::VectorXd& z, doubl
         }
         if (flag < 0) {
             result.status = data.last_failure != DynamicsStatus::ok ? data.last_failure : DynamicsStatus::solver_failure;
-            result.message = data.last_failure != DynamicsStatus::ok ? "a physical limit ended the run"
+            result.message = data.last_failure != DynamicsStatus::ok ? end_message(data.last_failure)
                                                                      : "CVODE could not continue (step size too small)";
             break;
         }

@@ -207,7 +207,7 @@ void set_problem(httplib::Response& response, api::ProblemCode code, std::string
     set_problem(response, api::make_problem(code, std::move(detail), std::move(errors)));
 }
 
-// Problem details for an HTTP status the api table has no row for (401, 414, ...).
+// Problem details for an HTTP status the api table has no row for (414, ...).
 json http_problem(int status, std::string_view slug, std::string_view title, std::string_view detail) {
     json body = {
         {"type", slug.empty() ? std::string("about:blank") : concat(api::problem_type_base, slug)},
@@ -380,10 +380,8 @@ struct HttpServer::Impl {
                                allow_header(*route)));
         } else if (route->compute && config.token && !authorized(request)) {
             response.set_header("WWW-Authenticate", "Bearer realm=\"rollgap\"");
-            set_json(response, 401,
-                     http_problem(401, "unauthorized", "Unauthorized",
-                                  "this endpoint needs the header Authorization: Bearer <token>"),
-                     api::problem_media_type);
+            set_problem(response, api::ProblemCode::unauthorized,
+                        "this endpoint needs the header Authorization: Bearer <token>");
         } else if (request.method == "POST" && !is_json_media_type(request.get_header_value("Content-Type"))) {
             const std::string sent = request.get_header_value("Content-Type");
             set_problem(response, api::ProblemCode::unsupported_media_type,

@@ -51,5 +51,13 @@ TEST_CASE("cancelling a sweep stops it") {
     control.cancelled = [&] { return ++started > 2; };
     const auto results = sweep_critical_speed(scenarios, {}, 1, control);
     CHECK(results.size() == scenarios.size());
-    CHECK(results.back().status != CriticalSpeedStatus::found);
+    // the points the sweep never reached say so, rather than posing as results
+    CHECK(results.back().status == CriticalSpeedStatus::cancelled);
+}
+
+TEST_CASE("cancelling an amplitude sweep marks the points it never reached") {
+    std::vector<Scenario> scenarios(3);
+    Control control;
+    control.cancelled = [] { return true; };
+    for (const AmplitudeResult& r : sweep_amplitude(scenarios, {}, 1, control)) CHECK(r.status == AmplitudeStatus::cancelled);
 }

@@ -38,3 +38,29 @@ TEST_CASE("the phases see the sinusoidal back tension and the gap follows the fo
     CHECK(r.phases[0].gap < 0.0);
     CHECK(r.phases[2].gap > 0.0);
 }
+
+TEST_CASE("a cancellation is heard within a cycle, not only at the phase outputs") {
+    Scenario s;
+    s.tensions.back.frequency = 0.5;  // a 2 s cycle: the first phase output lies 1.5 s of simulation away
+    int polls = 0;
+    Control control;
+    control.cancelled = [&] { return ++polls > 3; };
+    TensionCycleOptions options;
+    options.cycles = 1;
+    options.phases = {0.75};
+    const TensionCycleResult r = tension_cycle(s, options, control);
+    CHECK(r.status == DynamicsStatus::cancelled);
+    CHECK(r.phases.empty());
+}
+
+TEST_CASE("the phase outputs do not depend on the intermediate stops") {
+    const Scenario s;
+    TensionCycleOptions one, three;
+    one.phases = {0.5};
+    three.phases = {0.25, 0.5, 0.75};
+    const TensionCycleResult a = tension_cycle(s, one), b = tension_cycle(s, three);
+    REQUIRE(a.status == DynamicsStatus::ok);
+    REQUIRE(b.status == DynamicsStatus::ok);
+    CHECK(a.phases[0].time == b.phases[1].time);
+    CHECK(a.phases[0].gap == doctest::Approx(b.phases[1].gap).epsilon(1e-4));
+}
