@@ -44,14 +44,13 @@ nlohmann::json evaluation_result_json(const core::Evaluation& evaluation, const 
     core::AmplitudeResult amplitude = evaluation.amplitude;
     core::CriticalSpeedResult critical = evaluation.critical;
     if (evaluation.roll_gap.status != core::BiteStatus::ok) {
-        // core stops at the roll gap: say why the rest is missing, consistently.
+        // core stops after the critical-speed search: say why the rest is missing, consistently.
         stability.speed = scenario_speed;
         stability.steady_status = evaluation.roll_gap.status;
         amplitude.speed = scenario_speed;
         amplitude.steady_status = evaluation.roll_gap.status;
         amplitude.status = core::AmplitudeStatus::no_steady_state;
         amplitude.message = "no steady state at the scenario's speed: the bite skids or loses contact";
-        critical.status = core::CriticalSpeedStatus::no_steady_state;
     }
     return {
         {"roll_gap", bite_result_json(evaluation.roll_gap)},
