@@ -210,6 +210,11 @@ std::vector<DampingBranch> track_branches(const std::vector<SpeedStability>& sca
 
 }  // namespace
 
+Eigen::VectorXcd balanced_eigenvalues(const Eigen::MatrixXd& jacobian) {
+    const Eigensystem system = eigensystem(jacobian);
+    return system.ok ? system.values : Eigen::VectorXcd();
+}
+
 SpeedStability stability_at(const Scenario& s) { return analyse(s, true); }
 
 CriticalSpeedResult critical_speed(const Scenario& s, const CriticalSpeedOptions& options, const Control& control) {

@@ -21,6 +21,11 @@ struct Linearisation {
 // h0 1e-5 h0, tensions 1 kPa.
 Linearisation linearise(const CoupledModel& model, const Eigen::VectorXd& z, double t = 0.0);
 
+// Eigenvalues of a Jacobian after Parlett-Reinsch balancing (the coupled model's Jacobian
+// mixes entries from 1e-13 to 1e14; unbalanced, the QR iteration is wrong by O(10/s)).
+// Empty when the eigenvalue iteration fails.
+Eigen::VectorXcd balanced_eigenvalues(const Eigen::MatrixXd& jacobian);
+
 struct Eigenmode {
     std::complex<double> eigenvalue;  // 1/s
     double frequency_Hz = 0.0;        // Im / 2 pi
@@ -70,7 +75,5 @@ struct CriticalSpeedResult {
 
 CriticalSpeedResult critical_speed(const Scenario& s, const CriticalSpeedOptions& options = {},
                                    const Control& control = {});
-
-const char* to_string(CriticalSpeedStatus);
 
 }  // namespace rollgap::core

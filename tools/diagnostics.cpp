@@ -13,42 +13,7 @@
 
 namespace rollgap::tools {
 
-Eigen::VectorXcd balanced_eigenvalues(Eigen::MatrixXd A) {
-    const Eigen::Index n = A.rows();
-    bool converged = false;
-    for (int sweep = 0; sweep < 100 && !converged; ++sweep) {
-        converged = true;
-        for (Eigen::Index i = 0; i < n; ++i) {
-            double column = 0.0, row = 0.0;
-            for (Eigen::Index j = 0; j < n; ++j) {
-                if (j == i) continue;
-                column += std::abs(A(j, i));
-                row += std::abs(A(i, j));
-            }
-            if (column == 0.0 || row == 0.0) continue;
-            double f = 1.0;
-            const double total = column + row;
-            while (column < row / 2.0) {
-                column *= 2.0;
-                row /= 2.0;
-                f *= 2.0;
-            }
-            while (column >= row * 2.0) {
-                column /= 2.0;
-                row *= 2.0;
-                f /= 2.0;
-            }
-            if ((column + row) < 0.95 * total) {
-                converged = false;
-                A.row(i) /= f;
-                A.col(i) *= f;
-            }
-        }
-    }
-    Eigen::EigenSolver<Eigen::MatrixXd> solver(A, false);
-    if (solver.info() != Eigen::Success) return {};
-    return solver.eigenvalues();
-}
+using core::balanced_eigenvalues;
 
 namespace {
 

@@ -12,10 +12,6 @@
 
 namespace rollgap::tools {
 
-// Eigenvalues of a Jacobian after Parlett-Reinsch balancing (as core/stability.cpp does: the
-// unbalanced Jacobian mixes entries from 1e-13 to 1e14).
-Eigen::VectorXcd balanced_eigenvalues(Eigen::MatrixXd jacobian);
-
 struct ModeDiagnostics {
     static constexpr double nan = std::numeric_limits<double>::quiet_NaN();
     bool ok = false;
