@@ -12,6 +12,7 @@
 
 #include "service/amplitude_analysis.h"
 #include "service/evaluate.h"
+#include "support/refused_options.h"
 
 using nlohmann::json;
 using namespace rollgap;
@@ -19,24 +20,9 @@ using namespace rollgap::service;
 
 namespace {
 
-json error_at(const Outcome& outcome, const std::string& pointer) {
-    for (const json& error : outcome.body.value("errors", json::array())) {
-        if (error["pointer"] == pointer) return error;
-    }
-    return nullptr;
-}
-
 void check_rejected(const json& options, const std::string& pointer, std::optional<std::string> bound,
                     std::optional<std::string> unit) {
-    CAPTURE(options.dump());
-    const Outcome outcome = evaluate({{"analysis", "amplitude"}, {"options", options}});
-    REQUIRE_FALSE(outcome.ok());
-    CHECK(outcome.problem == api::ProblemCode::invalid_options);
-    CHECK(outcome.http_status == 422);
-    const json error = error_at(outcome, pointer);
-    REQUIRE_MESSAGE(error.is_object(), outcome.body.dump());
-    if (bound) CHECK(error.value("bound", "") == *bound);
-    if (unit) CHECK(error.value("unit", "") == *unit);
+    test::check_refused_options("amplitude", options, pointer, bound, unit);
 }
 
 json run_amplitude(const json& options, const json& scenario = json::object()) {

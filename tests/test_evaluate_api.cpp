@@ -18,6 +18,7 @@
 #include "service/cli.h"
 #include "service/evaluate.h"
 #include "service/evaluation_analysis.h"
+#include "support/refused_options.h"
 
 using nlohmann::json;
 using namespace rollgap;
@@ -25,24 +26,9 @@ using namespace rollgap::service;
 
 namespace {
 
-json error_at(const Outcome& outcome, const std::string& pointer) {
-    for (const json& error : outcome.body.value("errors", json::array())) {
-        if (error["pointer"] == pointer) return error;
-    }
-    return nullptr;
-}
-
 void check_rejected(const json& options, const std::string& pointer, std::optional<std::string> bound,
                     std::optional<std::string> unit) {
-    CAPTURE(options.dump());
-    const Outcome outcome = evaluate({{"analysis", "evaluate"}, {"options", options}});
-    REQUIRE_FALSE(outcome.ok());
-    CHECK(outcome.problem == api::ProblemCode::invalid_options);
-    CHECK(outcome.http_status == 422);
-    const json error = error_at(outcome, pointer);
-    REQUIRE_MESSAGE(error.is_object(), outcome.body.dump());
-    if (bound) CHECK(error.value("bound", "") == *bound);
-    if (unit) CHECK(error.value("unit", "") == *unit);
+    test::check_refused_options("evaluate", options, pointer, bound, unit);
 }
 
 // Fast: a narrow search around the default's critical speed, a short window.

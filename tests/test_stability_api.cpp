@@ -11,6 +11,7 @@
 
 #include "service/evaluate.h"
 #include "service/stability_analysis.h"
+#include "support/refused_options.h"
 
 using nlohmann::json;
 using namespace rollgap;
@@ -18,25 +19,9 @@ using namespace rollgap::service;
 
 namespace {
 
-// The field error at `pointer`, or null.
-json error_at(const Outcome& outcome, const std::string& pointer) {
-    for (const json& error : outcome.body.value("errors", json::array())) {
-        if (error["pointer"] == pointer) return error;
-    }
-    return nullptr;
-}
-
 void check_rejected(const json& options, const std::string& pointer, std::optional<std::string> bound,
                     std::optional<std::string> unit) {
-    CAPTURE(options.dump());
-    const Outcome outcome = evaluate({{"analysis", "stability"}, {"options", options}});
-    REQUIRE_FALSE(outcome.ok());
-    CHECK(outcome.problem == api::ProblemCode::invalid_options);
-    CHECK(outcome.http_status == 422);
-    const json error = error_at(outcome, pointer);
-    REQUIRE_MESSAGE(error.is_object(), outcome.body.dump());
-    if (bound) CHECK(error.value("bound", "") == *bound);
-    if (unit) CHECK(error.value("unit", "") == *unit);
+    test::check_refused_options("stability", options, pointer, bound, unit);
 }
 
 json run_stability(const json& scenario, const json& options) {
@@ -77,7 +62,7 @@ TEST_CASE("stability options: every bound is enforced, with its pointer, bound a
 
 TEST_CASE("stability options: unknown members are named, with a suggestion for a wrong unit suffix") {
     const Outcome outcome = evaluate({{"analysis", "stability"}, {"options", {{"speed_max_mps", 30}}}});
-    const json error = error_at(outcome, "/options/speed_max_mps");
+    const json error = test::error_at(outcome, "/options/speed_max_mps");
     REQUIRE(error.is_object());
     CHECK(error["detail"].get<std::string>().find("did you mean 'speed_max_m_per_s'") != std::string::npos);
 }

@@ -13,6 +13,7 @@
 
 #include "service/evaluate.h"
 #include "service/sweep_analysis.h"
+#include "support/refused_options.h"
 
 using nlohmann::json;
 using namespace rollgap;
@@ -20,27 +21,12 @@ using namespace rollgap::service;
 
 namespace {
 
-json error_at(const Outcome& outcome, const std::string& pointer) {
-    for (const json& error : outcome.body.value("errors", json::array())) {
-        if (error["pointer"] == pointer) return error;
-    }
-    return nullptr;
-}
-
 Outcome run(const json& options, const json& scenario = json::object()) {
     return evaluate({{"analysis", "sweep"}, {"scenario", scenario}, {"options", options}});
 }
 
-// The error at `pointer`, after checking the request was refused as invalid options.
 json rejected(const json& options, const std::string& pointer, const json& scenario = json::object()) {
-    CAPTURE(options.dump());
-    const Outcome outcome = run(options, scenario);
-    REQUIRE_FALSE(outcome.ok());
-    CHECK(outcome.problem == api::ProblemCode::invalid_options);
-    CHECK(outcome.http_status == 422);
-    const json error = error_at(outcome, pointer);
-    REQUIRE_MESSAGE(error.is_object(), outcome.body.dump());
-    return error;
+    return test::refused_options("sweep", options, pointer, scenario);
 }
 
 bool mentions(const json& error, const std::string& text) {

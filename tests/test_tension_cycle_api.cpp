@@ -10,6 +10,7 @@
 
 #include "service/evaluate.h"
 #include "service/tension_cycle_analysis.h"
+#include "support/refused_options.h"
 
 using nlohmann::json;
 using namespace rollgap;
@@ -17,27 +18,13 @@ using namespace rollgap::service;
 
 namespace {
 
-json error_at(const Outcome& outcome, const std::string& pointer) {
-    for (const json& error : outcome.body.value("errors", json::array())) {
-        if (error["pointer"] == pointer) return error;
-    }
-    return nullptr;
-}
-
 Outcome run(const json& options, const json& scenario = json::object()) {
     return evaluate({{"analysis", "tension_cycle"}, {"scenario", scenario}, {"options", options}});
 }
 
 void check_rejected(const json& options, const std::string& pointer, std::optional<std::string> bound,
                     std::optional<std::string> unit, const json& scenario = json::object()) {
-    CAPTURE(options.dump());
-    const Outcome outcome = run(options, scenario);
-    REQUIRE_FALSE(outcome.ok());
-    CHECK(outcome.http_status == 422);
-    const json error = error_at(outcome, pointer);
-    REQUIRE_MESSAGE(error.is_object(), outcome.body.dump());
-    if (bound) CHECK(error.value("bound", "") == *bound);
-    if (unit) CHECK(error.value("unit", "") == *unit);
+    test::check_refused_options("tension_cycle", options, pointer, bound, unit, scenario);
 }
 
 }  // namespace
@@ -79,7 +66,7 @@ TEST_CASE("tension_cycle: the back tension runs as a sinusoid, so its limits app
     const Outcome outcome = run(json::object(), {{"tension", {{"back", {{"amplitude_MPa", 20}}}}}});
     REQUIRE_FALSE(outcome.ok());
     CHECK(outcome.problem == api::ProblemCode::invalid_scenario);
-    const json error = error_at(outcome, "/scenario/tension/back/amplitude_MPa");
+    const json error = test::error_at(outcome, "/scenario/tension/back/amplitude_MPa");
     REQUIRE(error.is_object());
     CHECK(error["bound"] == "[0, 18]");
     CHECK(error["detail"].get<std::string>().find("tension_cycle") != std::string::npos);
