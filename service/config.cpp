@@ -53,6 +53,45 @@ constexpr std::array settings{
                   "this replica's name in job documents (default: the host name)"},
 };
 
+// The numeric settings: the range a value must lie in and where it goes.
+struct IntegerSetting {
+    std::string_view env;
+    long long min;
+    long long max;
+    std::string_view expected;  // the range, as the error message states it
+    void (*store)(ServerConfig&, long long);
+};
+
+using std::chrono::milliseconds;
+using std::chrono::seconds;
+
+constexpr std::array integer_settings{
+    IntegerSetting{"ROLLGAP_PORT", 0, 65535, "a port 0..65535",
+                   [](ServerConfig& c, long long n) { c.port = static_cast<int>(n); }},
+    IntegerSetting{"ROLLGAP_WORKERS", 0, 1024, "0..1024 (0: the machine's cores)",
+                   [](ServerConfig& c, long long n) { c.workers = static_cast<std::size_t>(n); }},
+    IntegerSetting{"ROLLGAP_QUEUE_LENGTH", 0, 100000, "0..100000",
+                   [](ServerConfig& c, long long n) { c.queue_length = static_cast<std::size_t>(n); }},
+    IntegerSetting{"ROLLGAP_IO_THREADS", 1, 4096, "1..4096",
+                   [](ServerConfig& c, long long n) { c.io_threads = static_cast<std::size_t>(n); }},
+    IntegerSetting{"ROLLGAP_DEADLINE_MS", 1, 3'600'000, "1..3600000 ms",
+                   [](ServerConfig& c, long long n) { c.deadline = milliseconds(n); }},
+    IntegerSetting{"ROLLGAP_JOB_DEADLINE_MS", 1, 86'400'000, "1..86400000 ms",
+                   [](ServerConfig& c, long long n) { c.job_deadline = milliseconds(n); }},
+    IntegerSetting{"ROLLGAP_JOB_RETENTION_MS", 0, 604'800'000, "0..604800000 ms",
+                   [](ServerConfig& c, long long n) { c.job_retention = milliseconds(n); }},
+    IntegerSetting{"ROLLGAP_MAX_JOBS", 0, 1'000'000, "0..1000000",
+                   [](ServerConfig& c, long long n) { c.max_jobs = static_cast<std::size_t>(n); }},
+    IntegerSetting{"ROLLGAP_JOB_WORKERS", 0, 1024, "0..1024 (0: max(1, workers/2))",
+                   [](ServerConfig& c, long long n) { c.job_workers = static_cast<std::size_t>(n); }},
+    IntegerSetting{"ROLLGAP_RETRY_AFTER", 0, 3600, "0..3600 s",
+                   [](ServerConfig& c, long long n) { c.retry_after = seconds(n); }},
+    IntegerSetting{"ROLLGAP_DRAIN_TIMEOUT_MS", 0, 3'600'000, "0..3600000 ms",
+                   [](ServerConfig& c, long long n) { c.drain_timeout = milliseconds(n); }},
+    IntegerSetting{"ROLLGAP_MAX_BODY_BYTES", 1024, 64LL * 1024 * 1024, "1024..67108864 bytes",
+                   [](ServerConfig& c, long long n) { c.max_body_bytes = static_cast<std::size_t>(n); }},
+};
+
 std::optional<long long> parse_integer(std::string_view text, long long min, long long max) {
     long long value = 0;
     const auto parsed = std::from_chars(text.data(), text.data() + text.size(), value);
@@ -78,59 +117,18 @@ std::optional<std::string> apply(ServerConfig& config, const ConfigSetting& sett
     const auto bad = [&](std::string_view expected) {
         return concat("invalid ", source, " '", value, "': expected ", expected);
     };
-    const auto integer = [&](long long min, long long max) { return parse_integer(value, min, max); };
     const std::string_view env = setting.env;
+    const auto numeric = std::find_if(integer_settings.begin(), integer_settings.end(),
+                                      [env](const IntegerSetting& s) { return s.env == env; });
+    if (numeric != integer_settings.end()) {
+        const auto n = parse_integer(value, numeric->min, numeric->max);
+        if (!n) return bad(numeric->expected);
+        numeric->store(config, *n);
+        return std::nullopt;
+    }
     if (env == "ROLLGAP_BIND") {
         if (value.empty()) return bad("an address");
         config.bind_address = value;
-    } else if (env == "ROLLGAP_PORT") {
-        const auto n = integer(0, 65535);
-        if (!n) return bad("a port 0..65535");
-        config.port = static_cast<int>(*n);
-    } else if (env == "ROLLGAP_WORKERS") {
-        const auto n = integer(0, 1024);
-        if (!n) return bad("0..1024 (0: the machine's cores)");
-        config.workers = static_cast<std::size_t>(*n);
-    } else if (env == "ROLLGAP_QUEUE_LENGTH") {
-        const auto n = integer(0, 100000);
-        if (!n) return bad("0..100000");
-        config.queue_length = static_cast<std::size_t>(*n);
-    } else if (env == "ROLLGAP_IO_THREADS") {
-        const auto n = integer(1, 4096);
-        if (!n) return bad("1..4096");
-        config.io_threads = static_cast<std::size_t>(*n);
-    } else if (env == "ROLLGAP_DEADLINE_MS") {
-        const auto n = integer(1, 3'600'000);
-        if (!n) return bad("1..3600000 ms");
-        config.deadline = std::chrono::milliseconds(*n);
-    } else if (env == "ROLLGAP_JOB_DEADLINE_MS") {
-        const auto n = integer(1, 86'400'000);
-        if (!n) return bad("1..86400000 ms");
-        config.job_deadline = std::chrono::milliseconds(*n);
-    } else if (env == "ROLLGAP_JOB_RETENTION_MS") {
-        const auto n = integer(0, 604'800'000);
-        if (!n) return bad("0..604800000 ms");
-        config.job_retention = std::chrono::milliseconds(*n);
-    } else if (env == "ROLLGAP_MAX_JOBS") {
-        const auto n = integer(0, 1'000'000);
-        if (!n) return bad("0..1000000");
-        config.max_jobs = static_cast<std::size_t>(*n);
-    } else if (env == "ROLLGAP_JOB_WORKERS") {
-        const auto n = integer(0, 1024);
-        if (!n) return bad("0..1024 (0: max(1, workers/2))");
-        config.job_workers = static_cast<std::size_t>(*n);
-    } else if (env == "ROLLGAP_RETRY_AFTER") {
-        const auto n = integer(0, 3600);
-        if (!n) return bad("0..3600 s");
-        config.retry_after = std::chrono::seconds(*n);
-    } else if (env == "ROLLGAP_DRAIN_TIMEOUT_MS") {
-        const auto n = integer(0, 3'600'000);
-        if (!n) return bad("0..3600000 ms");
-        config.drain_timeout = std::chrono::milliseconds(*n);
-    } else if (env == "ROLLGAP_MAX_BODY_BYTES") {
-        const auto n = integer(1024, 64LL * 1024 * 1024);
-        if (!n) return bad("1024..67108864 bytes");
-        config.max_body_bytes = static_cast<std::size_t>(*n);
     } else if (env == "ROLLGAP_LOG_LEVEL") {
         if (!valid_log_level(value)) return bad("trace, debug, info, warn, error, critical or off");
         config.log_level = value;
