@@ -185,7 +185,6 @@ json openapi_document() {
 
     json codes = json::array();
     for (const api::ProblemKind& kind : api::problem_kinds()) codes.push_back(kind.slug);
-    codes.push_back("unauthorized");  // the HTTP server's own (401); not a facade outcome
     schemas["Problem"]["properties"]["code"]["enum"] = std::move(codes);
 
     json names = json::array();
