@@ -2,15 +2,23 @@
 // How a caller steers a long computation from outside: cancel it (a deadline, a deleted job)
 // and hear how far it got. Both are optional; core never blocks on them.
 
+#include <algorithm>
 #include <functional>
+#include <thread>
 
 namespace rollgap::core {
 
 struct Control {
     std::function<bool()> cancelled;          // polled between units of work
     std::function<void(double)> progress;     // fraction done, 0..1
+    // The most threads one computation may spread over (the scan speeds of a critical-speed
+    // search, the points of a sweep); 0: the machine's cores. Results do not depend on it.
+    int threads = 0;
 
     bool should_stop() const { return cancelled && cancelled(); }
+    int thread_budget() const {
+        return threads > 0 ? threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    }
     void report(double fraction) const {
         if (progress) progress(fraction);
     }

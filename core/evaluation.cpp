@@ -9,12 +9,14 @@ Evaluation evaluate_scenario(const Scenario& s, const CriticalSpeedOptions& crit
     // The critical speed is a search over speed, so it answers even when the scenario's own speed
     // has no steady bite (a skidding set speed still has a chatter limit below it).
     // progress: the critical speed is most of the work, then the amplitude
-    Control critical_control{control.cancelled, [&](double f) { control.report(0.6 * f); }};
+    Control critical_control = control;
+    critical_control.progress = [&](double f) { control.report(0.6 * f); };
     out.critical = critical_speed(s, critical_options, critical_control);
     if (out.roll_gap.status != BiteStatus::ok) return out;  // no steady state: nothing vibrates about it
     out.stability = stability_at(s);
     if (control.should_stop()) return out;
-    Control amplitude_control{control.cancelled, [&](double f) { control.report(0.6 + 0.4 * f); }};
+    Control amplitude_control = control;
+    amplitude_control.progress = [&](double f) { control.report(0.6 + 0.4 * f); };
     out.amplitude = vibration_amplitude(s, amplitude_options, amplitude_control);
     return out;
 }

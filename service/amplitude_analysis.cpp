@@ -4,7 +4,6 @@
 
 #include "api/amplitude_json.h"
 #include "core/amplitude.h"
-#include "core/parallel_for.h"
 #include "core/sweep.h"
 
 namespace rollgap::service {
@@ -26,7 +25,7 @@ PreparedAnalysis prepare_amplitude(const core::Scenario& scenario, const nlohman
             // result in its own slot (independent of the thread count).
             const std::vector<core::AmplitudeResult> results =
                 runs.size() == 1 ? std::vector<core::AmplitudeResult>{core::vibration_amplitude(runs.front(), parsed.run, control)}
-                                 : core::sweep_amplitude(runs, parsed.run, core::default_thread_count(), control);
+                                 : core::sweep_amplitude(runs, parsed.run, control.thread_budget(), control);
             throw_if_cancelled(control);
             nlohmann::json points = nlohmann::json::array();
             for (const core::AmplitudeResult& result : results) {

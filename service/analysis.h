@@ -22,8 +22,8 @@ namespace rollgap::service {
 // into the problem `cancelled`. A result with a "cancelled" status is never returned.
 struct AnalysisCancelled {};
 
-// For runs: after a core call that may have stopped early (a cancelled sweep leaves its
-// unfinished points default-constructed, with no "cancelled" status to tell them apart).
+// For runs: after a core call that may have stopped early, so that a partly computed result
+// (a sweep whose last points say "cancelled") is never returned as if it were complete.
 inline void throw_if_cancelled(const core::Control& control) {
     if (control.should_stop()) throw AnalysisCancelled{};
 }

@@ -27,6 +27,9 @@ constexpr std::array settings{
                   "synchronous requests that may wait for a worker; beyond: 503 (default 64)"},
     ConfigSetting{"--io-threads", "ROLLGAP_IO_THREADS", "N",
                   "HTTP connection threads, one per open connection (default 64)"},
+    ConfigSetting{"--analysis-threads", "ROLLGAP_ANALYSIS_THREADS", "N",
+                  "threads one analysis may spread its scan speeds or sweep points over "
+                  "(default 0: the machine's cores; with many workers, cores/workers avoids oversubscription)"},
     ConfigSetting{"--deadline-ms", "ROLLGAP_DEADLINE_MS", "MS",
                   "time budget of a synchronous request; past it: 504 (default 30000)"},
     ConfigSetting{"--job-deadline-ms", "ROLLGAP_JOB_DEADLINE_MS", "MS",
@@ -74,6 +77,8 @@ constexpr std::array integer_settings{
                    [](ServerConfig& c, long long n) { c.queue_length = static_cast<std::size_t>(n); }},
     IntegerSetting{"ROLLGAP_IO_THREADS", 1, 4096, "1..4096",
                    [](ServerConfig& c, long long n) { c.io_threads = static_cast<std::size_t>(n); }},
+    IntegerSetting{"ROLLGAP_ANALYSIS_THREADS", 0, 1024, "0..1024 (0: the machine's cores)",
+                   [](ServerConfig& c, long long n) { c.analysis_threads = static_cast<std::size_t>(n); }},
     IntegerSetting{"ROLLGAP_DEADLINE_MS", 1, 3'600'000, "1..3600000 ms",
                    [](ServerConfig& c, long long n) { c.deadline = milliseconds(n); }},
     IntegerSetting{"ROLLGAP_JOB_DEADLINE_MS", 1, 86'400'000, "1..86400000 ms",
@@ -228,7 +233,7 @@ std::string config_usage() {
 std::string describe(const ServerConfig& config) {
     std::ostringstream text;
     text << "bind=" << config.bind_address << " port=" << config.port << " workers=" << config.workers
-         << " queue_length=" << config.queue_length << " io_threads=" << config.io_threads
+         << " queue_length=" << config.queue_length << " io_threads=" << config.io_threads << " analysis_threads=" << config.analysis_threads
          << " deadline_ms=" << config.deadline.count() << " job_deadline_ms=" << config.job_deadline.count()
          << " job_retention_ms=" << config.job_retention.count() << " max_jobs=" << config.max_jobs
          << " job_workers=" << config.job_workers << " max_body_bytes=" << config.max_body_bytes

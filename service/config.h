@@ -20,6 +20,7 @@ struct ServerConfig {
     std::size_t workers = 0;                  // compute threads; 0 means the machine's cores
     std::size_t queue_length = 64;            // synchronous requests waiting for a worker
     std::size_t io_threads = 64;              // HTTP connection threads (one per open connection)
+    std::size_t analysis_threads = 0;         // threads one analysis may spread over; 0: the machine's cores
     std::chrono::milliseconds deadline{30'000};       // synchronous requests, from arrival
     std::chrono::milliseconds job_deadline{600'000};  // asynchronous jobs, from creation
     std::chrono::milliseconds job_retention{600'000};  // finished jobs are kept this long

@@ -573,6 +573,7 @@ struct HttpServer::Impl {
                 return;
             }
             core::Control control;
+            control.threads = static_cast<int>(config.analysis_threads);
             control.cancelled = [this, call] {
                 return call->abandoned.load(std::memory_order_relaxed) || SteadyClock::now() >= call->deadline ||
                        hard_cancel.load(std::memory_order_relaxed);
@@ -737,6 +738,7 @@ struct HttpServer::Impl {
         const auto late = [job] { return SteadyClock::now() >= job->deadline; };
         const auto cancelled = [job] { return job->cancel_requested.load(); };
         core::Control control;
+        control.threads = static_cast<int>(config.analysis_threads);
         control.cancelled = [this, late, cancelled] { return cancelled() || late() || hard_cancel.load(); };
         control.progress = [job](double fraction) {
             if (std::isfinite(fraction)) job->progress = std::clamp(fraction, 0.0, 1.0);

@@ -2,7 +2,6 @@
 
 #include "api/stability_json.h"
 #include "core/mill_structure.h"
-#include "core/parallel_for.h"
 #include "core/stability.h"
 
 namespace rollgap::service {
@@ -10,9 +9,6 @@ namespace rollgap::service {
 PreparedAnalysis prepare_stability(const core::Scenario& scenario, const nlohmann::json& options,
                                    const std::string& options_pointer, api::FieldErrors& errors) {
     api::StabilityOptions parsed = api::stability_options_from_json(options, options_pointer, errors);
-    // The scan speeds are independent: spread them over the machine (the result does not
-    // depend on the thread count).
-    parsed.search.threads = core::default_thread_count();
     return {
         api::stability_options_json(parsed),
         [scenario, parsed](const core::Control& control) {
@@ -27,7 +23,11 @@ PreparedAnalysis prepare_stability(const core::Scenario& scenario, const nlohman
             body["structure"] = std::move(structure);
             body["critical_speed"] = nullptr;
             if (parsed.critical_speed) {
-                const core::CriticalSpeedResult critical = core::critical_speed(scenario, parsed.search, control);
+                // The scan speeds are independent: spread over the caller's thread budget (the
+                // result does not depend on it).
+                core::CriticalSpeedOptions search = parsed.search;
+                search.threads = control.thread_budget();
+                const core::CriticalSpeedResult critical = core::critical_speed(scenario, search, control);
                 if (critical.status == core::CriticalSpeedStatus::cancelled) throw AnalysisCancelled{};
                 throw_if_cancelled(control);
                 body["critical_speed"] = api::critical_speed_json(critical);

@@ -3,20 +3,20 @@
 #include <memory>
 
 #include "api/sweep_json.h"
-#include "core/parallel_for.h"
 #include "core/sweep.h"
 
 namespace rollgap::service {
 
-PreparedAnalysis prepare_sweep_on_threads(const core::Scenario& scenario, const nlohmann::json& options,
-                                          const std::string& options_pointer, api::FieldErrors& errors, int threads) {
+PreparedAnalysis prepare_sweep(const core::Scenario& scenario, const nlohmann::json& options,
+                               const std::string& options_pointer, api::FieldErrors& errors) {
     const bool scenario_valid = errors.empty();  // analysis.h: only the scenario was read so far
     // Up to 1000 scenarios: shared with the run, not copied into it.
     auto plan = std::make_shared<const api::SweepPlan>(
         api::sweep_plan_from_json(options, options_pointer, scenario_valid ? &scenario : nullptr, errors));
     return {
         plan->resolved_options,
-        [plan, threads](const core::Control& control) {
+        [plan](const core::Control& control) {
+            const int threads = control.thread_budget();  // the points in parallel; results do not depend on it
             if (plan->quantity == api::SweepQuantity::critical_speed) {
                 const auto results = core::sweep_critical_speed(plan->scenarios, plan->critical_speed, threads, control);
                 throw_if_cancelled(control);
@@ -33,11 +33,6 @@ PreparedAnalysis prepare_sweep_on_threads(const core::Scenario& scenario, const 
             return api::sweep_amplitude_json(*plan, results);
         },
     };
-}
-
-PreparedAnalysis prepare_sweep(const core::Scenario& scenario, const nlohmann::json& options,
-                               const std::string& options_pointer, api::FieldErrors& errors) {
-    return prepare_sweep_on_threads(scenario, options, options_pointer, errors, core::default_thread_count());
 }
 
 }  // namespace rollgap::service

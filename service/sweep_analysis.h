@@ -6,12 +6,9 @@
 
 namespace rollgap::service {
 
-// On every hardware thread.
+// On the caller's thread budget (core::Control::threads; by default every hardware thread); the
+// result is the same for any count (tests check it).
 PreparedAnalysis prepare_sweep(const core::Scenario& scenario, const nlohmann::json& options,
                                const std::string& options_pointer, api::FieldErrors& errors);
-
-// On `threads` threads: the result is the same for any count (tests check it).
-PreparedAnalysis prepare_sweep_on_threads(const core::Scenario& scenario, const nlohmann::json& options,
-                                          const std::string& options_pointer, api::FieldErrors& errors, int threads);
 
 }  // namespace rollgap::service

@@ -51,7 +51,8 @@ TEST_CASE("serve config: defaults") {
 TEST_CASE("serve config: environment, then flags (both --flag value and --flag=value)") {
     const auto parsed = parse({"--port", "9000", "--workers=3", "--deadline-ms", "1500"},
                               {{"ROLLGAP_PORT", "7000"}, {"ROLLGAP_BIND", "0.0.0.0"}, {"ROLLGAP_QUEUE_LENGTH", "5"},
-                               {"ROLLGAP_LOG_LEVEL", "warn"}, {"ROLLGAP_JOB_RETENTION_MS", "1000"}});
+                               {"ROLLGAP_LOG_LEVEL", "warn"}, {"ROLLGAP_JOB_RETENTION_MS", "1000"},
+                               {"ROLLGAP_ANALYSIS_THREADS", "1"}});
     REQUIRE(std::holds_alternative<ServerConfig>(parsed));
     const ServerConfig config = std::get<ServerConfig>(parsed);
     CHECK(config.port == 9000);  // the flag wins
@@ -61,6 +62,7 @@ TEST_CASE("serve config: environment, then flags (both --flag value and --flag=v
     CHECK(config.deadline == std::chrono::milliseconds(1500));
     CHECK(config.log_level == "warn");
     CHECK(config.job_retention == std::chrono::seconds(1));
+    CHECK(config.analysis_threads == 1);
 }
 
 TEST_CASE("serve config: bad values and unknown options are errors naming the option") {
@@ -69,6 +71,7 @@ TEST_CASE("serve config: bad values and unknown options are errors naming the op
              {{"--workers", "many"}, "--workers"},
              {{"--log-level", "loud"}, "--log-level"},
              {{"--deadline-ms", "0"}, "--deadline-ms"},
+             {{"--analysis-threads", "-2"}, "--analysis-threads"},
              {{"--prot", "80"}, "unknown option '--prot'"},
              {{"--port"}, "needs a value"},
          }) {

@@ -38,10 +38,10 @@ const json viscosity_values = {{"parameter", "/lubricant/viscosity_Pa_s"}, {"val
 // A fast critical-speed search around the default's critical speed (~20 m/s).
 const json narrow_search = {{"speed_min_m_per_s", 10}, {"speed_max_m_per_s", 35}, {"speed_step_m_per_s", 0.5}};
 
-template <int Threads>
-PreparedAnalysis prepare_on(const core::Scenario& scenario, const json& options, const std::string& pointer,
-                            api::FieldErrors& errors) {
-    return prepare_sweep_on_threads(scenario, options, pointer, errors, Threads);
+core::Control on_threads(int threads) {
+    core::Control control;
+    control.threads = threads;
+    return control;
 }
 
 }  // namespace
@@ -242,15 +242,13 @@ TEST_CASE("sweep of the critical speed over the viscosity: the critical speed fa
 }
 
 TEST_CASE("sweep results are identical on 1 and 2 threads") {
-    const std::array<Analysis, 1> one_thread{Analysis{"sweep", "on 1 thread", &prepare_on<1>}};
-    const std::array<Analysis, 1> two_threads{Analysis{"sweep", "on 2 threads", &prepare_on<2>}};
     SUBCASE("critical speed") {
         const json request = {{"analysis", "sweep"},
                               {"options", {{"parameter", "/roughness/strip_rq_um"},
                                            {"values", {1.0, 1.6, 3.0}},
                                            {"critical_speed", narrow_search}}}};
-        const Outcome one = evaluate(request, one_thread);
-        const Outcome two = evaluate(request, two_threads);
+        const Outcome one = evaluate(request, on_threads(1));
+        const Outcome two = evaluate(request, on_threads(2));
         REQUIRE(one.ok());
         CHECK(one.body == two.body);
         CHECK(one.body == evaluate(request).body);  // and on every hardware thread
@@ -261,8 +259,8 @@ TEST_CASE("sweep results are identical on 1 and 2 threads") {
                                            {"values", {8, 12, 16}},
                                            {"quantity", "amplitude"},
                                            {"amplitude", {{"window_s", 0.1}}}}}};
-        const Outcome one = evaluate(request, one_thread);
-        const Outcome two = evaluate(request, two_threads);
+        const Outcome one = evaluate(request, on_threads(1));
+        const Outcome two = evaluate(request, on_threads(2));
         REQUIRE(one.ok());
         CHECK(one.body == two.body);
         const json& points = one.body["result"]["points"];
