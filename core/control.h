@@ -2,9 +2,9 @@
 // How a caller steers a long computation from outside: cancel it (a deadline, a deleted job)
 // and hear how far it got. Both are optional; core never blocks on them.
 
-#include <algorithm>
 #include <functional>
-#include <thread>
+
+#include "core/parallel_for.h"
 
 namespace rollgap::core {
 
@@ -17,7 +17,7 @@ struct Control {
 
     bool should_stop() const { return cancelled && cancelled(); }
     int thread_budget() const {
-        return threads > 0 ? threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+        return threads > 0 ? threads : default_thread_count();
     }
     void report(double fraction) const {
         if (progress) progress(fraction);

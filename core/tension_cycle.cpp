@@ -11,6 +11,13 @@ TensionCycleResult tension_cycle(Scenario s, const TensionCycleOptions& options,
     TensionCycleResult out;
     s.tensions.back.mode = TensionMode::sinusoid;
     out.frequency_Hz = s.tensions.back.frequency;
+    // The api validates these; core answers a direct caller's nonsense with a status, not a hang.
+    const bool phases_valid = std::all_of(options.phases.begin(), options.phases.end(),
+                                          [](double phase) { return phase >= 0.0 && phase < 1.0; });
+    if (!(out.frequency_Hz > 0.0 && std::isfinite(out.frequency_Hz)) || !phases_valid) {
+        out.message = "the tension cycle needs a finite frequency > 0 and phases in [0, 1)";
+        return out;
+    }
 
     const Scenario dynamics = dynamics_scenario(s);
     const ReferenceState ref = reference_state(dynamics, false);
@@ -30,7 +37,8 @@ TensionCycleResult tension_cycle(Scenario s, const TensionCycleOptions& options,
     std::vector<double> phase_times;
     for (double phase : phases) phase_times.push_back((cycles - 1 + phase) * period);
     const double end = phase_times.empty() ? 0.0 : phase_times.back();
-    const double poll = std::min(period / 8.0, 0.05);
+    constexpr double kMaxPolls = 1e5;  // bounds the output list whatever the cycle's length
+    const double poll = std::max(std::min(period / 8.0, 0.05), end / kMaxPolls);
     std::vector<double> times;
     std::vector<bool> is_phase;
     std::size_t next_phase = 0;

@@ -6,6 +6,7 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "core/mill_structure.h"
@@ -63,4 +64,18 @@ TEST_CASE("the phase outputs do not depend on the intermediate stops") {
     REQUIRE(b.status == DynamicsStatus::ok);
     CHECK(a.phases[0].time == b.phases[1].time);
     CHECK(a.phases[0].gap == doctest::Approx(b.phases[1].gap).epsilon(1e-4));
+}
+
+TEST_CASE("a direct caller's nonsense cycle is a status, not a hang") {
+    for (double frequency : {0.0, -10.0, std::nan(""), std::numeric_limits<double>::infinity()}) {
+        Scenario s;
+        s.tensions.back.frequency = frequency;
+        CAPTURE(frequency);
+        const TensionCycleResult r = tension_cycle(s);
+        CHECK(r.status == DynamicsStatus::solver_failure);
+        CHECK(r.phases.empty());
+    }
+    TensionCycleOptions options;
+    options.phases = {0.25, std::nan("")};
+    CHECK(tension_cycle(Scenario{}, options).status == DynamicsStatus::solver_failure);
 }
