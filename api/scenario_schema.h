@@ -1,8 +1,9 @@
 #pragma once
 // The scenario schema as one table: every field of core::Scenario is one row with its JSON
-// path, unit, bounds and accessor. Reading, writing, the default document, unknown-field
-// detection and (later) sweeps over "any numeric field" all come from this table, so a field
-// cannot be readable but not echoed, or bounded in one place and not another.
+// path, unit, bounds, description and accessor. Reading, writing, the default document,
+// unknown-field detection, sweeps over any numeric field, the OpenAPI schema and the field
+// glossary (`rollgap scenario --explain`) all come from this table, so a field cannot be
+// readable but not echoed, bounded in one place and not another, or undocumented.
 
 #include <functional>
 #include <span>
@@ -21,6 +22,11 @@ enum class FieldKind { number, integer, boolean, choice };
 struct ScenarioField {
     std::string path;  // JSON pointer relative to the scenario: "/strip/entry_thickness_mm"
     FieldKind kind = FieldKind::number;
+
+    // What the field is on the mill, for a plant engineer: the part or quantity, its symbol in
+    // docs/model.md, typical values with their unit. One sentence or a few; carried into the
+    // OpenAPI document, `rollgap scenario --explain` and problem details.
+    std::string description;
 
     // number and integer fields; bounds are in `unit`, i.e. as the client writes them
     Unit unit = units::one;

@@ -69,7 +69,8 @@ json leaf_schema(const api::ScenarioField& field, const json& default_value, boo
     }
     if (!default_value.is_null()) schema["default"] = default_value;
     if (patch) description += " null restores the default.";
-    schema["description"] = std::move(description);
+    // The glossary text of the field table first, verbatim; then type, unit and bounds.
+    schema["description"] = concat(field.description, " ", description);
     return schema;
 }
 
