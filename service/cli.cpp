@@ -15,6 +15,7 @@
 #include "api/text.h"
 #include "service/analyses.h"
 #include "service/evaluate.h"
+#include "service/scenario_explain.h"
 #include "service/version.h"
 
 namespace rollgap::service {
@@ -28,6 +29,8 @@ void print_usage(std::ostream& stream) {
               "\n"
               "commands:\n"
               "  scenario      print the default scenario (JSON, engineering units in every name)\n"
+              "  scenario --explain\n"
+              "                what each scenario field is: pointer, unit, bounds, default, description\n"
               "  run FILE      evaluate the request in FILE ('-' reads standard input) and print\n"
               "                the result, or RFC 9457 problem details if the request is invalid\n"
               "  serve         run the HTTP service (REST API v1; 'rollgap serve --help')\n"
@@ -117,7 +120,11 @@ int run_cli(std::span<const std::string_view> arguments, std::istream& in, std::
         return exit_success;
     }
     if (command == "scenario") {
-        if (!operands.empty()) return usage_error(err, "'scenario' takes no arguments");
+        if (operands.size() == 1 && operands.front() == "--explain") {
+            out << scenario_explanation();
+            return exit_success;
+        }
+        if (!operands.empty()) return usage_error(err, "'scenario' takes no arguments but --explain");
         print_json(out, api::default_scenario_json());
         return exit_success;
     }

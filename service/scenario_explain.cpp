@@ -1,0 +1,125 @@
+#include "service/scenario_explain.h"
+
+#include <algorithm>
+#include <cctype>
+#include <string_view>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "api/field_errors.h"
+#include "api/scenario_json.h"
+#include "api/scenario_schema.h"
+#include "api/text.h"
+
+namespace rollgap::service {
+namespace {
+
+using api::concat;
+
+constexpr std::size_t text_width = 96;
+constexpr std::string_view indent = "    ";
+
+std::string unit_column(const api::ScenarioField& field) {
+    switch (field.kind) {
+        case api::FieldKind::number: return std::string(field.unit.code);
+        case api::FieldKind::integer: return "1";
+        case api::FieldKind::boolean:
+        case api::FieldKind::choice: break;
+    }
+    return "-";
+}
+
+std::string bounds_column(const api::ScenarioField& field) {
+    switch (field.kind) {
+        case api::FieldKind::number: return field.range.text();
+        case api::FieldKind::integer: return concat(field.range.text(), field.even ? ", even" : "");
+        case api::FieldKind::boolean: return "true | false";
+        case api::FieldKind::choice: return api::choices_text(field.choices);
+    }
+    return "";
+}
+
+// Words of `text` on lines of at most text_width bytes (a longer word keeps its own line). A
+// short word after a number ("20–80 t", "5–30 m/s") stays with it: a unit never starts a line.
+void append_wrapped(std::string& out, std::string_view text) {
+    std::vector<std::string> words;
+    std::size_t start = 0;
+    while (start < text.size()) {
+        std::size_t end = text.find(' ', start);
+        if (end == std::string_view::npos) end = text.size();
+        const std::string_view word = text.substr(start, end - start);
+        start = end + 1;
+        if (word.empty()) continue;
+        const bool after_number = !words.empty() && std::isdigit(static_cast<unsigned char>(words.back().back()));
+        if (after_number && word.size() <= 4) {
+            words.back() += concat(" ", word);
+        } else {
+            words.emplace_back(word);
+        }
+    }
+    std::size_t line_length = 0;
+    for (const std::string& word : words) {
+        if (line_length > 0 && line_length + 1 + word.size() > text_width) {
+            out += '\n';
+            line_length = 0;
+        }
+        if (line_length == 0) {
+            out += indent;
+            line_length = indent.size();
+        } else {
+            out += ' ';
+            ++line_length;
+        }
+        out += word;
+        line_length += word.size();
+    }
+    out += '\n';
+}
+
+std::string padded(std::string text, std::size_t width) {
+    if (text.size() < width) text.append(width - text.size(), ' ');
+    return text;
+}
+
+}  // namespace
+
+std::string scenario_explanation() {
+    const nlohmann::json defaults = api::default_scenario_json();
+    struct Row {
+        std::string pointer, unit, bounds, default_value;
+        const api::ScenarioField* field;
+    };
+    std::vector<Row> rows;
+    for (const api::ScenarioField& field : api::scenario_fields()) {
+        const nlohmann::json& value = defaults.at(nlohmann::json::json_pointer(field.path));
+        rows.push_back({field.path, unit_column(field), bounds_column(field),
+                        value.is_string() ? value.get<std::string>() : value.dump(), &field});
+    }
+    const Row header{"pointer", "unit", "bounds", "default", nullptr};
+    std::size_t pointer_width = header.pointer.size(), unit_width = header.unit.size();
+    std::size_t bounds_width = header.bounds.size();
+    for (const Row& row : rows) {
+        pointer_width = std::max(pointer_width, row.pointer.size());
+        unit_width = std::max(unit_width, row.unit.size());
+        bounds_width = std::max(bounds_width, row.bounds.size());
+    }
+    const auto line = [&](const Row& row) {
+        return concat(padded(row.pointer, pointer_width + 2), padded(row.unit, unit_width + 2),
+                      padded(row.bounds, bounds_width + 2), row.default_value, "\n");
+    };
+
+    std::string out =
+        "The scenario's fields. A request's \"scenario\" is a JSON merge patch onto the defaults: give only the\n"
+        "fields you change, at these JSON pointers (relative to \"scenario\"), in the unit their name carries.\n"
+        "The model and its symbols: docs/model.md.\n\n";
+    out += line(header);
+    for (const Row& row : rows) {
+        out += '\n';
+        out += line(row);
+        append_wrapped(out, row.field->description);
+    }
+    return out;
+}
+
+}  // namespace rollgap::service
