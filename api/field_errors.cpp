@@ -109,8 +109,13 @@ std::optional<double> read_number(const nlohmann::json& value, const std::string
     if (!range.contains(number)) {
         // Dimensionless values read better without the unit code "1".
         const std::string unit_suffix = unit.code == units::one.code ? "" : concat(" ", unit.code);
-        errors.add({pointer, concat(format_number(number), unit_suffix, " is outside ", range.text(), unit_suffix),
-                    range.text(), std::string(unit.code)});
+        std::string detail = concat(format_number(number), unit_suffix, " is outside ", range.text(), unit_suffix);
+        // A fraction given as a percentage ("reduction": 25): say so when value / 100 would fit.
+        if (unit.code == units::one.code && range.max <= 1.0 && number > 1.0 && range.contains(number / 100.0)) {
+            detail += concat("; this is a fraction, 0.25 = 25 %: for ", format_number(number), " % write ",
+                             format_number(number / 100.0));
+        }
+        errors.add({pointer, std::move(detail), range.text(), std::string(unit.code)});
         return std::nullopt;
     }
     return number + 0.0;  // -0 → 0, so the echo does not show "-0.0"
