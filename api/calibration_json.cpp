@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <charconv>
 #include <cmath>
 #include <optional>
 #include <string_view>
@@ -394,6 +395,14 @@ nlohmann::json merge_patch_between(const nlohmann::json& from, const nlohmann::j
 
 namespace {
 
+double fifteen_digits(double value) {
+    std::array<char, 32> text{};
+    const auto written = std::to_chars(text.data(), text.data() + text.size(), value, std::chars_format::general, 15);
+    double rounded = value;
+    std::from_chars(text.data(), written.ptr, rounded);
+    return rounded;
+}
+
 nlohmann::json number_or_null(double value) { return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr); }
 
 std::string field_list(const CalibrationPlan& plan, const std::vector<int>& indices) {
@@ -423,7 +432,9 @@ nlohmann::json calibration_result_json(const CalibrationPlan& plan, const core::
         const ScenarioField& field = *plan.fields[j];
         const core::CalibrationParameter& p = plan.setup.parameters[j];
         const auto J = static_cast<Eigen::Index>(j);
-        const double value = fit.values(J);
+        // 15 significant digits (far below the fit's precision): a value that reads back from
+        // the calibrated scenario as the same double, so a rerun echoes exactly these values.
+        const double value = to_si(fifteen_digits(from_si(fit.values(J), field.unit)), field.unit);
         field.number(calibrated) = value;
         const bool have_statistics = fit.standard_errors.size() == static_cast<Eigen::Index>(n);
         const core::BoundState bound = j < fit.bounds.size() ? fit.bounds[j] : core::BoundState::inside;

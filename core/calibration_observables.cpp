@@ -39,7 +39,7 @@ constexpr double nan = std::numeric_limits<double>::quiet_NaN();
 // Modal assurance criterion of two real shapes: 1 for the same shape, 0 for orthogonal ones.
 double mac(const Vector6& a, const Vector6& b) {
     const double denominator = a.squaredNorm() * b.squaredNorm();
-    return denominator > 0.0 ? a.dot(b) * a.dot(b) / denominator : 0.0;
+    return denominator > 0.0 ? std::min(1.0, a.dot(b) * a.dot(b) / denominator) : 0.0;  // ≤ 1 in exact arithmetic
 }
 
 struct Modes {
