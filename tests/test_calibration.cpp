@@ -111,6 +111,8 @@ TEST_CASE("seeded noise: the fitted values scatter around the truth by their sta
             ++count;
         }
     }
+    MESSAGE(beyond_two << " of " << count << " beyond 2 standard errors; mean squared normalised error "
+                       << sum_z2 / count);
     CHECK(beyond_two <= 4);
     CHECK(sum_z2 / count > 0.3);
     CHECK(sum_z2 / count < 2.0);
