@@ -213,3 +213,31 @@ TEST_CASE("merge_patch_between is the inverse of a merge patch") {
     const json patch = api::merge_patch_between(from, to);
     CHECK(patch == json{{"b", {{"c", 5}}}, {"e", nullptr}, {"f", 6}});
 }
+
+TEST_CASE("calibrate: a parameter stopped by its bound and two inseparable parameters are warnings that name them") {
+    // 7000 kN at 19 m/s needs more than 390 MPa (the default 380 MPa gives ~6480 kN).
+    const json force = {{"quantity", "roll_force_kN"}, {"value", 7000}, {"standard_uncertainty", 50}};
+    const json capped = with(with(flow_stress, "min", 300), "max", 390);
+    const service::Outcome bounded = evaluate({{"analysis", "calibrate"}, {"options", options_with(capped, force)}});
+    REQUIRE_MESSAGE(bounded.ok(), bounded.body.dump());
+    const json& fit = bounded.body["result"];
+    CHECK(fit["status"] == "converged");
+    CHECK(fit["parameters"][0]["value"] == 390.0);
+    CHECK(fit["parameters"][0]["at_bound"] == "max");
+    REQUIRE(fit["warnings"].size() == 1);
+    CHECK(fit["warnings"][0]["code"] == "at_bound");
+    CHECK(fit["warnings"][0]["fields"] == json::array({"/strip/flow_stress_MPa"}));
+
+    // One natural frequency fixes k/m of the crosshead, not k and m.
+    const json frequency = {
+        {"quantity", "natural_frequency_Hz"}, {"mode", {{"index", 0}}}, {"value", 66}, {"standard_uncertainty", 0.5}};
+    const json parameters = json::array({{{"field", "/mill/stiffness_GN_per_m/k1"}}, {{"field", "/mill/masses_t/m1"}}});
+    const json options = {{"parameters", parameters}, {"observations", json::array({frequency})}};
+    const service::Outcome pair = evaluate({{"analysis", "calibrate"}, {"options", options}});
+    REQUIRE_MESSAGE(pair.ok(), pair.body.dump());
+    const json& warnings = pair.body["result"]["warnings"];
+    REQUIRE(warnings.size() == 1);
+    CHECK(warnings[0]["code"] == "inseparable");
+    CHECK(warnings[0]["fields"] == json::array({"/mill/stiffness_GN_per_m/k1", "/mill/masses_t/m1"}));
+    CHECK(pair.body["result"]["degrees_of_freedom"] == -1);
+}
