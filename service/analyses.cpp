@@ -4,6 +4,7 @@
 #include <array>
 
 #include "service/amplitude_analysis.h"
+#include "service/calibration_analysis.h"
 #include "service/evaluation_analysis.h"
 #include "service/roll_gap_analysis.h"
 #include "service/stability_analysis.h"
@@ -26,6 +27,8 @@ constexpr std::array table{
              &prepare_sweep},
     Analysis{"evaluate", "roll gap, stability, critical speed and amplitude of the scenario at once",
              &prepare_evaluation},
+    Analysis{"calibrate", "fit scenario fields to plant observations, weighted least squares (docs/calibration.md)",
+             &prepare_calibration},
 };
 
 }  // namespace

@@ -58,7 +58,7 @@ Outcome call_facade(const Request& request, const core::Control& control) {
 enum Method : unsigned { get = 1, post = 2, del = 4 };
 
 enum class RouteId {
-    scenarios_default, roll_gap, stability, amplitude, tension_cycle, sweeps, evaluate,
+    scenarios_default, roll_gap, stability, amplitude, tension_cycle, sweeps, evaluate, calibrate,
     jobs, job, openapi, livez, readyz, metrics,
 };
 
@@ -78,6 +78,7 @@ constexpr std::array routes{
     Route{RouteId::tension_cycle, "/v1/tension-cycle", post, true, "tension_cycle"},
     Route{RouteId::sweeps, "/v1/sweeps", post, true, "sweep"},
     Route{RouteId::evaluate, "/v1/evaluate", post, true, "evaluate"},
+    Route{RouteId::calibrate, "/v1/calibrate", post, true, "calibrate"},
     Route{RouteId::jobs, "/v1/jobs", post, true, ""},
     Route{RouteId::job, "/v1/jobs/{id}", get | del, true, ""},
     Route{RouteId::openapi, "/openapi.json", get, false, ""},

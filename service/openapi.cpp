@@ -114,7 +114,10 @@ void add_defaults(json& schemas, json& schema, const json& resolved) {
     json& properties = schema["properties"];
     for (const auto& [name, value] : resolved.items()) {
         // Defaults that depend on the request are described, not stated.
-        if (name == "speeds_m_per_s" || name == "parameter" || name == "values" || name == "range") continue;
+        if (name == "speeds_m_per_s" || name == "parameter" || name == "values" || name == "range" ||
+            name == "parameters" || name == "observations") {
+            continue;
+        }
         const auto property = properties.find(name);
         if (property == properties.end()) continue;
         if (json* target = referenced_schema(schemas, *property)) {
@@ -132,7 +135,7 @@ struct OptionsSchema {
     const char* minimal_options;
     const char* member = "";  // the defaults are this member of the resolved options ("": all)
 };
-constexpr std::array<OptionsSchema, 7> options_schemas{{
+constexpr std::array<OptionsSchema, 8> options_schemas{{
     {"roll_gap", "RollGapOptions", "{}"},
     {"tension_cycle", "TensionCycleOptions", "{}"},
     {"stability", "StabilityOptions", "{}"},
@@ -141,6 +144,9 @@ constexpr std::array<OptionsSchema, 7> options_schemas{{
     {"sweep", "SweepAmplitudeOptions",
      R"({"parameter": "/rolls/speed_m_per_s", "values": [19], "quantity": "amplitude"})", "amplitude"},
     {"evaluate", "EvaluateOptions", "{}"},
+    {"calibrate", "CalibrateOptions",
+     R"({"parameters": [{"field": "/strip/flow_stress_MPa"}],
+         "observations": [{"quantity": "roll_force_kN", "value": 9000, "standard_uncertainty": 50}]})"},
 }};
 
 void add_option_defaults(json& schemas) {
