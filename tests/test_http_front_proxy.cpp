@@ -136,8 +136,9 @@ struct FrontProxy {
     int port;
     Nginx nginx;
 
-    explicit FrontProxy(const std::string& name, int io_threads = 4)
-        : service(config(io_threads)),
+    explicit FrontProxy(const std::string& name, service::ServerConfig service_config = config(4),
+                        service::Evaluator evaluator = service::facade_evaluator())
+        : service(service_config, std::move(evaluator)),
           port(free_loopback_port()),
           nginx(std::filesystem::temp_directory_path() / ("rollgap-front-" + name + "-" + std::to_string(::getpid())),
                 product_proxy_config(port, service.port())) {
@@ -176,7 +177,7 @@ std::string post_request(const std::string& path, const std::string& body, const
 
 }  // namespace
 
-TEST_CASE("front proxy: a slow-loris client is cut off by nginx's header deadline; the service never sees it") {
+TEST_CASE("front proxy: a slow-loris client is cut off by nginx's header deadline, and the service never sees it") {
     if (!nginx_installed()) {
         MESSAGE("nginx is not installed (scripts/install-deps.sh installs it): front proxy test skipped");
         return;
@@ -280,14 +281,14 @@ TEST_CASE("front proxy: header floods get 431 problem details early, and nginx's
         // The header never ended: nginx answered as soon as the line outgrew its buffer.
         CHECK(answer.second < (16u << 20));
     }
-    SUBCASE("20,000 small headers") {
+    SUBCASE("a million small headers") {
         std::string headers;
         for (int i = 0; i < 500; ++i) headers += "X-Flood-" + std::to_string(i) + ": v\r\n";
-        // 40 batches of 500 headers (about 300 KiB), never the blank line that ends them.
-        const auto answer = flood(request_line, headers, 40 * headers.size(), false);
+        // 2000 batches of 500 headers (about 15 MiB), never the blank line that ends them.
+        const auto answer = flood(request_line, headers, 2000 * headers.size(), false);
         check_problem(answer.first, 431, "headers_too_large");
         MESSAGE("small headers: 431 after " << answer.second << " bytes");
-        CHECK(answer.second < 40 * headers.size());
+        CHECK(answer.second < 2000 * headers.size());
     }
     SUBCASE("a request line longer than a header buffer: 414") {
         const std::string line = "GET /" + std::string(header_line_limit + 100, 'a') + " HTTP/1.1\r\nHost: rollgap\r\n\r\n";
@@ -426,6 +427,51 @@ TEST_CASE("front proxy: bodies up to the service's limit pass, larger ones get 4
     }
     // The service never saw the oversized requests.
     CHECK(proxy.service.server->metrics().request_count("POST", "/v1/roll-gap", 413) == 0);
+}
+
+TEST_CASE("front proxy: more than 16 requests of one address in progress get 429 problem details") {
+    if (!nginx_installed()) {
+        MESSAGE("nginx is not installed (scripts/install-deps.sh installs it): front proxy test skipped");
+        return;
+    }
+    // Room in the service for every request (2 running, 30 waiting), so only nginx refuses.
+    service::ServerConfig config = FrontProxy::config(64);
+    config.queue_length = 32;
+    Gate gate;
+    FrontProxy proxy("limit", config, gate.evaluator());
+    constexpr int clients = 20;
+    std::vector<int> statuses(clients, 0);
+    std::vector<std::string> bodies(clients);
+    std::atomic<int> refused{0};
+    {
+        std::vector<std::unique_ptr<Background>> requests;
+        for (int i = 0; i < clients; ++i) {
+            requests.push_back(std::make_unique<Background>([&, i] {
+                httplib::Client client = proxy.client();
+                const auto result = post_json(client, "/v1/roll-gap", quick_request);
+                if (!result) return;
+                statuses[static_cast<std::size_t>(i)] = result->status;
+                bodies[static_cast<std::size_t>(i)] = result->body;
+                if (result->status == 429) {
+                    CHECK(result->get_header_value("Retry-After") == "1");
+                    CHECK(result->get_header_value("Content-Type") == "application/problem+json");
+                    ++refused;
+                }
+            }));
+        }
+        // The refusals come while the 16 others are held in the service.
+        CHECK(eventually([&] { return refused == clients - 16; }, std::chrono::milliseconds(10000)));
+        CHECK(eventually([&] { return gate.started() == 2; }));
+        gate.open();
+    }
+    CHECK(std::count(statuses.begin(), statuses.end(), 200) == 16);
+    CHECK(std::count(statuses.begin(), statuses.end(), 429) == clients - 16);
+    for (int i = 0; i < clients; ++i) {
+        if (statuses[static_cast<std::size_t>(i)] != 429) continue;
+        const json problem = json::parse(bodies[static_cast<std::size_t>(i)]);
+        CHECK(problem["code"] == "too_many_connections");
+        CHECK(problem["status"] == 429);
+    }
 }
 
 TEST_CASE("front proxy: request ids are forwarded, and nginx's own errors are problem details") {
