@@ -20,6 +20,8 @@
 set -euo pipefail
 # shellcheck source=scripts/common.sh
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
+# shellcheck source=scripts/load-lib.sh
+source "$(dirname "${BASH_SOURCE[0]}")/load-lib.sh"
 cd "$ROLLGAP_ROOT"
 
 MODE="${1:-all}"
@@ -40,12 +42,7 @@ case "$MODE" in
         ;;
 esac
 
-if ! command -v wrk >/dev/null; then
-    echo "load: installing wrk" >&2
-    SUDO=(); [[ $(id -u) -ne 0 ]] && SUDO=(sudo)
-    "${SUDO[@]}" apt-get update >&2
-    "${SUDO[@]}" env DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends wrk >&2
-fi
+load_install_wrk
 rollgap_install_deps >&2
 rollgap_configure >&2
 rollgap_build rollgap >&2
@@ -74,7 +71,8 @@ trap cleanup EXIT
 
 # wrk script: POST one analysis (the request in $LOAD_BODY and $LOAD_PATH per run), or a
 # mixed load, counting the answers by status over all threads.
-cat > "$work/load.lua" <<'LUA'
+{
+    cat <<'LUA'
 local mix = os.getenv("LOAD_MIX") == "1"
 local requests = {
     {"POST", "/v1/roll-gap", '{"options":{"distributions":false}}'},
@@ -87,9 +85,7 @@ local requests = {
     {"GET", "/metrics", nil},
 }
 local single = {"POST", os.getenv("LOAD_PATH") or "/v1/stability", os.getenv("LOAD_BODY") or "{}"}
-local threads = {}
-function setup(thread) table.insert(threads, thread) end
-function init(args) statuses = {}; counter = 0 end
+local counter = 0
 function request()
     local r = single
     if mix then counter = counter + 1; r = requests[(counter % #requests) + 1] end
@@ -97,39 +93,15 @@ function request()
     if r[3] then headers["Content-Type"] = "application/json" end
     return wrk.format(r[1], r[2], headers, r[3])
 end
-function response(status, headers, body) statuses[status] = (statuses[status] or 0) + 1 end
-function done(summary, latency, requests)
-    local total = {}
-    for _, thread in ipairs(threads) do
-        for status, count in pairs(thread:get("statuses")) do total[status] = (total[status] or 0) + count end
-    end
-    local parts = {}
-    for status, count in pairs(total) do table.insert(parts, status .. "=" .. count) end
-    table.sort(parts)
-    io.write("statuses: " .. table.concat(parts, " ") .. "\n")
-end
 LUA
+    load_status_counter_lua
+} >"$work/load.lua"
 
 # start_server [serve arguments...]: the service on loopback, its log (info: one line per
 # request) in $work/server.log.
 start_server() {
     : >"$work/server.log"
-    # Appending, so the log can be emptied while the server writes it.
-    "$CLI" serve --bind 127.0.0.1 --port "$PORT" "${ADMIN_ARGS[@]}" --log-level info "$@" 2>>"$work/server.log" &
-    server_pid=$!
-    for _ in $(seq 1 100); do
-        curl -sf "$URL/readyz" >/dev/null 2>&1 && return 0
-        sleep 0.1
-    done
-    echo "load: the server did not become ready" >&2
-    cat "$work/server.log" >&2
-    exit 1
-}
-
-stop_server() {
-    kill -TERM "$server_pid" 2>/dev/null || true
-    wait "$server_pid" 2>/dev/null || true
-    server_pid=""
+    load_start_server "$work/server.log" "$URL" --bind 127.0.0.1 --port "$PORT" "${ADMIN_ARGS[@]}" --log-level info "$@"
 }
 
 rss_mib() { awk '$1 == "VmRSS:" {printf "%.1f", $2 / 1024}' "/proc/$1/status" 2>/dev/null || echo "-"; }
@@ -182,7 +154,7 @@ overload() {
         "--workers 2 --queue-length 8 --io-threads 128 (expect 200s and fast 503s only)"
     start_server --workers 2 --queue-length 8 --io-threads 128
     measured_run overload "$OVERLOAD_DURATION" LOAD_PATH=/v1/stability LOAD_BODY='{}'
-    stop_server
+    load_stop_server
 }
 
 # Jobs during the soak: create, poll until finished, delete; one at a time, counted by status.
@@ -222,7 +194,7 @@ soak() {
     measured_run soak "$SOAK_DURATION" LOAD_MIX=1
     wait "$jobs_pid" || true
     printf '%-10s %s\n' soak "$(cat "$work/jobs.txt")"
-    stop_server
+    load_stop_server
 }
 
 # A client that sends one header byte every 5 s and never finishes its request.
