@@ -30,16 +30,35 @@ constexpr auto header_deadline = std::chrono::seconds(10);  // client_header_tim
 constexpr std::size_t header_line_limit = 8192;             // large_client_header_buffers 4 8k
 constexpr std::size_t body_limit = 1048576;                 // client_max_body_size 1m
 
+void skipped_without_nginx() {
+    MESSAGE("nginx is not installed (scripts/install-deps.sh installs it): front proxy test skipped");
+}
+
+// A socket connected to 127.0.0.1:port, or -1.
+int connect_loopback(int port) {
+    const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+    if (fd < 0) return -1;
+    sockaddr_in address{};
+    address.sin_family = AF_INET;
+    address.sin_port = htons(static_cast<std::uint16_t>(port));
+    address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    if (::connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) == 0) return fd;
+    ::close(fd);
+    return -1;
+}
+
+// Whether something accepts connections on 127.0.0.1:port.
+bool accepts_connections(int port) {
+    const int fd = connect_loopback(port);
+    if (fd >= 0) ::close(fd);
+    return fd >= 0;
+}
+
 // A connected socket to 127.0.0.1:port, closed on destruction.
 class Connection {
 public:
-    explicit Connection(int port) : fd_(::socket(AF_INET, SOCK_STREAM, 0)) {
+    explicit Connection(int port) : fd_(connect_loopback(port)) {
         REQUIRE(fd_ >= 0);
-        sockaddr_in address{};
-        address.sin_family = AF_INET;
-        address.sin_port = htons(static_cast<std::uint16_t>(port));
-        address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-        REQUIRE(::connect(fd_, reinterpret_cast<sockaddr*>(&address), sizeof address) == 0);
         // A send never blocks the test for long, whatever the peer does.
         timeval tv{2, 0};
         ::setsockopt(fd_, SOL_SOCKET, SO_SNDTIMEO, &tv, sizeof tv);
@@ -85,19 +104,6 @@ public:
 private:
     int fd_;
 };
-
-// Whether something accepts connections on 127.0.0.1:port.
-bool accepts_connections(int port) {
-    const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-    if (fd < 0) return false;
-    sockaddr_in address{};
-    address.sin_family = AF_INET;
-    address.sin_port = htons(static_cast<std::uint16_t>(port));
-    address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    const bool connected = ::connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) == 0;
-    ::close(fd);
-    return connected;
-}
 
 // The header field `name` of a raw response ("" if absent), case as nginx writes it.
 std::string raw_header(const std::string& response, const std::string& name) {
@@ -178,10 +184,7 @@ std::string post_request(const std::string& path, const std::string& body, const
 }  // namespace
 
 TEST_CASE("front proxy: a slow-loris client is cut off by nginx's header deadline, and the service never sees it") {
-    if (!nginx_installed()) {
-        MESSAGE("nginx is not installed (scripts/install-deps.sh installs it): front proxy test skipped");
-        return;
-    }
+    if (!nginx_installed()) return skipped_without_nginx();
     FrontProxy proxy("slowloris");
     // Twice as many slow clients as the service has connection threads: had nginx passed them
     // on, nothing else would be answered.
@@ -244,10 +247,7 @@ TEST_CASE("front proxy: a slow-loris client is cut off by nginx's header deadlin
 }
 
 TEST_CASE("front proxy: header floods get 431 problem details early, and nginx's memory stays bounded") {
-    if (!nginx_installed()) {
-        MESSAGE("nginx is not installed (scripts/install-deps.sh installs it): front proxy test skipped");
-        return;
-    }
+    if (!nginx_installed()) return skipped_without_nginx();
     FrontProxy proxy("flood");
     const pid_t worker = proxy.nginx.worker_pid();
     REQUIRE(worker > 0);
@@ -329,10 +329,7 @@ TEST_CASE("front proxy: header floods get 431 problem details early, and nginx's
 }
 
 TEST_CASE("front proxy: a multi-range Range gets the whole answer, never multipart") {
-    if (!nginx_installed()) {
-        MESSAGE("nginx is not installed (scripts/install-deps.sh installs it): front proxy test skipped");
-        return;
-    }
+    if (!nginx_installed()) return skipped_without_nginx();
     FrontProxy proxy("range");
     httplib::Client client = proxy.client();
     const auto whole = client.Get("/openapi.json");
@@ -363,10 +360,7 @@ TEST_CASE("front proxy: a multi-range Range gets the whole answer, never multipa
 }
 
 TEST_CASE("front proxy: pipelined requests and a half-closed client are all answered") {
-    if (!nginx_installed()) {
-        MESSAGE("nginx is not installed (scripts/install-deps.sh installs it): front proxy test skipped");
-        return;
-    }
+    if (!nginx_installed()) return skipped_without_nginx();
     FrontProxy proxy("pipeline");
     SUBCASE("two requests in one write") {
         Connection connection(proxy.port);
@@ -396,10 +390,7 @@ TEST_CASE("front proxy: pipelined requests and a half-closed client are all answ
 }
 
 TEST_CASE("front proxy: bodies up to the service's limit pass, larger ones get 413 problem details from nginx") {
-    if (!nginx_installed()) {
-        MESSAGE("nginx is not installed (scripts/install-deps.sh installs it): front proxy test skipped");
-        return;
-    }
+    if (!nginx_installed()) return skipped_without_nginx();
     FrontProxy proxy("body");
     // A valid request padded with spaces to exactly the limit: both limits are the same number.
     std::string at_limit = quick_request.dump();
@@ -430,10 +421,7 @@ TEST_CASE("front proxy: bodies up to the service's limit pass, larger ones get 4
 }
 
 TEST_CASE("front proxy: more than 16 requests of one address in progress get 429 problem details") {
-    if (!nginx_installed()) {
-        MESSAGE("nginx is not installed (scripts/install-deps.sh installs it): front proxy test skipped");
-        return;
-    }
+    if (!nginx_installed()) return skipped_without_nginx();
     // Room in the service for every request (2 running, 30 waiting), so only nginx refuses.
     service::ServerConfig config = FrontProxy::config(64);
     config.queue_length = 32;
@@ -475,10 +463,7 @@ TEST_CASE("front proxy: more than 16 requests of one address in progress get 429
 }
 
 TEST_CASE("front proxy: request ids are forwarded, and nginx's own errors are problem details") {
-    if (!nginx_installed()) {
-        MESSAGE("nginx is not installed (scripts/install-deps.sh installs it): front proxy test skipped");
-        return;
-    }
+    if (!nginx_installed()) return skipped_without_nginx();
     FrontProxy proxy("ids");
     httplib::Client client = proxy.client();
     SUBCASE("a valid client id reaches the service and comes back") {
@@ -507,10 +492,7 @@ TEST_CASE("front proxy: request ids are forwarded, and nginx's own errors are pr
 }
 
 TEST_CASE("front proxy: a service that does not answer is a 502 problem with Retry-After") {
-    if (!nginx_installed()) {
-        MESSAGE("nginx is not installed (scripts/install-deps.sh installs it): front proxy test skipped");
-        return;
-    }
+    if (!nginx_installed()) return skipped_without_nginx();
     // Nothing listens on the service's port.
     const int nobody = free_loopback_port();
     const int port = free_loopback_port();
