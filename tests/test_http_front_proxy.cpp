@@ -519,7 +519,7 @@ TEST_CASE("front proxy: the Kubernetes pod wires nginx and the service with the 
     // nginx runs the generated ConfigMap's file, the file this test runs.
     CHECK(kustomization.find("- name: rollgap-nginx\n    files:\n      - nginx/rollgap.conf") != std::string::npos);
     CHECK(pod.find("name: rollgap-nginx") != std::string::npos);
-    CHECK(pod.find("\"-c\", \"/etc/rollgap/nginx/rollgap.conf\"") != std::string::npos);
+    CHECK(pod.find("-c /etc/rollgap/nginx/rollgap.conf") != std::string::npos);
     // The only public port is nginx's: the service is not a container port of its own.
     CHECK(pod.find("containerPort: 8090") == std::string::npos);
 }
