@@ -1,6 +1,8 @@
 # rollgap HTTP service: multi-stage build on Debian 12 (bookworm).
 #   build:   the project's own dependency script, then a Release build of build/rollgap
-#   runtime: the shared libraries rollgap links and nothing else, as a non-root user
+#   runtime: the shared libraries rollgap links, and Debian's nginx with the front proxy
+#            configuration (deploy/nginx/rollgap.conf), as a non-root user. The Kubernetes pod
+#            runs this image twice: the service, and nginx in front of it (deploy/kubernetes).
 # Build with scripts/build-image.sh (buildah, no Docker engine needed) or `docker build .`.
 
 FROM debian:bookworm-slim AS build
@@ -17,14 +19,20 @@ RUN cmake -S . -B /build -DCMAKE_BUILD_TYPE=Release -DROLLGAP_WERROR=ON \
 FROM debian:bookworm-slim AS runtime
 # Runtime libraries of build/rollgap (ldd → dpkg -S): cpp-httplib (pulls OpenSSL, zlib,
 # brotli), spdlog (pulls fmt), SUNDIALS CVODE. Not the -dev packages, not OpenMPI/PETSc.
+# nginx: the front proxy, the same Debian package the tests run.
 RUN apt-get update \
  && DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends \
-      libcpp-httplib0.11 libspdlog1.10 libsundials-cvode6 \
+      libcpp-httplib0.11 libspdlog1.10 libsundials-cvode6 nginx \
  && rm -rf /var/lib/apt/lists/* \
  && useradd --system --uid 10001 --user-group --no-create-home --shell /usr/sbin/nologin rollgap
 COPY --from=build /build/rollgap /usr/local/bin/rollgap
-# Fail the build if a shared library is missing.
-RUN ! ldd /usr/local/bin/rollgap | grep -q "not found" && rollgap --version
+# The front proxy's configuration (Kubernetes mounts the same file from a ConfigMap over it).
+COPY deploy/nginx/rollgap.conf /etc/rollgap/nginx/rollgap.conf
+# Fail the build if a shared library is missing or nginx refuses the configuration.
+RUN ! ldd /usr/local/bin/rollgap | grep -q "not found" && rollgap --version \
+ && mkdir /tmp/nginx-check \
+ && nginx -t -q -p /tmp/nginx-check/ -c /etc/rollgap/nginx/rollgap.conf -e stderr \
+ && rm -rf /tmp/nginx-check
 
 USER 10001:10001
 # In a container the service listens on every interface (outside one it defaults to 127.0.0.1).

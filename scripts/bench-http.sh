@@ -10,6 +10,8 @@
 set -euo pipefail
 # shellcheck source=scripts/common.sh
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
+# shellcheck source=scripts/load-lib.sh
+source "$(dirname "${BASH_SOURCE[0]}")/load-lib.sh"
 cd "$ROLLGAP_ROOT"
 
 DURATION="${BENCH_DURATION:-10s}"
@@ -17,12 +19,7 @@ THREADS="${BENCH_THREADS:-2}"
 PORT="${BENCH_PORT:-18090}"
 URL="http://127.0.0.1:$PORT"
 
-if ! command -v wrk >/dev/null; then
-    echo "bench-http: installing wrk" >&2
-    SUDO=(); [[ $(id -u) -ne 0 ]] && SUDO=(sudo)
-    "${SUDO[@]}" apt-get update >&2
-    "${SUDO[@]}" env DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends wrk >&2
-fi
+load_install_wrk
 rollgap_install_deps >&2
 rollgap_configure >&2
 rollgap_build rollgap >&2
@@ -44,43 +41,10 @@ wrk.body = '{"options":{"distributions":false}}'
 wrk.headers["Content-Type"] = "application/json"
 LUA
 # The same request, counting the status codes of the answers (overload run).
-cat > "$work/roll_gap_statuses.lua" <<'LUA'
-wrk.method = "POST"
-wrk.body = '{"options":{"distributions":false}}'
-wrk.headers["Content-Type"] = "application/json"
-local threads = {}
-function setup(thread) table.insert(threads, thread) end
-function init(args) statuses = {} end
-function response(status, headers, body) statuses[status] = (statuses[status] or 0) + 1 end
-function done(summary, latency, requests)
-    local total = {}
-    for _, thread in ipairs(threads) do
-        for status, count in pairs(thread:get("statuses")) do total[status] = (total[status] or 0) + count end
-    end
-    local parts = {}
-    for status, count in pairs(total) do table.insert(parts, status .. "=" .. count) end
-    table.sort(parts)
-    io.write("statuses: " .. table.concat(parts, " ") .. "\n")
-end
-LUA
+{ cat "$work/roll_gap.lua"; load_status_counter_lua; } > "$work/roll_gap_statuses.lua"
 
-start_server() {
-    "$ROLLGAP_BUILD_DIR/rollgap" serve --bind 127.0.0.1 --port "$PORT" "$@" 2>"$work/server.log" &
-    server_pid=$!
-    for _ in $(seq 1 100); do
-        curl -sf "$URL/readyz" >/dev/null 2>&1 && return 0
-        sleep 0.1
-    done
-    echo "bench-http: the server did not become ready" >&2
-    cat "$work/server.log" >&2
-    exit 1
-}
-
-stop_server() {
-    kill -TERM "$server_pid"
-    wait "$server_pid" || true
-    server_pid=""
-}
+start_server() { load_start_server "$work/server.log" "$URL" --bind 127.0.0.1 --port "$PORT" "$@"; }
+stop_server() { load_stop_server; }
 
 rss_mib() { awk -v key="$2" '$1 == key":" {printf "%.1f", $2 / 1024}' "/proc/$1/status"; }
 

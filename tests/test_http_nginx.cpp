@@ -6,14 +6,13 @@
 
 #include <doctest/doctest.h>
 
-#include <csignal>
 #include <filesystem>
-#include <fstream>
+#include <sstream>
 #include <string>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include "support/http_test.h"
+#include "support/nginx.h"
 
 using namespace rollgap;
 using namespace rollgap::test;
@@ -21,62 +20,23 @@ using nlohmann::json;
 
 namespace {
 
-const char* const nginx_binary = "/usr/sbin/nginx";
-
-// nginx in the foreground (daemon off) with everything under `directory`.
-class Nginx {
-public:
-    Nginx(const std::filesystem::path& directory, int port, const std::string& upstream_servers, bool affinity)
-        : directory_(directory) {
-        std::filesystem::create_directories(directory_);
-        const std::string dir = directory_.string();
-        std::ofstream conf(directory_ / "nginx.conf");
-        if (::geteuid() == 0) conf << "user root;\n";  // else workers run as nobody and cannot write dir
-        conf << "worker_processes 1;\ndaemon off;\npid " << dir << "/nginx.pid;\nerror_log " << dir
-             << "/error.log warn;\nevents { worker_connections 128; }\nhttp {\n  access_log off;\n"
-             << "  client_body_temp_path " << dir << "/body;\n  proxy_temp_path " << dir << "/proxy;\n"
-             << "  fastcgi_temp_path " << dir << "/fastcgi;\n  uwsgi_temp_path " << dir << "/uwsgi;\n"
-             << "  scgi_temp_path " << dir << "/scgi;\n"
-             << "  upstream rollgap {\n" << (affinity ? "    hash $remote_addr consistent;\n" : "")
-             << upstream_servers << "    keepalive 8;\n  }\n"
-             << "  server {\n    listen 127.0.0.1:" << port << ";\n    client_max_body_size 1m;\n"
-             << "    location / {\n      proxy_pass http://rollgap;\n      proxy_http_version 1.1;\n"
-             << "      proxy_set_header Connection \"\";\n      proxy_read_timeout 60s;\n    }\n  }\n}\n";
-        conf.close();
-        pid_ = ::fork();
-        REQUIRE(pid_ >= 0);
-        if (pid_ == 0) {
-            const std::string conf_path = (directory_ / "nginx.conf").string();
-            const std::string error_log = (directory_ / "error.log").string();
-            ::execl(nginx_binary, "nginx", "-p", dir.c_str(), "-c", conf_path.c_str(), "-e", error_log.c_str(),
-                    static_cast<char*>(nullptr));
-            ::_exit(127);
-        }
-    }
-    ~Nginx() {
-        if (pid_ > 0) {
-            ::kill(pid_, SIGTERM);
-            int status = 0;
-            for (int i = 0; i < 300 && ::waitpid(pid_, &status, WNOHANG) != pid_; ++i) {
-                std::this_thread::sleep_for(std::chrono::milliseconds(10));
-                if (i == 299) {
-                    ::kill(pid_, SIGKILL);
-                    ::waitpid(pid_, &status, 0);
-                }
-            }
-        }
-        std::error_code ignored;
-        std::filesystem::remove_all(directory_, ignored);
-    }
-    std::string error_log() const {
-        std::ifstream log(directory_ / "error.log");
-        return std::string(std::istreambuf_iterator<char>(log), std::istreambuf_iterator<char>());
-    }
-
-private:
-    std::filesystem::path directory_;
-    pid_t pid_ = -1;
-};
+// The scale-out configuration: `upstream_servers` behind one loopback port, optionally with
+// affinity by client address.
+std::string scale_out_config(const std::filesystem::path& directory, int port, const std::string& upstream_servers,
+                             bool affinity) {
+    std::ostringstream conf;
+    if (::geteuid() == 0) conf << "user root;\n";  // else workers run as nobody and cannot write dir
+    conf << "worker_processes 1;\ndaemon off;\npid nginx.pid;\nerror_log " << directory.string()
+         << "/error.log warn;\nevents { worker_connections 128; }\nhttp {\n  access_log off;\n"
+         << "  client_body_temp_path body;\n  proxy_temp_path proxy;\n"
+         << "  fastcgi_temp_path fastcgi;\n  uwsgi_temp_path uwsgi;\n  scgi_temp_path scgi;\n"
+         << "  upstream rollgap {\n" << (affinity ? "    hash $remote_addr consistent;\n" : "")
+         << upstream_servers << "    keepalive 8;\n  }\n"
+         << "  server {\n    listen 127.0.0.1:" << port << ";\n    client_max_body_size 1m;\n"
+         << "    location / {\n      proxy_pass http://rollgap;\n      proxy_http_version 1.1;\n"
+         << "      proxy_set_header Connection \"\";\n      proxy_read_timeout 60s;\n    }\n  }\n}\n";
+    return conf.str();
+}
 
 service::ServerConfig instance(const char* name) {
     service::ServerConfig config = test_config();
@@ -87,7 +47,7 @@ service::ServerConfig instance(const char* name) {
 }  // namespace
 
 TEST_CASE("scale-out: two instances behind nginx serve a sweep and share the load") {
-    if (!std::filesystem::exists(nginx_binary)) {
+    if (!nginx_installed()) {
         MESSAGE("nginx is not installed (scripts/install-deps.sh installs it): scale-out test skipped");
         return;
     }
@@ -97,8 +57,8 @@ TEST_CASE("scale-out: two instances behind nginx serve a sweep and share the loa
     REQUIRE(port > 0);
     const std::string upstream = "    server 127.0.0.1:" + std::to_string(a.port()) + ";\n    server 127.0.0.1:" +
                                  std::to_string(b.port()) + ";\n";
-    Nginx nginx(std::filesystem::temp_directory_path() / ("rollgap-nginx-" + std::to_string(::getpid())), port,
-                upstream, false);
+    const auto directory = std::filesystem::temp_directory_path() / ("rollgap-nginx-" + std::to_string(::getpid()));
+    Nginx nginx(directory, scale_out_config(directory, port, upstream, false));
 
     httplib::Client client("127.0.0.1", port);
     client.set_connection_timeout(0, 200'000);
@@ -149,7 +109,7 @@ TEST_CASE("scale-out: two instances behind nginx serve a sweep and share the loa
 }
 
 TEST_CASE("scale-out: with affinity by client address a job is polled on the instance that holds it") {
-    if (!std::filesystem::exists(nginx_binary)) {
+    if (!nginx_installed()) {
         MESSAGE("nginx is not installed (scripts/install-deps.sh installs it): scale-out test skipped");
         return;
     }
@@ -158,8 +118,9 @@ TEST_CASE("scale-out: with affinity by client address a job is polled on the ins
     const int port = free_loopback_port();
     const std::string upstream = "    server 127.0.0.1:" + std::to_string(a.port()) + ";\n    server 127.0.0.1:" +
                                  std::to_string(b.port()) + ";\n";
-    Nginx nginx(std::filesystem::temp_directory_path() / ("rollgap-nginx-affinity-" + std::to_string(::getpid())),
-                port, upstream, true);
+    const auto directory =
+        std::filesystem::temp_directory_path() / ("rollgap-nginx-affinity-" + std::to_string(::getpid()));
+    Nginx nginx(directory, scale_out_config(directory, port, upstream, true));
     httplib::Client client("127.0.0.1", port);
     client.set_connection_timeout(0, 200'000);
     client.set_read_timeout(30, 0);
