@@ -1,7 +1,7 @@
 #pragma once
 // The scenario schema as one table: every field of core::Scenario is one row with its JSON
 // path, unit, bounds and accessor. Reading, writing, the default document, unknown-field
-// detection and (later) sweeps over "any numeric field" all come from this table, so a field
+// detection and sweeps over "any numeric field" all come from this table, so a field
 // cannot be readable but not echoed, or bounded in one place and not another.
 
 #include <functional>
