@@ -29,7 +29,8 @@ constexpr std::array settings{
     ConfigSetting{"--queue-length", "ROLLGAP_QUEUE_LENGTH", "N",
                   "synchronous requests that may wait for a worker; beyond: 503 (default 64)"},
     ConfigSetting{"--io-threads", "ROLLGAP_IO_THREADS", "N",
-                  "HTTP connection threads, one per open connection (default 64)"},
+                  "HTTP connection threads, one per open connection; keep above workers + queue-length "
+                  "(default 128)"},
     ConfigSetting{"--analysis-threads", "ROLLGAP_ANALYSIS_THREADS", "N",
                   "threads one analysis may spread its scan speeds or sweep points over "
                   "(default 0: the machine's cores; with many workers, cores/workers avoids oversubscription)"},

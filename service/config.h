@@ -23,7 +23,8 @@ struct ServerConfig {
     int port = 8080;                          // 0: any free port (tests)
     std::size_t workers = 0;                  // compute threads; 0 means the machine's cores
     std::size_t queue_length = 64;            // synchronous requests waiting for a worker
-    std::size_t io_threads = 64;              // HTTP connection threads (one per open connection)
+    std::size_t io_threads = 128;             // HTTP connection threads (one per open connection);
+                                              // above workers + queue_length, so overload is a fast 503
     std::size_t analysis_threads = 0;         // threads one analysis may spread over; 0: the machine's cores
     std::chrono::milliseconds deadline{30'000};       // synchronous requests, from arrival
     std::chrono::milliseconds job_deadline{600'000};  // asynchronous jobs, from creation

@@ -73,6 +73,18 @@ TEST_CASE("serve config: defaults") {
     CHECK_FALSE(resolved.instance.empty());
 }
 
+TEST_CASE("serve config: the defaults keep the README's capacity rule, workers + queue-length < io-threads") {
+    // Overload shows as fast 503s only if a connection thread is left to answer them while every
+    // worker is busy and the queue is full. The default workers are the machine's cores: the
+    // rule must hold on this machine and on any machine with up to 63 cores.
+    const auto parsed = parse({});
+    REQUIRE(std::holds_alternative<ServerConfig>(parsed));
+    const ServerConfig config = std::get<ServerConfig>(parsed);
+    const ServerConfig resolved = config.resolved();
+    CHECK(resolved.workers + resolved.queue_length < resolved.io_threads);
+    CHECK(63 + config.queue_length < config.io_threads);
+}
+
 TEST_CASE("serve config: environment, then flags (both --flag value and --flag=value)") {
     const auto parsed = parse({"--port", "9000", "--workers=3", "--deadline-ms", "1500"},
                               {{"ROLLGAP_PORT", "7000"}, {"ROLLGAP_BIND", "0.0.0.0"}, {"ROLLGAP_QUEUE_LENGTH", "5"},
