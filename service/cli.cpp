@@ -194,8 +194,8 @@ int run_cli(std::span<const std::string_view> arguments, std::istream& in, std::
         }
         return serve(config);
     }
-    if (!app.remaining().empty()) {
-        const std::string& first = app.remaining().front();
+    if (const std::vector<std::string> extras = app.remaining(); !extras.empty()) {
+        const std::string& first = extras.front();
         if (app.get_subcommands().empty()) {
             std::vector<std::string_view> names;
             for (const Command& command : commands) names.push_back(command.name);
