@@ -85,9 +85,7 @@ void reject_unknown_fields(const nlohmann::json& object, const std::string& poin
             errors.add({append_pointer(pointer, name), concat(detail, ": ", *explanation), std::nullopt, std::nullopt});
             continue;
         }
-        if (const auto suggestion = closest_name(name, known)) {
-            detail += concat("; did you mean '", *suggestion, "'?");
-        }
+        detail += did_you_mean(name, known);
         detail += " (known fields:";
         for (const std::string_view field : known) detail += concat(" ", field);
         detail += ")";
@@ -168,9 +166,7 @@ std::optional<std::string> read_choice(const nlohmann::json& value, const std::s
     const auto& text = value.get_ref<const std::string&>();
     if (std::find(choices.begin(), choices.end(), text) == choices.end()) {
         std::string detail = concat(quoted_for_message(text), " is not one of ", choices_text(choices));
-        if (const auto suggestion = closest_name(text, choices)) {
-            detail += concat("; did you mean '", *suggestion, "'?");
-        }
+        detail += did_you_mean(text, choices);
         errors.add({pointer, std::move(detail), choices_text(choices), std::nullopt});
         return std::nullopt;
     }

@@ -4,6 +4,8 @@
 #include <cctype>
 #include <vector>
 
+#include "api/text.h"
+
 namespace rollgap::api {
 namespace {
 
@@ -45,6 +47,14 @@ std::optional<std::string_view> closest_name(std::string_view name,
     const std::size_t tolerance = std::max<std::size_t>(3, std::max(name.size(), best ? best->size() : 0) / 3);
     if (best && best_distance <= tolerance) return best;
     return std::nullopt;
+}
+
+std::string did_you_mean(std::optional<std::string_view> suggestion) {
+    return suggestion ? concat("; did you mean '", *suggestion, "'?") : std::string();
+}
+
+std::string did_you_mean(std::string_view name, std::span<const std::string_view> known) {
+    return did_you_mean(closest_name(name, known));
 }
 
 }  // namespace rollgap::api

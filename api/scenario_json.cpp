@@ -3,7 +3,6 @@
 #include <optional>
 #include <stdexcept>
 
-#include "api/merge_patch.h"
 #include "api/scenario_consistency.h"
 #include "api/scenario_schema.h"
 #include "api/text.h"
@@ -105,7 +104,12 @@ core::Scenario scenario_from_json(const nlohmann::json& document, const std::str
 
 core::Scenario scenario_from_patch(const nlohmann::json& patch, const std::string& pointer,
                                    FieldErrors& errors) {
-    return scenario_from_json(merge_patch(default_scenario_json(), patch), pointer, errors);
+    // JSON Merge Patch (RFC 7396): the client sends only what differs; null removes a member,
+    // which here means back to its default. Recursive in the depth of `patch`: callers bound
+    // the depth of client JSON first (json_text.h).
+    nlohmann::json scenario = default_scenario_json();
+    scenario.merge_patch(patch);
+    return scenario_from_json(scenario, pointer, errors);
 }
 
 }  // namespace rollgap::api

@@ -94,7 +94,7 @@ const ScenarioField* read_parameter(const OptionsReader& reader) {
         } else {
             suggestion = closest_name(*path, numeric_paths());
         }
-        if (suggestion) detail += concat("; did you mean '", *suggestion, "'?");
+        detail += did_you_mean(suggestion);
     }
     reader.errors().add({pointer, std::move(detail), bound, std::nullopt});
     return nullptr;

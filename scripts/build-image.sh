@@ -3,7 +3,7 @@
 # the image's binary serves /readyz.
 #
 # 1. The base image debian:bookworm-slim is made locally with debootstrap (no registry is
-#    reachable here), once; later runs reuse it.
+#    reachable here), once; the runs after it reuse it.
 # 2. buildah bud builds the Dockerfile (chroot isolation, vfs storage: works unprivileged in
 #    a container and needs no daemon).
 # 3. Smoke test: the image's root filesystem is mounted and its /usr/local/bin/rollgap runs in a

@@ -6,12 +6,12 @@
 # Runs as root; otherwise uses sudo when it is available.
 set -euo pipefail
 
-# --- The packages (see /work/shared/BUILD-NOTES.md) ---------------------------------------
+# --- The packages -------------------------------------------------------------------------
 # Add new packages to one of these groups (or a new group) and to PACKAGES below.
 BUILD_PACKAGES=(build-essential cmake pkg-config)
-LIBRARY_PACKAGES=(libeigen3-dev libsundials-dev libcpp-httplib-dev nlohmann-json3-dev libspdlog-dev)
+LIBRARY_PACKAGES=(libeigen3-dev libsundials-dev libcpp-httplib-dev nlohmann-json3-dev libspdlog-dev libcli11-dev)
 TEST_PACKAGES=(doctest-dev)
-# Tools for scripts, CI and later issues (e.g. python3 python3-numpy for the paper plots).
+# Tools for scripts and CI.
 # curl: the test that runs the README's HTTP examples; nginx: the test that runs two service
 # instances behind a load balancer. (wrk and prometheus/promtool are installed by the scripts
 # that use them, bench-http.sh and check-http.sh, not in CI.)

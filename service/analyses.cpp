@@ -2,6 +2,11 @@
 
 #include <algorithm>
 #include <array>
+#include <vector>
+
+#include "api/field_errors.h"
+#include "api/name_suggestion.h"
+#include "api/text.h"
 
 #include "service/amplitude_analysis.h"
 #include "service/calibration_analysis.h"
@@ -39,6 +44,15 @@ const Analysis* find_analysis(std::span<const Analysis> offered, std::string_vie
     const auto row = std::find_if(offered.begin(), offered.end(),
                                   [name](const Analysis& analysis) { return analysis.name == name; });
     return row == offered.end() ? nullptr : &*row;
+}
+
+api::Problem unknown_analysis_problem(std::span<const Analysis> offered, std::string_view name) {
+    std::vector<std::string_view> names;
+    for (const Analysis& row : offered) names.push_back(row.name);
+    return api::make_problem(
+        api::ProblemCode::unknown_analysis, api::concat("no analysis named ", api::quoted_for_message(name)),
+        {{"/analysis", api::concat("unknown analysis ", api::quoted_for_message(name), api::did_you_mean(name, names)),
+          api::choices_text(names), std::nullopt}});
 }
 
 }  // namespace rollgap::service

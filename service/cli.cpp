@@ -9,40 +9,79 @@
 #include <sstream>
 #include <string>
 
+#include <vector>
+
+#include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "api/name_suggestion.h"
 #include "api/scenario_json.h"
 #include "api/text.h"
 #include "service/analyses.h"
+#include "service/config.h"
 #include "service/evaluate.h"
+#include "service/openapi.h"
 #include "service/scenario_explain.h"
+#include "service/serve_main.h"
 #include "service/version.h"
 
 namespace rollgap::service {
 namespace {
 
+// The commands: one row each, with the description the usage text shows.
+struct Command {
+    std::string_view name;
+    std::string_view operands;  // as the usage shows them
+    std::string_view description;
+};
+constexpr std::array commands{
+    Command{"scenario", "[--explain]",
+            "print the default scenario (JSON, engineering units in every name);\n"
+            "--explain: what each field is: pointer, unit, bounds, default, description"},
+    Command{"run", "FILE",
+            "evaluate the request in FILE ('-' reads standard input) and print\n"
+            "the result, or RFC 9457 problem details if the request is invalid"},
+    Command{"serve", "", "run the HTTP service (REST API v1; 'rollgap serve --help')"},
+    Command{"healthcheck", "", "ask a running service's /readyz (container health check)"},
+    Command{"openapi", "", "print the service's OpenAPI 3.1 document"},
+};
+
+CLI::App* add_command(CLI::App& app, std::string_view name) {
+    const auto row = std::find_if(commands.begin(), commands.end(),
+                                  [name](const Command& command) { return command.name == name; });
+    CLI::App* command = app.add_subcommand(std::string(name), std::string(row->description));
+    command->allow_extras();  // refused after parsing, in the program's words (unexpected_arguments)
+    return command;
+}
+
 void print_usage(std::ostream& stream) {
+    constexpr std::size_t command_width = 14;
+    const auto column = [&](std::string_view label, std::string_view text) {
+        stream << "  " << label << std::string(label.size() < command_width ? command_width - label.size() : 1, ' ');
+        for (std::size_t start = 0; start <= text.size();) {
+            const std::size_t end = std::min(text.find('\n', start), text.size());
+            if (start > 0) stream << std::string(command_width + 2, ' ');
+            stream << text.substr(start, end - start) << '\n';
+            start = end + 1;
+        }
+    };
     stream << "usage: rollgap <command> [arguments]\n"
               "\n"
               "Roll-bite pressure and friction, critical chatter speed and vibration amplitude\n"
               "of a cold-rolling mill.\n"
               "\n"
-              "commands:\n"
-              "  scenario      print the default scenario (JSON, engineering units in every name)\n"
-              "  scenario --explain\n"
-              "                what each scenario field is: pointer, unit, bounds, default, description\n"
-              "  run FILE      evaluate the request in FILE ('-' reads standard input) and print\n"
-              "                the result, or RFC 9457 problem details if the request is invalid\n"
-              "  serve         run the HTTP service (REST API v1; 'rollgap serve --help')\n"
-              "  healthcheck   ask a running service's /readyz (container health check)\n"
-              "  openapi       print the service's OpenAPI 3.1 document\n"
-              "  --help        print this help\n"
-              "  --version     print the version\n"
-              "\n"
+              "commands:\n";
+    for (const Command& command : commands) {
+        column(command.operands.empty() ? std::string(command.name) : api::concat(command.name, " ", command.operands),
+               command.description);
+    }
+    column("--help", "print this help");
+    column("--version", "print the version");
+    stream << "\n"
               "A request is {\"analysis\": NAME, \"scenario\": {...}, \"options\": {...}}; its\n"
               "scenario is a JSON merge patch (RFC 7396) onto the default scenario.\n"
               "analyses:\n";
-    std::size_t name_width = 12;  // the command column above
+    std::size_t name_width = command_width - 2;
     for (const Analysis& analysis : analyses()) name_width = std::max(name_width, analysis.name.size());
     for (const Analysis& analysis : analyses()) {
         stream << "  " << analysis.name << std::string(name_width + 2 - analysis.name.size(), ' ')
@@ -107,32 +146,97 @@ int run_request(std::string_view source, std::istream& in, std::ostream& out) {
 
 int run_cli(std::span<const std::string_view> arguments, std::istream& in, std::ostream& out,
             std::ostream& err) {
-    if (arguments.empty()) return usage_error(err, "a command is required");
-    const std::string_view command = arguments.front();
-    const auto operands = arguments.subspan(1);
+    // The parsed values; the commands act on them after a successful parse.
+    CLI::App app("rollgap", "rollgap");
+    bool show_version = false;
+    app.add_flag("--version", show_version, "print the version");
+    app.require_subcommand(0, 1);
+    app.allow_extras();
 
-    if (command == "--help" || command == "-h" || command == "help") {
+    CLI::App* scenario = add_command(app, "scenario");
+    bool explain = false;
+    scenario->add_flag("--explain", explain, "what each scenario field is");
+    CLI::App* run = add_command(app, "run");
+    std::string source;
+    run->add_option("FILE", source, "the request, '-' for standard input")->required();
+    CLI::App* serve_command = add_command(app, "serve");
+    ServerConfig config;
+    add_server_options(*serve_command, config);
+    CLI::App* health = add_command(app, "healthcheck");
+    std::string url = default_healthcheck_url();
+    health->add_option("--url", url, "http://HOST:PORT/PATH");
+    CLI::App* openapi = add_command(app, "openapi");
+    CLI::App* help = app.add_subcommand("help", "print this help")->group("");
+
+    // CLI11 takes the arguments last first.
+    std::vector<std::string> reversed(arguments.rbegin(), arguments.rend());
+    try {
+        app.parse(reversed);
+    } catch (const CLI::CallForHelp&) {
+        if (serve_command->parsed()) {
+            out << config_usage();
+        } else {
+            print_usage(out);
+        }
+        return exit_success;
+    } catch (const CLI::ParseError& error) {
+        if (serve_command->parsed()) {
+            err << "rollgap serve: " << error.what() << '\n';
+            return exit_bad_input;
+        }
+        return usage_error(err, error.what());
+    }
+
+    if (serve_command->parsed()) {
+        if (!app.remaining().empty()) {
+            // Not echoed: it may be a secret given where an option was meant.
+            err << "rollgap serve: unexpected argument (rollgap serve --help)\n";
+            return exit_bad_input;
+        }
+        if (auto error = finish_server_config(*serve_command, config)) {
+            err << "rollgap serve: " << *error << '\n';
+            return exit_bad_input;
+        }
+        return serve(config);
+    }
+    if (const std::vector<std::string> extras = app.remaining(); !extras.empty()) {
+        const std::string& first = extras.front();
+        if (app.get_subcommands().empty()) {
+            std::vector<std::string_view> names;
+            for (const Command& command : commands) names.push_back(command.name);
+            return usage_error(err, api::concat("unknown command '", first, "'", api::did_you_mean(first, names)));
+        }
+        return usage_error(err, api::concat("unexpected argument '", first, "'"));
+    }
+    for (const CLI::App* command : {scenario, run, health, openapi, help}) {
+        if (command->parsed() && !command->remaining().empty()) {
+            return usage_error(err, api::concat("unexpected argument '", command->remaining().front(), "' after '",
+                                                command->get_name(), "'"));
+        }
+    }
+    if (help->parsed()) {
         print_usage(out);
         return exit_success;
     }
-    if (command == "--version") {
-        out << "rollgap " << version() << '\n';
-        return exit_success;
-    }
-    if (command == "scenario") {
-        if (operands.size() == 1 && operands.front() == "--explain") {
+    if (scenario->parsed()) {
+        if (explain) {
             out << scenario_explanation();
             return exit_success;
         }
-        if (!operands.empty()) return usage_error(err, "'scenario' takes no arguments but --explain");
         print_json(out, api::default_scenario_json());
         return exit_success;
     }
-    if (command == "run") {
-        if (operands.size() != 1) return usage_error(err, "'run' takes one argument: FILE or '-'");
-        return run_request(operands.front(), in, out);
+    if (run->parsed()) return run_request(source, in, out);
+    if (health->parsed()) return healthcheck(url, out, err);
+    if (openapi->parsed()) {
+        out << openapi_document().dump(2) << '\n';
+        return exit_success;
     }
-    return usage_error(err, api::concat("unknown command '", command, "'"));
+    if (show_version) {
+        out << "rollgap " << version() << '\n';
+        return exit_success;
+    }
+    return usage_error(err, "a command is required");
 }
 
 }  // namespace rollgap::service

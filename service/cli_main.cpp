@@ -8,15 +8,10 @@
 #include <spdlog/spdlog.h>
 
 #include "service/cli.h"
-#include "service/serve_main.h"
 
 int main(int argc, char** argv) {
     // stdout carries the JSON document; diagnostics go to stderr.
     spdlog::set_default_logger(spdlog::stderr_color_mt("rollgap"));
     const std::vector<std::string_view> arguments(argv + 1, argv + argc);
-    // serve, healthcheck, openapi: the HTTP service (service/serve_main.h).
-    if (!arguments.empty() && rollgap::service::is_server_command(arguments.front())) {
-        return rollgap::service::run_server_command(arguments, std::cout, std::cerr);
-    }
     return rollgap::service::run_cli(arguments, std::cin, std::cout, std::cerr);
 }

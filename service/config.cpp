@@ -11,6 +11,9 @@
 
 #include <unistd.h>
 
+#include <CLI/CLI.hpp>
+
+#include "api/name_suggestion.h"
 #include "api/text.h"
 
 namespace rollgap::service {
@@ -26,7 +29,8 @@ constexpr std::array settings{
     ConfigSetting{"--queue-length", "ROLLGAP_QUEUE_LENGTH", "N",
                   "synchronous requests that may wait for a worker; beyond: 503 (default 64)"},
     ConfigSetting{"--io-threads", "ROLLGAP_IO_THREADS", "N",
-                  "HTTP connection threads, one per open connection (default 64)"},
+                  "HTTP connection threads, one per open connection; keep above workers + queue-length "
+                  "(default 128)"},
     ConfigSetting{"--analysis-threads", "ROLLGAP_ANALYSIS_THREADS", "N",
                   "threads one analysis may spread its scan speeds or sweep points over "
                   "(default 0: the machine's cores; with many workers, cores/workers avoids oversubscription)"},
@@ -116,7 +120,8 @@ bool valid_log_level(std::string_view level) {
     return std::find(levels.begin(), levels.end(), level) != levels.end();
 }
 
-// Applies one setting; returns an error message or nothing.
+// Applies one setting; returns an error message or nothing. `source` names where the value
+// came from, for the message.
 std::optional<std::string> apply(ServerConfig& config, const ConfigSetting& setting, const std::string& value,
                                  std::string_view source) {
     const auto bad = [&](std::string_view expected) {
@@ -144,10 +149,6 @@ std::optional<std::string> apply(ServerConfig& config, const ConfigSetting& sett
             std::string(std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>()));
         if (token.empty()) return concat("the token file named by ", source, " is empty");
         config.token = std::move(token);
-    } else if (env == "ROLLGAP_TOKEN") {
-        // Never echo the value in a message.
-        if (value.empty()) return concat(source, " is set but empty");
-        config.token = value;
     } else if (env == "ROLLGAP_INSTANCE") {
         if (value.empty() || value.size() > 64) return bad("1..64 characters");
         config.instance = value;
@@ -174,42 +175,62 @@ ServerConfig ServerConfig::resolved() const {
     return config;
 }
 
-EnvLookup process_environment() {
-    return [](std::string_view name) -> std::optional<std::string> {
-        const char* value = std::getenv(std::string(name).c_str());
-        if (value == nullptr) return std::nullopt;
-        return std::string(value);
-    };
+void add_server_options(CLI::App& command, ServerConfig& config) {
+    // Unknown arguments are collected, not refused by CLI11: its message would echo every
+    // argument, and a value after a mistyped "--token" is a secret (finish_server_config).
+    command.allow_extras();
+    for (const ConfigSetting& setting : settings) {
+        if (setting.flag.empty()) continue;  // environment only: its own rule in finish_server_config
+        const std::string source = concat(setting.flag, " (or ", setting.env, ")");
+        command
+            .add_option_function<std::string>(
+                std::string(setting.flag),
+                [&config, &setting, source](const std::string& value) {
+                    if (auto error = apply(config, setting, value, source)) throw CLI::ValidationError(*error);
+                },
+                std::string(setting.help))
+            ->envname(std::string(setting.env))
+            ->type_name(std::string(setting.value));
+    }
 }
 
-std::variant<ServerConfig, ConfigHelp, std::string> parse_server_config(
-    std::span<const std::string_view> arguments, const EnvLookup& environment) {
+std::optional<std::string> finish_server_config(const CLI::App& command, ServerConfig& config) {
+    if (const std::vector<std::string> extras = command.remaining(); !extras.empty()) {
+        // Name the first one only, and an option without its "=value": no secret reaches the log.
+        const std::string_view first = extras.front();
+        if (!first.starts_with('-')) return concat("unexpected argument (rollgap serve --help)");
+        const std::string_view name = first.substr(0, first.find('='));
+        std::vector<std::string_view> flags;
+        for (const ConfigSetting& setting : settings) {
+            if (!setting.flag.empty()) flags.push_back(setting.flag);
+        }
+        return concat("unknown option '", name, "'", api::did_you_mean(name, flags), " (rollgap serve --help)");
+    }
+    // The token: a file (--token-file or ROLLGAP_TOKEN_FILE) wins over ROLLGAP_TOKEN, which has
+    // no flag because a secret on the command line shows in ps.
+    if (config.token) return std::nullopt;
+    if (const char* token = std::getenv("ROLLGAP_TOKEN")) {
+        // Never echo the value in a message.
+        if (*token == '\0') return std::string("ROLLGAP_TOKEN is set but empty");
+        config.token = token;
+    }
+    return std::nullopt;
+}
+
+std::variant<ServerConfig, ConfigHelp, std::string> parse_server_config(std::span<const std::string_view> arguments) {
     ServerConfig config;
-    // Environment first (ROLLGAP_TOKEN_FILE after ROLLGAP_TOKEN: the file wins), then flags.
-    for (const ConfigSetting& setting : settings) {
-        if (const auto value = environment(setting.env)) {
-            if (auto error = apply(config, setting, *value, setting.env)) return *error;
-        }
+    CLI::App command("rollgap serve", "rollgap serve");
+    add_server_options(command, config);
+    // CLI11 takes the arguments last first.
+    std::vector<std::string> reversed(arguments.rbegin(), arguments.rend());
+    try {
+        command.parse(reversed);
+    } catch (const CLI::CallForHelp&) {
+        return ConfigHelp{};
+    } catch (const CLI::ParseError& error) {
+        return std::string(error.what());  // a value the table refuses: the table's message
     }
-    for (std::size_t i = 0; i < arguments.size(); ++i) {
-        const std::string_view argument = arguments[i];
-        if (argument == "--help" || argument == "-h") return ConfigHelp{};
-        std::string_view name = argument;
-        std::optional<std::string> value;
-        if (const auto equals = argument.find('='); equals != std::string_view::npos) {
-            name = argument.substr(0, equals);
-            value = std::string(argument.substr(equals + 1));
-        }
-        const auto setting = std::find_if(settings.begin(), settings.end(), [name](const ConfigSetting& s) {
-            return !s.flag.empty() && s.flag == name;
-        });
-        if (setting == settings.end()) return concat("unknown option '", name, "' (rollgap serve --help)");
-        if (!value) {
-            if (i + 1 >= arguments.size()) return concat("option ", name, " needs a value");
-            value = std::string(arguments[++i]);
-        }
-        if (auto error = apply(config, *setting, *value, concat("value of ", name))) return *error;
-    }
+    if (auto error = finish_server_config(command, config)) return *error;
     return config;
 }
 

@@ -1,16 +1,20 @@
 #pragma once
 // Configuration of the HTTP service (`rollgap serve`): every setting is a flag and an
 // environment variable; a flag wins over the variable, the variable over the default.
-// The table of settings (config_settings()) is what --help prints and the README documents.
+// The table of settings (config_settings()) is what CLI11 parses, what --help prints and what
+// the README documents.
 
 #include <chrono>
 #include <cstddef>
-#include <functional>
 #include <optional>
 #include <span>
 #include <string>
 #include <string_view>
 #include <variant>
+
+namespace CLI {
+class App;
+}
 
 namespace rollgap::service {
 
@@ -19,7 +23,8 @@ struct ServerConfig {
     int port = 8080;                          // 0: any free port (tests)
     std::size_t workers = 0;                  // compute threads; 0 means the machine's cores
     std::size_t queue_length = 64;            // synchronous requests waiting for a worker
-    std::size_t io_threads = 64;              // HTTP connection threads (one per open connection)
+    std::size_t io_threads = 128;             // HTTP connection threads (one per open connection);
+                                              // above workers + queue_length, so overload is a fast 503
     std::size_t analysis_threads = 0;         // threads one analysis may spread over; 0: the machine's cores
     std::chrono::milliseconds deadline{30'000};       // synchronous requests, from arrival
     std::chrono::milliseconds job_deadline{600'000};  // asynchronous jobs, from creation
@@ -45,15 +50,18 @@ struct ConfigSetting {
 };
 std::span<const ConfigSetting> config_settings();
 
-// Environment lookup, injectable for tests.
-using EnvLookup = std::function<std::optional<std::string>(std::string_view name)>;
-EnvLookup process_environment();
-
 struct ConfigHelp {};  // --help was asked for
 
-// Parses `arguments` (after "serve") over the environment. An error is a message for stderr.
-std::variant<ServerConfig, ConfigHelp, std::string> parse_server_config(
-    std::span<const std::string_view> arguments, const EnvLookup& environment);
+// The table's flags on a CLI11 command (`rollgap serve`), each with its environment variable as
+// fallback (a flag wins) and stored into `config` as it is parsed; a value the table refuses
+// throws CLI::ValidationError with the table's message. `config` must outlive the parse.
+void add_server_options(CLI::App& command, ServerConfig& config);
+// After a successful parse: refuses unknown options (naming no value) and applies the token's own
+// rule (ROLLGAP_TOKEN, environment only; a token file wins). An error is a message for stderr.
+std::optional<std::string> finish_server_config(const CLI::App& command, ServerConfig& config);
+
+// Parses `arguments` (after "serve") over the process environment: the two steps above.
+std::variant<ServerConfig, ConfigHelp, std::string> parse_server_config(std::span<const std::string_view> arguments);
 
 std::string config_usage();
 

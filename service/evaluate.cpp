@@ -9,7 +9,6 @@
 
 #include "api/field_errors.h"
 #include "api/json_text.h"
-#include "api/name_suggestion.h"
 #include "api/request_json.h"
 #include "api/scenario_json.h"
 #include "api/text.h"
@@ -48,16 +47,7 @@ Outcome evaluate_unguarded(const nlohmann::json& request, std::span<const Analys
 
     const Analysis* analysis = find_analysis(offered, parsed.analysis);
     if (analysis == nullptr) {
-        std::vector<std::string_view> names;
-        for (const Analysis& row : offered) names.push_back(row.name);
-        std::string detail = api::concat("unknown analysis ", api::quoted_for_message(parsed.analysis));
-        if (const auto suggestion = api::closest_name(parsed.analysis, names)) {
-            detail += api::concat("; did you mean '", *suggestion, "'?");
-        }
-        return problem_outcome(api::make_problem(
-            api::ProblemCode::unknown_analysis,
-            api::concat("no analysis named ", api::quoted_for_message(parsed.analysis)),
-            {{"/analysis", std::move(detail), api::choices_text(names), std::nullopt}}));
+        return problem_outcome(unknown_analysis_problem(offered, parsed.analysis));
     }
 
     // Scenario and options violations are reported together.

@@ -2,7 +2,6 @@
 
 #include "api/field_errors.h"
 #include "api/json_text.h"
-#include "api/name_suggestion.h"
 #include "api/problem.h"
 #include "api/request_json.h"
 #include "api/scenario_json.h"
@@ -696,15 +695,7 @@ struct HttpServer::Impl {
             return;
         }
         if (find_analysis(analyses(), envelope.analysis) == nullptr) {
-            std::vector<std::string_view> names;
-            for (const Analysis& row : analyses()) names.push_back(row.name);
-            std::string detail = concat("unknown analysis ", api::quoted_for_message(envelope.analysis));
-            if (const auto suggestion = api::closest_name(envelope.analysis, names)) {
-                detail += concat("; did you mean '", *suggestion, "'?");
-            }
-            set_problem(response, api::ProblemCode::unknown_analysis,
-                        concat("no analysis named ", api::quoted_for_message(envelope.analysis)),
-                        {{"/analysis", std::move(detail), api::choices_text(names), std::nullopt}});
+            set_problem(response, unknown_analysis_problem(analyses(), envelope.analysis));
             return;
         }
         if (draining) {

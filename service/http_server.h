@@ -1,5 +1,5 @@
 #pragma once
-// The HTTP service (issue 4): REST API v1 over cpp-httplib, in front of the same facade as the
+// The HTTP service: REST API v1 over cpp-httplib, in front of the same facade as the
 // CLI (service::evaluate). See the README's "HTTP service" and service/openapi.json.
 //
 // Threads: httplib's I/O threads (config.io_threads) read requests and write answers; the

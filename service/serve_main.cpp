@@ -2,13 +2,12 @@
 
 #include "service/config.h"
 #include "service/http_server.h"
-#include "service/openapi.h"
 #include "service/version.h"
 
 #include <csignal>
+#include <cstdlib>
 #include <ostream>
 #include <string>
-#include <variant>
 
 #include <httplib.h>
 #include <pthread.h>
@@ -21,17 +20,10 @@ constexpr int exit_ok = 0;
 constexpr int exit_failure = 1;
 constexpr int exit_usage = 2;
 
-int serve(std::span<const std::string_view> options, std::ostream& out, std::ostream& err) {
-    const auto parsed = parse_server_config(options, process_environment());
-    if (std::holds_alternative<ConfigHelp>(parsed)) {
-        out << config_usage();
-        return exit_ok;
-    }
-    if (const auto* message = std::get_if<std::string>(&parsed)) {
-        err << "rollgap serve: " << *message << '\n';
-        return exit_usage;
-    }
-    const ServerConfig config = std::get<ServerConfig>(parsed).resolved();
+}  // namespace
+
+int serve(const ServerConfig& parsed) {
+    const ServerConfig config = parsed.resolved();
 
     // One line per event, UTC, logfmt-style prefix; the request lines are logfmt throughout.
     spdlog::set_pattern("ts=%Y-%m-%dT%H:%M:%S.%eZ level=%l %v", spdlog::pattern_time_type::utc);
@@ -65,17 +57,12 @@ int serve(std::span<const std::string_view> options, std::ostream& out, std::ost
     return exit_ok;
 }
 
-int healthcheck(std::span<const std::string_view> options, std::ostream& out, std::ostream& err) {
-    std::string url;
-    if (options.size() == 2 && options[0] == "--url") {
-        url = options[1];
-    } else if (!options.empty()) {
-        err << "usage: rollgap healthcheck [--url http://HOST:PORT/PATH]\n";
-        return exit_usage;
-    } else {
-        const auto port = process_environment()("ROLLGAP_PORT");
-        url = "http://127.0.0.1:" + port.value_or("8080") + "/readyz";
-    }
+std::string default_healthcheck_url() {
+    const char* port = std::getenv("ROLLGAP_PORT");
+    return "http://127.0.0.1:" + std::string(port != nullptr && *port != '\0' ? port : "8080") + "/readyz";
+}
+
+int healthcheck(const std::string& url, std::ostream& out, std::ostream& err) {
     constexpr std::string_view scheme = "http://";
     if (!std::string_view(url).starts_with(scheme)) {
         err << "rollgap healthcheck: only http:// URLs\n";
@@ -95,29 +82,6 @@ int healthcheck(std::span<const std::string_view> options, std::ostream& out, st
     }
     out << url << ": " << response->status << '\n';
     return response->status == 200 ? exit_ok : exit_failure;
-}
-
-}  // namespace
-
-bool is_server_command(std::string_view command) {
-    return command == "serve" || command == "healthcheck" || command == "openapi";
-}
-
-int run_server_command(std::span<const std::string_view> arguments, std::ostream& out, std::ostream& err) {
-    const std::string_view command = arguments.front();
-    const auto options = arguments.subspan(1);
-    if (command == "serve") return serve(options, out, err);
-    if (command == "healthcheck") return healthcheck(options, out, err);
-    if (command == "openapi") {
-        if (!options.empty()) {
-            err << "usage: rollgap openapi\n";
-            return exit_usage;
-        }
-        out << openapi_document().dump(2) << '\n';
-        return exit_ok;
-    }
-    err << "rollgap: unknown server command\n";
-    return exit_usage;
 }
 
 }  // namespace rollgap::service

@@ -1,20 +1,22 @@
 #pragma once
-// The subcommands of `rollgap` that belong to the HTTP service:
+// The subcommands of `rollgap` that belong to the HTTP service, after the command line is parsed
+// (service/cli.cpp):
 //   rollgap serve [OPTION VALUE]...   run the service until SIGTERM/SIGINT, then drain, exit 0
 //   rollgap healthcheck [--url URL]   exit 0 iff URL (default http://127.0.0.1:$ROLLGAP_PORT/readyz)
 //                                     answers 200: the container's HEALTHCHECK, no curl needed
-//   rollgap openapi                   print the OpenAPI document served at /openapi.json
 // Exit status: 0 success, 1 failure (cannot listen, not healthy), 2 bad usage.
 
 #include <iosfwd>
-#include <span>
-#include <string_view>
+#include <string>
+
+#include "service/config.h"
 
 namespace rollgap::service {
 
-bool is_server_command(std::string_view command);
+// Runs the service with `config` (as parsed, resolved here) until SIGTERM/SIGINT.
+int serve(const ServerConfig& config);
 
-// `arguments` starts with the subcommand.
-int run_server_command(std::span<const std::string_view> arguments, std::ostream& out, std::ostream& err);
+std::string default_healthcheck_url();
+int healthcheck(const std::string& url, std::ostream& out, std::ostream& err);
 
 }  // namespace rollgap::service

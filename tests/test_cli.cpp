@@ -257,3 +257,44 @@ TEST_CASE("cli: help, version and usage errors") {
         CHECK(usage.err.find("usage: rollgap") != std::string::npos);
     }
 }
+
+TEST_CASE("cli: every command is parsed by one command line, and misuse names the command") {
+    SUBCASE("a mistyped command is suggested") {
+        const CliRun usage = run({"scenaro"});
+        CHECK(usage.exit_status == exit_bad_input);
+        CHECK(usage.err.find("unknown command 'scenaro'; did you mean 'scenario'?") != std::string::npos);
+    }
+    SUBCASE("too many operands") {
+        const CliRun usage = run({"run", "a.json", "b.json"});
+        CHECK(usage.exit_status == exit_bad_input);
+        CHECK(usage.err.find("'b.json'") != std::string::npos);
+    }
+    SUBCASE("help as a command") {
+        const CliRun help = run({"help"});
+        CHECK(help.exit_status == exit_success);
+        CHECK(help.out.find("usage: rollgap") != std::string::npos);
+    }
+    SUBCASE("serve --help prints the settings table") {
+        const CliRun help = run({"serve", "--help"});
+        CHECK(help.exit_status == exit_success);
+        CHECK(help.out.find("usage: rollgap serve") != std::string::npos);
+        CHECK(help.out.find("ROLLGAP_QUEUE_LENGTH") != std::string::npos);
+    }
+    SUBCASE("serve refuses a bad value before it listens") {
+        const CliRun bad = run({"serve", "--port", "70000"});
+        CHECK(bad.exit_status == exit_bad_input);
+        CHECK(bad.err.find("rollgap serve: invalid --port") != std::string::npos);
+        const CliRun unknown = run({"serve", "--prot=80"});
+        CHECK(unknown.exit_status == exit_bad_input);
+        CHECK(unknown.err.find("did you mean '--port'?") != std::string::npos);
+    }
+    SUBCASE("healthcheck takes only http URLs") {
+        const CliRun bad = run({"healthcheck", "--url", "ftp://127.0.0.1/readyz"});
+        CHECK(bad.exit_status == exit_bad_input);
+    }
+    SUBCASE("openapi prints the document") {
+        const CliRun document = run({"openapi"});
+        CHECK(document.exit_status == exit_success);
+        CHECK(json::parse(document.out).contains("openapi"));
+    }
+}

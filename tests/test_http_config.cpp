@@ -5,9 +5,11 @@
 
 #include <doctest/doctest.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <string>
 #include <unistd.h>
 #include <variant>
@@ -17,17 +19,40 @@ using namespace rollgap::service;
 
 namespace {
 
-EnvLookup environment(std::map<std::string, std::string, std::less<>> values) {
-    return [values = std::move(values)](std::string_view name) -> std::optional<std::string> {
-        const auto found = values.find(name);
-        if (found == values.end()) return std::nullopt;
-        return found->second;
-    };
-}
+// The process environment for one parse: every variable of the settings table unset, then
+// `values` set; the previous values come back at the end of the scope. CLI11 reads the
+// variables with getenv, and the tests run one at a time.
+class ScopedEnvironment {
+public:
+    explicit ScopedEnvironment(const std::map<std::string, std::string>& values) {
+        for (const ConfigSetting& setting : config_settings()) {
+            const std::string name(setting.env);
+            const char* previous = std::getenv(name.c_str());
+            saved_.emplace_back(name, previous ? std::optional<std::string>(previous) : std::nullopt);
+            ::unsetenv(name.c_str());
+        }
+        for (const auto& [name, value] : values) ::setenv(name.c_str(), value.c_str(), 1);
+    }
+    ~ScopedEnvironment() {
+        for (const auto& [name, value] : saved_) {
+            if (value) {
+                ::setenv(name.c_str(), value->c_str(), 1);
+            } else {
+                ::unsetenv(name.c_str());
+            }
+        }
+    }
+    ScopedEnvironment(const ScopedEnvironment&) = delete;
+    ScopedEnvironment& operator=(const ScopedEnvironment&) = delete;
+
+private:
+    std::vector<std::pair<std::string, std::optional<std::string>>> saved_;
+};
 
 std::variant<ServerConfig, ConfigHelp, std::string> parse(std::vector<std::string_view> arguments,
-                                                           std::map<std::string, std::string, std::less<>> env = {}) {
-    return parse_server_config(arguments, environment(std::move(env)));
+                                                           const std::map<std::string, std::string>& env = {}) {
+    const ScopedEnvironment scope(env);
+    return parse_server_config(arguments);
 }
 
 }  // namespace
@@ -46,6 +71,18 @@ TEST_CASE("serve config: defaults") {
     CHECK(resolved.job_workers >= 1);
     CHECK(resolved.job_workers <= resolved.workers);
     CHECK_FALSE(resolved.instance.empty());
+}
+
+TEST_CASE("serve config: the defaults keep the README's capacity rule, workers + queue-length < io-threads") {
+    // Overload shows as fast 503s only if a connection thread is left to answer them while every
+    // worker is busy and the queue is full. The default workers are the machine's cores: the
+    // rule must hold on this machine and on any machine with up to 63 cores.
+    const auto parsed = parse({});
+    REQUIRE(std::holds_alternative<ServerConfig>(parsed));
+    const ServerConfig config = std::get<ServerConfig>(parsed);
+    const ServerConfig resolved = config.resolved();
+    CHECK(resolved.workers + resolved.queue_length < resolved.io_threads);
+    CHECK(63 + config.queue_length < config.io_threads);
 }
 
 TEST_CASE("serve config: environment, then flags (both --flag value and --flag=value)") {
@@ -72,8 +109,9 @@ TEST_CASE("serve config: bad values and unknown options are errors naming the op
              {{"--log-level", "loud"}, "--log-level"},
              {{"--deadline-ms", "0"}, "--deadline-ms"},
              {{"--analysis-threads", "-2"}, "--analysis-threads"},
-             {{"--prot", "80"}, "unknown option '--prot'"},
-             {{"--port"}, "needs a value"},
+             {{"--prot", "80"}, "unknown option '--prot'; did you mean '--port'?"},
+             {{"--port=70000"}, "--port"},
+             {{"--port"}, "--port"},
          }) {
         const auto parsed = parse(arguments);
         REQUIRE(std::holds_alternative<std::string>(parsed));
@@ -82,6 +120,10 @@ TEST_CASE("serve config: bad values and unknown options are errors naming the op
     const auto from_env = parse({}, {{"ROLLGAP_MAX_JOBS", "-1"}});
     REQUIRE(std::holds_alternative<std::string>(from_env));
     CHECK(std::get<std::string>(from_env).find("ROLLGAP_MAX_JOBS") != std::string::npos);
+    // A flag replaces its variable: a bad value there is not read at all.
+    const auto overridden = parse({"--max-jobs", "5"}, {{"ROLLGAP_MAX_JOBS", "-1"}});
+    REQUIRE(std::holds_alternative<ServerConfig>(overridden));
+    CHECK(std::get<ServerConfig>(overridden).max_jobs == 5);
     CHECK(std::holds_alternative<ConfigHelp>(parse({"--help"})));
 }
 
@@ -105,6 +147,9 @@ TEST_CASE("serve config: the token comes from the environment or a file and is n
     // There is no --token flag: a secret on the command line would show in ps.
     CHECK(std::holds_alternative<std::string>(parse({"--token", secret})));
     CHECK(std::get<std::string>(parse({"--token", secret})).find(secret) == std::string::npos);
+    const std::string inline_secret = "--token=" + secret;
+    REQUIRE(std::holds_alternative<std::string>(parse({inline_secret})));
+    CHECK(std::get<std::string>(parse({inline_secret})).find(secret) == std::string::npos);
 }
 
 TEST_CASE("serve config: --help lists every setting with its environment variable") {
