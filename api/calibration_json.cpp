@@ -8,7 +8,6 @@
 #include <string_view>
 
 #include "api/json_pointer.h"
-#include "api/merge_patch.h"
 #include "api/name_suggestion.h"
 #include "api/options_reader.h"
 #include "api/quantity_json.h"
@@ -62,9 +61,7 @@ const ScenarioField* read_field(const nlohmann::json* value, const std::string& 
         detail = concat(quoted_for_message(*path), " is a group of fields, not a field");
     } else {
         detail = concat(quoted_for_message(*path), " is not a field of the scenario (as 'rollgap scenario' prints it)");
-        if (const auto suggestion = closest_name(*path, fittable_paths())) {
-            detail += concat("; did you mean '", *suggestion, "'?");
-        }
+        detail += did_you_mean(*path, fittable_paths());
     }
     errors.add({pointer, std::move(detail), choices_text(fittable_paths()), std::nullopt});
     return nullptr;
@@ -341,7 +338,8 @@ CalibrationPlan calibration_plan_from_json(const nlohmann::json& options, const 
                             std::nullopt, std::nullopt});
             }
         }
-        nlohmann::json document = merge_patch(base, o.patch);
+        nlohmann::json document = base;
+        document.merge_patch(o.patch);
         FieldErrors condition_errors;
         const core::Scenario condition = scenario_from_json(document, o.patch_pointer, condition_errors);
         for (const FieldError& error : condition_errors.reported()) errors.add(error);
