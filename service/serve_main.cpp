@@ -52,8 +52,8 @@ int serve(std::span<const std::string_view> options, std::ostream& out, std::ost
         spdlog::critical("msg=\"{}\"", error);
         return exit_failure;
     }
-    spdlog::info("msg=listening version={} address={}:{} {}", version(), config.bind_address, server.port(),
-                 describe(config));
+    spdlog::info("msg=listening version={} address={}:{} admin_address={}:{} {}", version(), config.bind_address,
+                 server.port(), config.admin_bind_address, server.admin_port(), describe(config));
 
     int received = 0;
     while (sigwait(&signals, &received) != 0) {
@@ -73,8 +73,9 @@ int healthcheck(std::span<const std::string_view> options, std::ostream& out, st
         err << "usage: rollgap healthcheck [--url http://HOST:PORT/PATH]\n";
         return exit_usage;
     } else {
-        const auto port = process_environment()("ROLLGAP_PORT");
-        url = "http://127.0.0.1:" + port.value_or("8080") + "/readyz";
+        // The admin listener answers whatever the public connections do.
+        const auto port = process_environment()("ROLLGAP_ADMIN_PORT");
+        url = "http://127.0.0.1:" + port.value_or("8081") + "/readyz";
     }
     constexpr std::string_view scheme = "http://";
     if (!std::string_view(url).starts_with(scheme)) {
