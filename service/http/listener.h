@@ -26,9 +26,14 @@
 
 namespace rollgap::service::http {
 
+// nginx's default large_client_header_buffers hold 4 x 8 kB; a rollgap request needs a few
+// hundred bytes of headers.
+inline constexpr std::size_t default_max_header_bytes = 32 * 1024;
+inline constexpr std::size_t default_max_header_fields = 100;
+
 struct ListenerLimits {
-    std::size_t max_header_bytes = 32 * 1024;  // request line and header fields together
-    std::size_t max_header_fields = 100;
+    std::size_t max_header_bytes = default_max_header_bytes;  // request line and header fields together
+    std::size_t max_header_fields = default_max_header_fields;
     std::chrono::milliseconds read_deadline{10'000};   // a request's headers and body, from its first byte
     std::chrono::milliseconds write_deadline{10'000};  // an answer, from its first byte
     std::chrono::milliseconds idle_timeout{5'000};     // between requests on a kept-alive connection

@@ -34,7 +34,7 @@ api::Problem problem_for_status(int status) {
         case 400: return api::make_problem(ProblemCode::unreadable_input, "the HTTP request could not be parsed");
         case 404: return api::make_problem(ProblemCode::not_found, "no such route");
         case 413: return api::make_problem(ProblemCode::payload_too_large, "the request body exceeds the size limit");
-        case 414: return api::make_problem(ProblemCode::uri_too_long, "the request line exceeds 8192 bytes");
+        case 414: return api::make_problem(ProblemCode::uri_too_long, api::concat("the request line exceeds ", std::to_string(CPPHTTPLIB_REQUEST_URI_MAX_LENGTH), " bytes"));
         case 416:
             return api::make_problem(ProblemCode::range_not_satisfiable,
                                      "the Range header is malformed; no route serves partial content, send none");
@@ -50,9 +50,11 @@ api::Problem problem_for_refusal(Refusal refusal) {
             return api::make_problem(ProblemCode::uri_too_long, "the request line exceeds the header size limit");
         case Refusal::header_too_large:
             return api::make_problem(ProblemCode::header_fields_too_large,
-                                     "the request line and header fields exceed 32768 bytes");
+                                     api::concat("the request line and header fields exceed ",
+                                                 std::to_string(default_max_header_bytes), " bytes"));
         case Refusal::too_many_header_fields:
-            return api::make_problem(ProblemCode::header_fields_too_large, "the request has more than 100 header fields");
+            return api::make_problem(ProblemCode::header_fields_too_large, api::concat("the request has more than ",
+                                                 std::to_string(default_max_header_fields), " header fields"));
         case Refusal::header_nul:
             return api::make_problem(ProblemCode::invalid_header, "a header contains a NUL byte");
         case Refusal::read_deadline:
