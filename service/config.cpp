@@ -26,7 +26,7 @@ constexpr std::array settings{
                   "address of the admin listener (/livez, /readyz, /metrics on threads of their own; "
                   "default 127.0.0.1)"},
     ConfigSetting{"--admin-port", "ROLLGAP_ADMIN_PORT", "N",
-                  "TCP port of the admin listener, 0 for any free port (default 8081)"},
+                  "TCP port of the admin listener, 0 for any free port (default 8081; with --port 0, 0)"},
     ConfigSetting{"--workers", "ROLLGAP_WORKERS", "N", "compute threads (default: the machine's cores)"},
     ConfigSetting{"--queue-length", "ROLLGAP_QUEUE_LENGTH", "N",
                   "synchronous requests that may wait for a worker; beyond: 503 (default 64)"},
@@ -80,7 +80,10 @@ constexpr std::array integer_settings{
     IntegerSetting{"ROLLGAP_PORT", 0, 65535, "a port 0..65535",
                    [](ServerConfig& c, long long n) { c.port = static_cast<int>(n); }},
     IntegerSetting{"ROLLGAP_ADMIN_PORT", 0, 65535, "a port 0..65535",
-                   [](ServerConfig& c, long long n) { c.admin_port = static_cast<int>(n); }},
+                   [](ServerConfig& c, long long n) {
+                       c.admin_port = static_cast<int>(n);
+                       c.admin_port_set = true;
+                   }},
     IntegerSetting{"ROLLGAP_WORKERS", 0, 1024, "0..1024 (0: the machine's cores)",
                    [](ServerConfig& c, long long n) { c.workers = static_cast<std::size_t>(n); }},
     IntegerSetting{"ROLLGAP_QUEUE_LENGTH", 0, 100000, "0..100000",
@@ -186,6 +189,8 @@ ServerConfig ServerConfig::resolved() const {
     if (config.job_workers == 0) config.job_workers = std::max<std::size_t>(1, config.workers / 2);
     config.job_workers = std::min(config.job_workers, config.workers);
     if (config.instance.empty()) config.instance = host_name();
+    // Instances started on any free port (tests, side-by-side runs) must not all claim 8081.
+    if (config.port == 0 && !config.admin_port_set) config.admin_port = 0;
     return config;
 }
 

@@ -19,6 +19,7 @@ struct ServerConfig {
     int port = 8080;                          // 0: any free port (tests)
     std::string admin_bind_address = "127.0.0.1";  // /livez, /readyz, /metrics on their own threads
     int admin_port = 8081;                    // 0: any free port (tests)
+    bool admin_port_set = false;              // given by flag or environment; else --port 0 makes it 0 too
     std::size_t workers = 0;                  // compute threads; 0 means the machine's cores
     std::size_t queue_length = 64;            // synchronous requests waiting for a worker
     std::size_t io_threads = 64;              // HTTP connection threads (one per open connection)
