@@ -23,6 +23,12 @@ constexpr std::array kinds{
     ProblemKind{ProblemCode::method_not_allowed, "method_not_allowed", 405, "Method not allowed"},
     ProblemKind{ProblemCode::payload_too_large, "payload_too_large", 413, "Request is too large"},
     ProblemKind{ProblemCode::unsupported_media_type, "unsupported_media_type", 415, "Unsupported media type"},
+    ProblemKind{ProblemCode::request_timeout, "request_timeout", 408, "Request did not arrive in time"},
+    ProblemKind{ProblemCode::uri_too_long, "uri_too_long", 414, "Request line is too long"},
+    ProblemKind{ProblemCode::range_not_satisfiable, "range_not_satisfiable", 416, "Range is not satisfiable"},
+    ProblemKind{ProblemCode::header_fields_too_large, "header_fields_too_large", 431,
+                "Request header fields are too large"},
+    ProblemKind{ProblemCode::invalid_header, "invalid_header", 400, "Request header is invalid"},
     ProblemKind{ProblemCode::overloaded, "overloaded", 503, "Service is overloaded"},
     ProblemKind{ProblemCode::deadline_exceeded, "deadline_exceeded", 504, "Analysis exceeded its deadline"},
     // The facade cannot tell why its Control said stop: a caller whose reason is a deadline

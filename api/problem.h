@@ -24,6 +24,11 @@ enum class ProblemCode {
     method_not_allowed,      // HTTP: route exists, method does not
     payload_too_large,       // the request exceeds the size limit
     unsupported_media_type,  // HTTP: not application/json
+    request_timeout,         // HTTP: the request did not arrive within the read deadline
+    uri_too_long,            // HTTP: the request line exceeds the limit
+    range_not_satisfiable,   // HTTP: a malformed Range header (a valid one is ignored)
+    header_fields_too_large, // HTTP: the header section exceeds its size or field count limit
+    invalid_header,          // HTTP: a header the server cannot take as sent (a NUL byte)
     overloaded,              // HTTP: every worker busy and the queue full
     deadline_exceeded,       // the analysis did not finish within its time budget
     cancelled,               // the caller stopped the analysis (core::Control), e.g. a deleted job

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cstdlib>
 #include <fstream>
 #include <iostream>
 #include <iterator>
@@ -22,7 +23,6 @@
 #include "service/evaluate.h"
 #include "service/openapi.h"
 #include "service/scenario_explain.h"
-#include "service/serve_main.h"
 #include "service/version.h"
 
 namespace rollgap::service {
@@ -142,10 +142,16 @@ int run_request(std::string_view source, std::istream& in, std::ostream& out) {
     return print_outcome(out, evaluate_text(*text));
 }
 
+// The admin listener answers whatever the public connections do, so the health check asks it.
+std::string default_healthcheck_url() {
+    const char* port = std::getenv("ROLLGAP_ADMIN_PORT");
+    return "http://127.0.0.1:" + std::string(port != nullptr && *port != '\0' ? port : "8081") + "/readyz";
+}
+
 }  // namespace
 
 int run_cli(std::span<const std::string_view> arguments, std::istream& in, std::ostream& out,
-            std::ostream& err) {
+            std::ostream& err, const ServerCommands& server) {
     // The parsed values; the commands act on them after a successful parse.
     CLI::App app("rollgap", "rollgap");
     bool show_version = false;
@@ -197,7 +203,11 @@ int run_cli(std::span<const std::string_view> arguments, std::istream& in, std::
             err << "rollgap serve: " << *error << '\n';
             return exit_bad_input;
         }
-        return serve(config);
+        if (!server.serve) {
+            err << "rollgap serve: this build has no HTTP layer\n";
+            return exit_internal_error;
+        }
+        return server.serve(config);
     }
     if (const std::vector<std::string> extras = app.remaining(); !extras.empty()) {
         const std::string& first = extras.front();
@@ -227,7 +237,13 @@ int run_cli(std::span<const std::string_view> arguments, std::istream& in, std::
         return exit_success;
     }
     if (run->parsed()) return run_request(source, in, out);
-    if (health->parsed()) return healthcheck(url, out, err);
+    if (health->parsed()) {
+        if (!server.healthcheck) {
+            err << "rollgap healthcheck: this build has no HTTP layer\n";
+            return exit_internal_error;
+        }
+        return server.healthcheck(url, out, err);
+    }
     if (openapi->parsed()) {
         out << openapi_document().dump(2) << '\n';
         return exit_success;

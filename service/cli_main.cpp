@@ -8,10 +8,12 @@
 #include <spdlog/spdlog.h>
 
 #include "service/cli.h"
+#include "service/serve_main.h"
 
 int main(int argc, char** argv) {
     // stdout carries the JSON document; diagnostics go to stderr.
     spdlog::set_default_logger(spdlog::stderr_color_mt("rollgap"));
     const std::vector<std::string_view> arguments(argv + 1, argv + argc);
-    return rollgap::service::run_cli(arguments, std::cin, std::cout, std::cerr);
+    return rollgap::service::run_cli(arguments, std::cin, std::cout, std::cerr,
+                                     {rollgap::service::serve, rollgap::service::healthcheck});
 }

@@ -25,6 +25,11 @@ constexpr std::array settings{
     ConfigSetting{"--bind", "ROLLGAP_BIND", "ADDRESS",
                   "address to listen on (default 127.0.0.1; the container image sets 0.0.0.0)"},
     ConfigSetting{"--port", "ROLLGAP_PORT", "N", "TCP port, 0 for any free port (default 8080)"},
+    ConfigSetting{"--admin-bind", "ROLLGAP_ADMIN_BIND", "ADDRESS",
+                  "address of the admin listener (/livez, /readyz, /metrics on threads of their own; "
+                  "default 127.0.0.1)"},
+    ConfigSetting{"--admin-port", "ROLLGAP_ADMIN_PORT", "N",
+                  "TCP port of the admin listener, 0 for any free port (default 8081; with --port 0, 0)"},
     ConfigSetting{"--workers", "ROLLGAP_WORKERS", "N", "compute threads (default: the machine's cores)"},
     ConfigSetting{"--queue-length", "ROLLGAP_QUEUE_LENGTH", "N",
                   "synchronous requests that may wait for a worker; beyond: 503 (default 64)"},
@@ -36,6 +41,9 @@ constexpr std::array settings{
                   "(default 0: the machine's cores; with many workers, cores/workers avoids oversubscription)"},
     ConfigSetting{"--deadline-ms", "ROLLGAP_DEADLINE_MS", "MS",
                   "time budget of a synchronous request; past it: 504 (default 30000)"},
+    ConfigSetting{"--read-deadline-ms", "ROLLGAP_READ_DEADLINE_MS", "MS",
+                  "a request's headers and body must arrive within this time from its first byte; "
+                  "past it: 408 and the connection closes (default 10000)"},
     ConfigSetting{"--job-deadline-ms", "ROLLGAP_JOB_DEADLINE_MS", "MS",
                   "time budget of an asynchronous job (default 600000)"},
     ConfigSetting{"--job-retention-ms", "ROLLGAP_JOB_RETENTION_MS", "MS",
@@ -75,6 +83,11 @@ using std::chrono::seconds;
 constexpr std::array integer_settings{
     IntegerSetting{"ROLLGAP_PORT", 0, 65535, "a port 0..65535",
                    [](ServerConfig& c, long long n) { c.port = static_cast<int>(n); }},
+    IntegerSetting{"ROLLGAP_ADMIN_PORT", 0, 65535, "a port 0..65535",
+                   [](ServerConfig& c, long long n) {
+                       c.admin_port = static_cast<int>(n);
+                       c.admin_port_set = true;
+                   }},
     IntegerSetting{"ROLLGAP_WORKERS", 0, 1024, "0..1024 (0: the machine's cores)",
                    [](ServerConfig& c, long long n) { c.workers = static_cast<std::size_t>(n); }},
     IntegerSetting{"ROLLGAP_QUEUE_LENGTH", 0, 100000, "0..100000",
@@ -85,6 +98,8 @@ constexpr std::array integer_settings{
                    [](ServerConfig& c, long long n) { c.analysis_threads = static_cast<std::size_t>(n); }},
     IntegerSetting{"ROLLGAP_DEADLINE_MS", 1, 3'600'000, "1..3600000 ms",
                    [](ServerConfig& c, long long n) { c.deadline = milliseconds(n); }},
+    IntegerSetting{"ROLLGAP_READ_DEADLINE_MS", 100, 600'000, "100..600000 ms",
+                   [](ServerConfig& c, long long n) { c.read_deadline = milliseconds(n); }},
     IntegerSetting{"ROLLGAP_JOB_DEADLINE_MS", 1, 86'400'000, "1..86400000 ms",
                    [](ServerConfig& c, long long n) { c.job_deadline = milliseconds(n); }},
     IntegerSetting{"ROLLGAP_JOB_RETENTION_MS", 0, 604'800'000, "0..604800000 ms",
@@ -139,6 +154,9 @@ std::optional<std::string> apply(ServerConfig& config, const ConfigSetting& sett
     if (env == "ROLLGAP_BIND") {
         if (value.empty()) return bad("an address");
         config.bind_address = value;
+    } else if (env == "ROLLGAP_ADMIN_BIND") {
+        if (value.empty()) return bad("an address");
+        config.admin_bind_address = value;
     } else if (env == "ROLLGAP_LOG_LEVEL") {
         if (!valid_log_level(value)) return bad("trace, debug, info, warn, error, critical or off");
         config.log_level = value;
@@ -172,6 +190,8 @@ ServerConfig ServerConfig::resolved() const {
     if (config.job_workers == 0) config.job_workers = std::max<std::size_t>(1, config.workers / 2);
     config.job_workers = std::min(config.job_workers, config.workers);
     if (config.instance.empty()) config.instance = host_name();
+    // Instances started on any free port (tests, side-by-side runs) must not all claim 8081.
+    if (config.port == 0 && !config.admin_port_set) config.admin_port = 0;
     return config;
 }
 
@@ -253,9 +273,10 @@ std::string config_usage() {
 
 std::string describe(const ServerConfig& config) {
     std::ostringstream text;
-    text << "bind=" << config.bind_address << " port=" << config.port << " workers=" << config.workers
+    text << "bind=" << config.bind_address << " port=" << config.port << " admin_bind=" << config.admin_bind_address
+         << " admin_port=" << config.admin_port << " workers=" << config.workers
          << " queue_length=" << config.queue_length << " io_threads=" << config.io_threads << " analysis_threads=" << config.analysis_threads
-         << " deadline_ms=" << config.deadline.count() << " job_deadline_ms=" << config.job_deadline.count()
+         << " deadline_ms=" << config.deadline.count() << " read_deadline_ms=" << config.read_deadline.count() << " job_deadline_ms=" << config.job_deadline.count()
          << " job_retention_ms=" << config.job_retention.count() << " max_jobs=" << config.max_jobs
          << " job_workers=" << config.job_workers << " max_body_bytes=" << config.max_body_bytes
          << " log_level=" << config.log_level << " instance=" << config.instance

@@ -21,12 +21,16 @@ namespace rollgap::service {
 struct ServerConfig {
     std::string bind_address = "127.0.0.1";  // the container image sets ROLLGAP_BIND=0.0.0.0
     int port = 8080;                          // 0: any free port (tests)
+    std::string admin_bind_address = "127.0.0.1";  // /livez, /readyz, /metrics on their own threads
+    int admin_port = 8081;                    // 0: any free port (tests)
+    bool admin_port_set = false;              // given by flag or environment; else --port 0 makes it 0 too
     std::size_t workers = 0;                  // compute threads; 0 means the machine's cores
     std::size_t queue_length = 64;            // synchronous requests waiting for a worker
     std::size_t io_threads = 128;             // HTTP connection threads (one per open connection);
                                               // above workers + queue_length, so overload is a fast 503
     std::size_t analysis_threads = 0;         // threads one analysis may spread over; 0: the machine's cores
     std::chrono::milliseconds deadline{30'000};       // synchronous requests, from arrival
+    std::chrono::milliseconds read_deadline{10'000};  // a request's headers and body, from its first byte
     std::chrono::milliseconds job_deadline{600'000};  // asynchronous jobs, from creation
     std::chrono::milliseconds job_retention{600'000};  // finished jobs are kept this long
     std::size_t max_jobs = 256;               // stored jobs, whatever their state

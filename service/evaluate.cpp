@@ -1,6 +1,7 @@
 #include "service/evaluate.h"
 
 #include <exception>
+#include <optional>
 #include <string>
 #include <variant>
 #include <vector>
@@ -28,8 +29,13 @@ Outcome cancelled() {
                                              "the analysis was stopped by its caller before it finished"));
 }
 
-Outcome evaluate_unguarded(const nlohmann::json& request, std::span<const Analysis> offered,
-                           const core::Control& control) {
+// The request's envelope is valid and names an offered analysis.
+struct Envelope {
+    api::AnalysisRequest parsed;
+    const Analysis* analysis = nullptr;
+};
+
+std::variant<Outcome, Envelope> check_envelope_of(const nlohmann::json& request, std::span<const Analysis> offered) {
     // Everything below walks the request recursively; text input was bounded by the parser
     // already, this covers JSON built in code.
     if (api::nests_deeper_than(request, api::max_json_depth)) {
@@ -39,21 +45,38 @@ Outcome evaluate_unguarded(const nlohmann::json& request, std::span<const Analys
     }
 
     api::FieldErrors envelope_errors;
-    const api::AnalysisRequest parsed = api::analysis_request_from_json(request, envelope_errors);
+    Envelope envelope;
+    envelope.parsed = api::analysis_request_from_json(request, envelope_errors);
     if (!envelope_errors.empty()) {
         return problem_outcome(envelope_errors.to_problem(api::ProblemCode::invalid_request,
                                                           "the request envelope is invalid"));
     }
 
-    const Analysis* analysis = find_analysis(offered, parsed.analysis);
-    if (analysis == nullptr) {
-        return problem_outcome(unknown_analysis_problem(offered, parsed.analysis));
+    envelope.analysis = find_analysis(offered, envelope.parsed.analysis);
+    if (envelope.analysis == nullptr) {
+        return problem_outcome(unknown_analysis_problem(offered, envelope.parsed.analysis));
     }
+    return envelope;
+}
+
+// A valid request, ready to compute.
+struct Prepared {
+    const Analysis* analysis = nullptr;
+    core::Scenario scenario;
+    PreparedAnalysis prepared;
+};
+
+std::variant<Outcome, Prepared> prepare(const nlohmann::json& request, std::span<const Analysis> offered) {
+    auto checked = check_envelope_of(request, offered);
+    if (auto* problem = std::get_if<Outcome>(&checked)) return std::move(*problem);
+    const Envelope& envelope = std::get<Envelope>(checked);
 
     // Scenario and options violations are reported together.
     api::FieldErrors errors;
-    const core::Scenario scenario = api::scenario_from_patch(parsed.scenario_patch, "/scenario", errors);
-    PreparedAnalysis prepared = analysis->prepare(scenario, parsed.options, "/options", errors);
+    Prepared ready;
+    ready.analysis = envelope.analysis;
+    ready.scenario = api::scenario_from_patch(envelope.parsed.scenario_patch, "/scenario", errors);
+    ready.prepared = envelope.analysis->prepare(ready.scenario, envelope.parsed.options, "/options", errors);
     // An analysis may add scenario violations of its own (tension_cycle: the sinusoid's limits).
     const bool scenario_valid = !errors.has_error_at_or_below("/scenario");
     if (!errors.empty()) {
@@ -63,23 +86,43 @@ Outcome evaluate_unguarded(const nlohmann::json& request, std::span<const Analys
         return problem_outcome(errors.to_problem(
             scenario_valid ? api::ProblemCode::invalid_options : api::ProblemCode::invalid_scenario, detail));
     }
+    return ready;
+}
+
+Outcome evaluate_unguarded(const nlohmann::json& request, std::span<const Analysis> offered,
+                           const core::Control& control) {
+    auto prepared = prepare(request, offered);
+    if (auto* problem = std::get_if<Outcome>(&prepared)) return std::move(*problem);
+    Prepared& ready = std::get<Prepared>(prepared);
 
     if (control.should_stop()) return cancelled();  // e.g. the deadline passed while queued
     nlohmann::json result;
     try {
-        result = prepared.run(control);
+        result = ready.prepared.run(control);
     } catch (const AnalysisCancelled&) {
         return cancelled();
     }
     control.report(1.0);  // not every analysis reports its own end
     Outcome outcome;
     outcome.body = {
-        {"analysis", analysis->name},
-        {"scenario", api::resolved_scenario_json(scenario)},
-        {"options", std::move(prepared.resolved_options)},
+        {"analysis", ready.analysis->name},
+        {"scenario", api::resolved_scenario_json(ready.scenario)},
+        {"options", std::move(ready.prepared.resolved_options)},
         {"result", std::move(result)},
     };
     return outcome;
+}
+
+// Runs `check` and turns an escaping exception into the problem `internal`.
+template <class Check>
+std::optional<Outcome> guarded_check(Check check) {
+    try {
+        return check();
+    } catch (const std::exception& error) {
+        return internal_error(error.what());
+    } catch (...) {
+        return internal_error("a non-standard exception");
+    }
 }
 
 }  // namespace
@@ -108,6 +151,22 @@ Outcome evaluate(const nlohmann::json& request, std::span<const Analysis> offere
     } catch (...) {
         return internal_error("a non-standard exception");
     }
+}
+
+std::optional<Outcome> check_envelope(const nlohmann::json& request) {
+    return guarded_check([&]() -> std::optional<Outcome> {
+        auto checked = check_envelope_of(request, analyses());
+        if (auto* problem = std::get_if<Outcome>(&checked)) return std::move(*problem);
+        return std::nullopt;
+    });
+}
+
+std::optional<Outcome> validate(const nlohmann::json& request) {
+    return guarded_check([&]() -> std::optional<Outcome> {
+        auto prepared = prepare(request, analyses());
+        if (auto* problem = std::get_if<Outcome>(&prepared)) return std::move(*problem);
+        return std::nullopt;
+    });
 }
 
 Outcome evaluate_text(std::string_view text, const core::Control& control) {

@@ -55,6 +55,16 @@ Outcome evaluate(const nlohmann::json& request, const core::Control& control = {
 // The same against another table of analyses (tests: an analysis that throws).
 Outcome evaluate(const nlohmann::json& request, std::span<const Analysis> offered, const core::Control& control = {});
 
+// What evaluate() checks before it computes, without computing: the problem of an invalid
+// request, or nothing when evaluate() would compute. The HTTP server validates on its
+// connection threads, so that a cheap 422 never waits behind computations for a worker.
+std::optional<Outcome> validate(const nlohmann::json& request);
+
+// Only the envelope: a JSON object of bounded depth with the envelope's fields, naming an
+// analysis that is offered. What a job needs at submission; its scenario and options are
+// checked when it runs and a violation fails the job.
+std::optional<Outcome> check_envelope(const nlohmann::json& request);
+
 // The same from request text: size limit, then JSON syntax (invalid_json), then evaluate().
 Outcome evaluate_text(std::string_view text, const core::Control& control = {});
 

@@ -3,10 +3,13 @@
 // CLI (service::evaluate). See the README's "HTTP service" and service/openapi.json.
 //
 // Threads: httplib's I/O threads (config.io_threads) read requests and write answers; the
-// model runs on the WorkerPool (config.workers) behind bounded queues. An I/O thread waits
-// for its computation until the request's deadline, then answers 504 and the computation is
-// told to stop through core::Control.
+// model runs on the WorkerPool (config.workers) behind bounded queues. An I/O thread
+// validates a request, queues it and waits for its computation until the request's deadline,
+// then answers 504 and the computation is told to stop through core::Control. A second,
+// admin listener with threads of its own serves /livez, /readyz and /metrics, so health
+// answers whatever the public connections do. The parts live in service/http/.
 
+#include <chrono>
 #include <functional>
 #include <memory>
 #include <string>
@@ -27,6 +30,12 @@ namespace rollgap::service {
 using Evaluator = std::function<Outcome(const nlohmann::json& request, const core::Control& control)>;
 Evaluator facade_evaluator();
 
+// How long after the drain timeout connections may still take their answers.
+inline constexpr std::chrono::milliseconds drain_close_grace{500};
+// What shutdown() may take beyond the drain timeout: the close grace, then the workers
+// returning from cancelled computations (they poll their Control between units of work).
+inline constexpr std::chrono::milliseconds drain_margin{2000};
+
 class HttpServer {
 public:
     // `config` is resolved (config.resolved()) here. `request_logger` receives one line per
@@ -41,11 +50,14 @@ public:
     // false and says why in `error`.
     bool start(std::string* error = nullptr);
     int port() const;
+    int admin_port() const;  // the admin listener's bound port
     const ServerConfig& config() const;
 
-    // Graceful stop, idempotent and thread-safe: /readyz answers 503 and new jobs are refused;
-    // in-flight requests and jobs get up to config.drain_timeout to finish, then are cancelled;
-    // then the listening socket closes and every thread is joined.
+    // Graceful stop, idempotent and thread-safe: /readyz answers 503 and new synchronous
+    // requests and jobs are refused (503); in-flight requests and jobs get up to
+    // config.drain_timeout to finish, then are cancelled and every waiting request is answered
+    // 503 at once; open connections get drain_close_grace to take their answers, then are shut
+    // down; every thread is joined. Returns within drain_timeout + drain_margin.
     void shutdown();
     bool draining() const;
     bool running() const;  // started and not yet shut down

@@ -55,10 +55,24 @@ void JobStore::purge_expired() {
     });
 }
 
+bool JobStore::evict_cancelled() {
+    auto oldest = jobs_.end();
+    for (auto entry = jobs_.begin(); entry != jobs_.end(); ++entry) {
+        const Job& job = *entry->second;
+        if (job.state == JobState::cancelled &&
+            (oldest == jobs_.end() || job.finished_at < oldest->second->finished_at)) {
+            oldest = entry;
+        }
+    }
+    if (oldest == jobs_.end()) return false;
+    jobs_.erase(oldest);
+    return true;
+}
+
 std::shared_ptr<Job> JobStore::create(std::string analysis, nlohmann::json request, Job::SteadyTime deadline) {
     std::lock_guard lock(mutex_);
     purge_expired();
-    if (jobs_.size() >= max_jobs_) return nullptr;
+    if (jobs_.size() >= max_jobs_ && !evict_cancelled()) return nullptr;
     auto job = std::make_shared<Job>();
     do {
         job->id = random_job_id();
@@ -141,11 +155,12 @@ std::optional<nlohmann::json> JobStore::document(const std::string& id) {
     return document_of(*found->second);
 }
 
-CancelResult JobStore::cancel(const std::string& id, nlohmann::json* document) {
+CancelResult JobStore::cancel(const std::string& id, nlohmann::json* document, std::shared_ptr<Job>* cancelled) {
     std::lock_guard lock(mutex_);
     purge_expired();
     const auto found = jobs_.find(id);
     if (found == jobs_.end()) return CancelResult::not_found;
+    if (cancelled != nullptr) *cancelled = found->second;
     Job& job = *found->second;
     CancelResult result = CancelResult::deleted;
     switch (job.state) {

@@ -68,7 +68,8 @@ public:
     JobStore(std::size_t max_jobs, std::chrono::milliseconds retention, std::string instance,
              SteadyClock clock = [] { return std::chrono::steady_clock::now(); });
 
-    // A new queued job, or nullptr when the store is full (after purging expired jobs).
+    // A new queued job, or nullptr when the store is full (after purging expired jobs and,
+    // oldest first, jobs cancelled by DELETE: a client that cancelled a job gave up its slot).
     std::shared_ptr<Job> create(std::string analysis, nlohmann::json request, Job::SteadyTime deadline);
 
     // Removes a job that could not be queued after all.
@@ -83,8 +84,10 @@ public:
     // The job document (see the OpenAPI schema Job), or nothing if unknown or expired.
     std::optional<nlohmann::json> document(const std::string& id);
 
-    // What DELETE does; `document` receives the job's document unless it was deleted.
-    CancelResult cancel(const std::string& id, nlohmann::json* document = nullptr);
+    // What DELETE does; `document` receives the job's document unless it was deleted, `job`
+    // the job itself (to withdraw a queued job's task).
+    CancelResult cancel(const std::string& id, nlohmann::json* document = nullptr,
+                        std::shared_ptr<Job>* job = nullptr);
 
     // Requests cancellation of every queued or running job (drain timeout).
     void cancel_all();
@@ -94,6 +97,7 @@ public:
 
 private:
     void purge_expired();  // under mutex_
+    bool evict_cancelled();  // under mutex_: the cancelled job that finished first
     nlohmann::json document_of(const Job& job) const;  // under mutex_
     void set_finished(Job& job, JobState state);        // under mutex_
 

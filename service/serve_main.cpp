@@ -44,8 +44,8 @@ int serve(const ServerConfig& parsed) {
         spdlog::critical("msg=\"{}\"", error);
         return exit_failure;
     }
-    spdlog::info("msg=listening version={} address={}:{} {}", version(), config.bind_address, server.port(),
-                 describe(config));
+    spdlog::info("msg=listening version={} address={}:{} admin_address={}:{} {}", version(), config.bind_address,
+                 server.port(), config.admin_bind_address, server.admin_port(), describe(config));
 
     int received = 0;
     while (sigwait(&signals, &received) != 0) {
@@ -55,11 +55,6 @@ int serve(const ServerConfig& parsed) {
     server.shutdown();
     spdlog::info("msg=stopped");
     return exit_ok;
-}
-
-std::string default_healthcheck_url() {
-    const char* port = std::getenv("ROLLGAP_PORT");
-    return "http://127.0.0.1:" + std::string(port != nullptr && *port != '\0' ? port : "8080") + "/readyz";
 }
 
 int healthcheck(const std::string& url, std::ostream& out, std::ostream& err) {

@@ -19,7 +19,7 @@ WorkerPool::WorkerPool(std::size_t workers, std::size_t interactive_capacity, st
 
 WorkerPool::~WorkerPool() { shutdown(); }
 
-bool WorkerPool::try_submit(Lane lane, Task task) {
+bool WorkerPool::try_submit(Lane lane, Task task, const void* key) {
     {
         std::lock_guard lock(mutex_);
         if (stopping_) return false;
@@ -34,10 +34,26 @@ bool WorkerPool::try_submit(Lane lane, Task task) {
                                     : interactive_.size() + batch_.size() < free_workers &&
                                           batch_running_ + batch_.size() < batch_concurrency_;
         if (!starts_now && queue.size() >= capacity) return false;
-        queue.push_back(std::move(task));
+        queue.push_back({std::move(task), key});
     }
     wake_.notify_one();
     return true;
+}
+
+bool WorkerPool::withdraw(const void* key) {
+    if (key == nullptr) return false;
+    Task removed;  // destroyed outside the lock: it may hold the last reference to what it captured
+    std::lock_guard lock(mutex_);
+    for (auto* queue : {&interactive_, &batch_}) {
+        const auto found =
+            std::find_if(queue->begin(), queue->end(), [key](const Queued& queued) { return queued.key == key; });
+        if (found != queue->end()) {
+            removed = std::move(found->task);
+            queue->erase(found);
+            return true;
+        }
+    }
+    return false;
 }
 
 bool WorkerPool::can_take() const {
@@ -52,10 +68,10 @@ void WorkerPool::work() {
         Task task;
         bool batch = false;
         if (!interactive_.empty()) {
-            task = std::move(interactive_.front());
+            task = std::move(interactive_.front().task);
             interactive_.pop_front();
         } else {
-            task = std::move(batch_.front());
+            task = std::move(batch_.front().task);
             batch_.pop_front();
             batch = true;
             ++batch_running_;

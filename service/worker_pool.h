@@ -44,7 +44,12 @@ public:
     WorkerPool& operator=(const WorkerPool&) = delete;
 
     // Queues `task`; false (and `task` dropped) if the lane is full or the pool shuts down.
-    bool try_submit(Lane lane, Task task);
+    // `key` names the task for withdraw().
+    bool try_submit(Lane lane, Task task, const void* key = nullptr);
+
+    // Removes the queued task submitted with `key` (not null) without running it; false if it
+    // is not queued (running, done, or never submitted).
+    bool withdraw(const void* key);
 
     // Stops accepting tasks, runs the ones already queued, joins the workers. Idempotent.
     void shutdown();
@@ -58,8 +63,12 @@ private:
 
     mutable std::mutex mutex_;
     std::condition_variable wake_;
-    std::deque<Task> interactive_;
-    std::deque<Task> batch_;
+    struct Queued {
+        Task task;
+        const void* key;
+    };
+    std::deque<Queued> interactive_;
+    std::deque<Queued> batch_;
     std::size_t interactive_capacity_;
     std::size_t batch_capacity_;
     std::size_t batch_concurrency_;

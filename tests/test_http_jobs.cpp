@@ -136,6 +136,31 @@ TEST_CASE("jobs over http: a queued job is cancelled before it runs") {
     CHECK(gate.started() == 1);  // the cancelled job never ran
 }
 
+TEST_CASE("jobs over http: DELETE of a queued job frees its slot: nine create/DELETE rounds with --max-jobs 4") {
+    Gate gate;  // the first job runs until the end of the test
+    service::ServerConfig config = test_config();
+    config.workers = 2;
+    config.job_workers = 1;
+    config.max_jobs = 4;
+    TestServer server(config, gate.evaluator());
+    auto client = server.client();
+    const std::string running = create_job(client, {{"analysis", "roll_gap"}});
+    REQUIRE(eventually([&] { return gate.started() == 1; }));
+    for (int round = 0; round < 9; ++round) {
+        CAPTURE(round);
+        const std::string queued = create_job(client, {{"analysis", "roll_gap"}});
+        const auto cancel = client.Delete(queued.c_str());
+        REQUIRE(cancel);
+        CHECK(cancel->status == 200);
+        CHECK(server.server->job_counts().queued == 0);
+        CHECK(server.server->pool_stats().batch_queued == 0);
+    }
+    gate.open();
+    CHECK(poll_until_finished(client, running)["state"] == "succeeded");
+    CHECK(poll_until_finished(client, create_job(client, {{"analysis", "roll_gap"}}))["state"] == "succeeded");
+    CHECK(gate.started() == 2);  // no cancelled job ran
+}
+
 TEST_CASE("jobs over http: the store is bounded (503 + Retry-After) and finished jobs expire") {
     service::ServerConfig config = test_config();
     config.max_jobs = 2;

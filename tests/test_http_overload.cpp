@@ -175,8 +175,8 @@ TEST_CASE("shutdown: `rollgap serve` drains on SIGTERM and exits 0") {
     if (child == 0) {
         const std::string port_text = std::to_string(port);
         ::setenv("ROLLGAP_LOG_LEVEL", "warn", 1);
-        ::execl(program.c_str(), "rollgap", "serve", "--port", port_text.c_str(), "--workers", "1", "--io-threads",
-                "4", static_cast<char*>(nullptr));
+        ::execl(program.c_str(), "rollgap", "serve", "--port", port_text.c_str(), "--admin-port", "0", "--workers", "1",
+                "--io-threads", "4", static_cast<char*>(nullptr));
         ::_exit(127);
     }
     httplib::Client client("127.0.0.1", port);

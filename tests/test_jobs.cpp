@@ -134,3 +134,19 @@ TEST_CASE("jobs: ids are 32 random hex digits, timestamps RFC 3339 UTC") {
     const auto epoch_plus = std::chrono::system_clock::time_point(std::chrono::milliseconds(86'400'000LL + 1234));
     CHECK(rfc3339(epoch_plus) == "1970-01-02T00:00:01.234Z");
 }
+
+TEST_CASE("job store: a full store gives the slot of the oldest cancelled job to a new one") {
+    service::JobStore store(2, std::chrono::minutes(10), "test");
+    const auto running = store.create("roll_gap", nlohmann::json::object(), std::chrono::steady_clock::now());
+    REQUIRE(running);
+    REQUIRE(store.start(running));
+    const auto queued = store.create("roll_gap", nlohmann::json::object(), std::chrono::steady_clock::now());
+    REQUIRE(queued);
+    CHECK_FALSE(store.create("roll_gap", nlohmann::json::object(), std::chrono::steady_clock::now()));
+    CHECK(store.cancel(queued->id) == service::CancelResult::cancelled);
+    const auto next = store.create("roll_gap", nlohmann::json::object(), std::chrono::steady_clock::now());
+    REQUIRE(next);
+    CHECK_FALSE(store.document(queued->id).has_value());  // evicted
+    CHECK(store.document(running->id).has_value());       // a running job is never evicted
+    CHECK(store.counts().total() == 2);
+}

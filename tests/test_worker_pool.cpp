@@ -121,3 +121,24 @@ TEST_CASE("worker pool: shutdown runs the queued tasks, then refuses new ones") 
     CHECK_FALSE(pool.try_submit(Lane::interactive, [] {}));
     pool.shutdown();  // idempotent
 }
+
+TEST_CASE("worker pool: a withdrawn task leaves its lane at once and never runs") {
+    WorkerPool pool(1, 4, 2, 1);
+    Latch latch;
+    std::atomic<int> done{0};
+    REQUIRE(pool.try_submit(Lane::batch, latch.blocking_task(done)));
+    REQUIRE(eventually([&] { return pool.stats().busy == 1; }));
+    int first = 0, second = 0;  // keys
+    std::atomic<int> ran{0};
+    REQUIRE(pool.try_submit(Lane::batch, [&ran] { ++ran; }, &first));
+    REQUIRE(pool.try_submit(Lane::batch, [&ran] { ++ran; }, &second));
+    CHECK_FALSE(pool.try_submit(Lane::batch, [&ran] { ++ran; }));  // the lane holds two
+    CHECK(pool.withdraw(&first));
+    CHECK_FALSE(pool.withdraw(&first));  // no longer queued
+    CHECK(pool.stats().batch_queued == 1);
+    CHECK(pool.try_submit(Lane::batch, [&ran] { ++ran; }));  // its place is free
+    latch.open();
+    CHECK(eventually([&] { return pool.idle(); }));
+    CHECK(ran == 2);
+    CHECK(done == 1);
+}

@@ -13,6 +13,8 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <cctype>
+#include <cerrno>
 #include <chrono>
 #include <condition_variable>
 #include <functional>
@@ -49,6 +51,7 @@ inline service::ServerConfig test_config() {
     service::ServerConfig config;
     config.bind_address = "127.0.0.1";
     config.port = 0;
+    config.admin_port = 0;
     config.workers = 2;
     config.io_threads = 8;
     config.queue_length = 8;
@@ -156,6 +159,108 @@ inline std::string raw_exchange(int port, std::string_view bytes,
     }
     ::close(fd);
     return received;
+}
+
+// A raw connection to 127.0.0.1:port for exchanges httplib's client cannot make: pipelined
+// requests, a half-closed client, a client that sends one byte at a time.
+class RawConnection {
+public:
+    explicit RawConnection(int port) {
+        fd_ = ::socket(AF_INET, SOCK_STREAM, 0);
+        REQUIRE(fd_ >= 0);
+        sockaddr_in address{};
+        address.sin_family = AF_INET;
+        address.sin_port = htons(static_cast<std::uint16_t>(port));
+        address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+        REQUIRE(::connect(fd_, reinterpret_cast<sockaddr*>(&address), sizeof address) == 0);
+    }
+    ~RawConnection() {
+        if (fd_ >= 0) ::close(fd_);
+    }
+    RawConnection(const RawConnection&) = delete;
+    RawConnection& operator=(const RawConnection&) = delete;
+
+    // False once the server has closed or reset the connection.
+    bool send(std::string_view bytes) {
+        std::size_t sent = 0;
+        while (sent < bytes.size()) {
+            const ssize_t n = ::send(fd_, bytes.data() + sent, bytes.size() - sent, MSG_NOSIGNAL);
+            if (n <= 0) return false;
+            sent += static_cast<std::size_t>(n);
+        }
+        return true;
+    }
+    void shutdown_write() { ::shutdown(fd_, SHUT_WR); }
+
+    // Reads until `done(received)` holds, the server closes, or `timeout` passes; returns what
+    // was received so far (also kept in received()).
+    std::string receive(const std::function<bool(const std::string&)>& done,
+                        std::chrono::milliseconds timeout = std::chrono::milliseconds(5000)) {
+        const auto until = std::chrono::steady_clock::now() + timeout;
+        char buffer[8192];
+        while (!done(received_) && !closed_) {
+            const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(until - std::chrono::steady_clock::now());
+            if (left.count() <= 0) break;
+            timeval tv{};
+            tv.tv_sec = static_cast<time_t>(left.count() / 1000);
+            tv.tv_usec = static_cast<suseconds_t>((left.count() % 1000) * 1000 + 1);
+            ::setsockopt(fd_, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
+            const ssize_t n = ::recv(fd_, buffer, sizeof buffer, 0);
+            if (n == 0 || (n < 0 && errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR)) {
+                closed_ = true;
+            } else if (n > 0) {
+                received_.append(buffer, static_cast<std::size_t>(n));
+            }
+        }
+        return received_;
+    }
+    // Waits for the server to close the connection; true if it did within `timeout`.
+    bool closed_by_server(std::chrono::milliseconds timeout) {
+        receive([](const std::string&) { return false; }, timeout);
+        return closed_;
+    }
+    const std::string& received() const { return received_; }
+
+private:
+    int fd_ = -1;
+    bool closed_ = false;
+    std::string received_;
+};
+
+// How many complete responses (status line, headers, Content-Length body) `received` holds.
+inline int complete_responses(std::string_view received) {
+    int count = 0;
+    while (response_complete(std::string(received))) {
+        ++count;
+        const std::size_t end = received.find("\r\n\r\n");
+        std::size_t length = 0;
+        const std::size_t field = received.find("Content-Length: ");
+        if (field != std::string_view::npos && field < end) {
+            length = std::stoul(std::string(received.substr(field + 16, received.find("\r\n", field) - field - 16)));
+        }
+        received.remove_prefix(end + 4 + length);
+    }
+    return count;
+}
+
+// The body of the first response in `received` (after the blank line).
+inline std::string raw_body(std::string_view received) {
+    const std::size_t end = received.find("\r\n\r\n");
+    return end == std::string_view::npos ? std::string() : std::string(received.substr(end + 4));
+}
+
+// The value of a header of the first response in `received`, or "".
+inline std::string raw_header(std::string_view received, std::string_view name) {
+    const std::string head(received.substr(0, received.find("\r\n\r\n")));
+    std::string lower_head = head;
+    std::string lower_name(name);
+    for (char& c : lower_head) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    for (char& c : lower_name) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    const std::size_t at = lower_head.find("\r\n" + lower_name + ":");
+    if (at == std::string::npos) return "";
+    std::size_t begin = at + 3 + name.size();
+    while (begin < head.size() && head[begin] == ' ') ++begin;
+    return head.substr(begin, head.find("\r\n", begin) - begin);
 }
 
 // A port on 127.0.0.1 that was free a moment ago (bound to port 0, then released) for a child

@@ -1,0 +1,89 @@
+#include "service/http/compute.h"
+
+#include <algorithm>
+#include <string_view>
+
+#include <spdlog/spdlog.h>
+
+#include "api/text.h"
+#include "service/analyses.h"
+
+namespace rollgap::service::http {
+namespace {
+
+using nlohmann::json;
+
+std::string_view analysis_label(const json& request) {
+    const auto name = request.find("analysis");
+    if (name == request.end() || !name->is_string()) return "unknown";
+    const Analysis* analysis = find_analysis(analyses(), name->get_ref<const std::string&>());
+    return analysis == nullptr ? std::string_view("unknown") : analysis->name;
+}
+
+bool reports_solver_failure(const json& body) {
+    const auto result = body.find("result");
+    if (result == body.end() || !result->is_object()) return false;
+    const auto failed = [](const json& object) {
+        const auto status = object.find("status");
+        return status != object.end() && status->is_string() && *status == "solver_failure";
+    };
+    if (failed(*result)) return true;
+    return std::any_of(result->begin(), result->end(),
+                       [&](const json& member) { return member.is_object() && failed(member); });
+}
+
+}  // namespace
+
+core::Control control_for(const ServiceState& state, std::function<bool()> stop) {
+    core::Control control;
+    control.threads = static_cast<int>(state.config.analysis_threads);
+    control.cancelled = std::move(stop);
+    return control;
+}
+
+api::Problem deadline_problem(std::chrono::milliseconds budget) {
+    return api::make_problem(api::ProblemCode::deadline_exceeded,
+                             api::concat("the analysis did not finish within ", std::to_string(budget.count()),
+                                         " ms and was stopped; run it as a job (POST /v1/jobs) for a longer budget"));
+}
+
+Outcome compute(ServiceState& state, const json& request, const core::Control& control,
+                const std::function<bool()>& late, const std::function<bool()>& cancelled_by_client) {
+    const std::string_view analysis = analysis_label(request);
+    const auto start = SteadyClock::now();
+    Outcome outcome;
+    try {
+        outcome = state.evaluator(request, control);
+    } catch (const std::exception& error) {
+        spdlog::error("analysis {} threw: {}", analysis, error.what());
+        outcome = problem_outcome(api::make_problem(api::ProblemCode::internal,
+                                                    "the analysis failed unexpectedly; the log has the cause"));
+    } catch (...) {
+        spdlog::error("analysis {} threw a non-standard exception", analysis);
+        outcome = problem_outcome(api::make_problem(api::ProblemCode::internal,
+                                                    "the analysis failed unexpectedly; the log has the cause"));
+    }
+    const double seconds = std::chrono::duration<double>(SteadyClock::now() - start).count();
+
+    std::string_view label = "succeeded";
+    if (cancelled_by_client()) {
+        label = "cancelled";
+    } else if (late() || state.hard_cancel) {
+        label = "deadline_exceeded";
+    } else if (outcome.ok()) {
+        if (reports_solver_failure(outcome.body)) state.metrics.count_solver_failure(analysis, "solver_failure");
+    } else if (outcome.problem == api::ProblemCode::deadline_exceeded) {
+        label = "deadline_exceeded";
+    } else if (outcome.problem == api::ProblemCode::cancelled) {
+        label = "cancelled";
+    } else if (outcome.http_status >= 500) {
+        label = "failed";
+        state.metrics.count_solver_failure(analysis, "internal");
+    } else {
+        label = "rejected";
+    }
+    state.metrics.observe_analysis(analysis, label, seconds);
+    return outcome;
+}
+
+}  // namespace rollgap::service::http

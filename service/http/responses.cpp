@@ -1,0 +1,111 @@
+#include "service/http/responses.h"
+
+#include <algorithm>
+#include <cctype>
+#include <charconv>
+
+#include "api/text.h"
+
+namespace rollgap::service::http {
+
+using api::ProblemCode;
+using nlohmann::json;
+
+std::string dump(const json& document) {
+    // Echoed client strings are valid UTF-8 when parsed from text; replace, never throw.
+    return document.dump(-1, ' ', false, json::error_handler_t::replace);
+}
+
+void set_json(httplib::Response& response, int status, const json& body, std::string_view media_type) {
+    response.status = status;
+    response.set_content(dump(body), std::string(media_type));
+}
+
+void set_problem(httplib::Response& response, const api::Problem& problem) {
+    set_json(response, problem.http_status(), api::problem_json(problem), api::problem_media_type);
+}
+
+void set_problem(httplib::Response& response, ProblemCode code, std::string detail, std::vector<api::FieldError> errors) {
+    set_problem(response, api::make_problem(code, std::move(detail), std::move(errors)));
+}
+
+api::Problem problem_for_status(int status) {
+    switch (status) {
+        case 400: return api::make_problem(ProblemCode::unreadable_input, "the HTTP request could not be parsed");
+        case 404: return api::make_problem(ProblemCode::not_found, "no such route");
+        case 413: return api::make_problem(ProblemCode::payload_too_large, "the request body exceeds the size limit");
+        case 414: return api::make_problem(ProblemCode::uri_too_long, api::concat("the request line exceeds ", std::to_string(CPPHTTPLIB_REQUEST_URI_MAX_LENGTH), " bytes"));
+        case 416:
+            return api::make_problem(ProblemCode::range_not_satisfiable,
+                                     "the Range header is malformed; no route serves partial content, send none");
+        default:
+            return api::make_problem(ProblemCode::internal,
+                                     api::concat("the request failed with HTTP status ", std::to_string(status)));
+    }
+}
+
+api::Problem problem_for_refusal(Refusal refusal) {
+    switch (refusal) {
+        case Refusal::request_line_too_long:
+            return api::make_problem(ProblemCode::uri_too_long, "the request line exceeds the header size limit");
+        case Refusal::header_too_large:
+            return api::make_problem(ProblemCode::header_fields_too_large,
+                                     api::concat("the request line and header fields exceed ",
+                                                 std::to_string(default_max_header_bytes), " bytes"));
+        case Refusal::too_many_header_fields:
+            return api::make_problem(ProblemCode::header_fields_too_large, api::concat("the request has more than ",
+                                                 std::to_string(default_max_header_fields), " header fields"));
+        case Refusal::header_nul:
+            return api::make_problem(ProblemCode::invalid_header, "a header contains a NUL byte");
+        case Refusal::read_deadline:
+            return api::make_problem(ProblemCode::request_timeout,
+                                     "the request did not arrive within the read deadline; the connection closes");
+        case Refusal::none: break;
+    }
+    return api::make_problem(ProblemCode::internal, "the request was refused for no known reason");
+}
+
+std::string lower(std::string_view text) {
+    std::string result(text);
+    for (char& c : result) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return result;
+}
+
+std::string_view trim(std::string_view text) {
+    while (!text.empty() && (text.front() == ' ' || text.front() == '\t')) text.remove_prefix(1);
+    while (!text.empty() && (text.back() == ' ' || text.back() == '\t')) text.remove_suffix(1);
+    return text;
+}
+
+bool is_json_media_type(std::string_view content_type) {
+    const std::string_view type = trim(content_type.substr(0, content_type.find(';')));
+    return lower(type) == "application/json";
+}
+
+bool has_body(const httplib::Request& request) {
+    if (request.has_header("Transfer-Encoding")) return true;
+    const std::string length = request.get_header_value("Content-Length");
+    return !length.empty() && length != "0";
+}
+
+std::optional<std::size_t> content_length(const httplib::Request& request) {
+    if (!request.has_header("Content-Length")) return std::nullopt;
+    const std::string text = request.get_header_value("Content-Length");
+    std::size_t value = 0;
+    const auto parsed = std::from_chars(text.data(), text.data() + text.size(), value);
+    if (parsed.ec != std::errc() || parsed.ptr != text.data() + text.size()) return std::nullopt;
+    return value;
+}
+
+bool constant_time_equal(std::string_view a, std::string_view b) {
+    const std::size_t n = std::max(a.size(), b.size());
+    unsigned difference = a.size() == b.size() ? 0u : 1u;
+    for (std::size_t i = 0; i < n; ++i) {
+        const auto x = static_cast<unsigned char>(i < a.size() ? a[i] : 0);
+        const auto y = static_cast<unsigned char>(i < b.size() ? b[i] : 0);
+        difference |= static_cast<unsigned>(x ^ y);
+    }
+    return difference == 0;
+}
+
+}  // namespace rollgap::service::http

@@ -1,0 +1,42 @@
+#pragma once
+// Writing answers: JSON documents and RFC 9457 problems (every error body is a row of
+// api/problem.h's table, also those httplib or the connection layer produce), and the small
+// header helpers the request checks share.
+
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <httplib.h>
+#include <nlohmann/json.hpp>
+
+#include "api/problem.h"
+#include "service/http/listener.h"
+
+namespace rollgap::service::http {
+
+std::string dump(const nlohmann::json& document);
+
+void set_json(httplib::Response& response, int status, const nlohmann::json& body, std::string_view media_type);
+void set_problem(httplib::Response& response, const api::Problem& problem);
+void set_problem(httplib::Response& response, api::ProblemCode code, std::string detail,
+                 std::vector<api::FieldError> errors = {});
+
+// The problem of a status httplib produced itself (no handler ran, or it left the body empty).
+api::Problem problem_for_status(int status);
+
+// The problem of a request the connection layer stopped reading.
+api::Problem problem_for_refusal(Refusal refusal);
+
+std::string lower(std::string_view text);
+std::string_view trim(std::string_view text);
+// application/json, with or without parameters (charset=utf-8), any case.
+bool is_json_media_type(std::string_view content_type);
+// The request announces a body (chunked, or a non-zero Content-Length).
+bool has_body(const httplib::Request& request);
+std::optional<std::size_t> content_length(const httplib::Request& request);
+// Compares in time independent of where the strings differ.
+bool constant_time_equal(std::string_view a, std::string_view b);
+
+}  // namespace rollgap::service::http

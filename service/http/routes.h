@@ -1,0 +1,42 @@
+#pragma once
+// The route table of the HTTP service: every path, the methods it takes, whether it needs the
+// bearer token, which analysis it runs, and whether the admin listener serves it too.
+
+#include <span>
+#include <string>
+#include <string_view>
+
+namespace rollgap::service::http {
+
+enum Method : unsigned { get = 1, post = 2, del = 4 };
+
+enum class RouteId {
+    scenarios_default, roll_gap, stability, amplitude, tension_cycle, sweeps, evaluate, calibrate,
+    jobs, job, openapi, livez, readyz, metrics,
+};
+
+struct Route {
+    RouteId id;
+    std::string_view pattern;   // also the metrics label
+    unsigned methods;
+    bool compute;               // needs the bearer token when one is configured
+    std::string_view analysis;  // the facade's analysis for the synchronous compute routes
+    bool admin;                 // served by the admin listener as well
+};
+
+inline constexpr std::string_view unmatched_route = "unmatched";
+inline constexpr std::string_view jobs_prefix = "/v1/jobs/";
+
+std::span<const Route> all_routes();
+
+// The route of `path`, or nullptr.
+const Route* match_route(std::string_view path);
+
+
+// "GET, HEAD, POST, OPTIONS": the Allow header of `route`.
+std::string allow_header(const Route& route);
+bool method_allowed(const Route& route, std::string_view method);
+// A closed set for the metrics label.
+std::string_view method_label(std::string_view method);
+
+}  // namespace rollgap::service::http

@@ -1,0 +1,40 @@
+#pragma once
+// What the parts of the HTTP layer share: the resolved configuration, the evaluator, the
+// compute workers, the job store, the metrics, and the drain flags.
+
+#include <atomic>
+#include <chrono>
+#include <string>
+
+#include <httplib.h>
+
+#include "service/config.h"
+#include "service/http_server.h"
+#include "service/jobs.h"
+#include "service/metrics.h"
+#include "service/worker_pool.h"
+
+namespace rollgap::service::http {
+
+using SteadyClock = std::chrono::steady_clock;
+
+struct ServiceState {
+    ServiceState(ServerConfig resolved, Evaluator evaluate);
+
+    ServerConfig config;
+    Evaluator evaluator;
+    Metrics metrics;
+    WorkerPool pool;
+    JobStore jobs;
+
+    std::atomic<bool> draining{false};     // SIGTERM: no new work, /readyz fails
+    std::atomic<bool> hard_cancel{false};  // the drain timeout passed: stop everything
+    std::atomic<int> in_flight{0};         // synchronous compute requests between read and answer
+    const std::chrono::system_clock::time_point start_time = std::chrono::system_clock::now();
+
+    // 503 + Retry-After.
+    void overloaded(httplib::Response& response, std::string detail) const;
+    bool busy() { return in_flight.load() > 0 || !pool.idle() || jobs.counts().active() > 0; }
+};
+
+}  // namespace rollgap::service::http
