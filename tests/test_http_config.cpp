@@ -162,15 +162,14 @@ TEST_CASE("serve config: --help lists every setting with its environment variabl
 }
 
 TEST_CASE("serve config: the admin listener's port is 8081 unless set; with --port 0 it is any free port too") {
-    const auto none = [](std::string_view) -> std::optional<std::string> { return std::nullopt; };
-    const auto parse = [&](std::vector<std::string_view> arguments) {
-        const auto parsed = parse_server_config(arguments, none);
+    const auto resolved = [](std::vector<std::string_view> arguments) {
+        const auto parsed = parse(std::move(arguments));
         REQUIRE(std::holds_alternative<ServerConfig>(parsed));
         return std::get<ServerConfig>(parsed).resolved();
     };
-    CHECK(parse({}).admin_port == 8081);
-    CHECK(parse({}).admin_bind_address == "127.0.0.1");
-    CHECK(parse({"--port", "0"}).admin_port == 0);
-    CHECK(parse({"--port", "0", "--admin-port", "9091"}).admin_port == 9091);
-    CHECK(parse({"--admin-port", "0", "--admin-bind", "0.0.0.0"}).admin_bind_address == "0.0.0.0");
+    CHECK(resolved({}).admin_port == 8081);
+    CHECK(resolved({}).admin_bind_address == "127.0.0.1");
+    CHECK(resolved({"--port", "0"}).admin_port == 0);
+    CHECK(resolved({"--port", "0", "--admin-port", "9091"}).admin_port == 9091);
+    CHECK(resolved({"--admin-port", "0", "--admin-bind", "0.0.0.0"}).admin_bind_address == "0.0.0.0");
 }
