@@ -14,6 +14,7 @@
 #include "api/scenario_json.h"
 #include "api/text.h"
 #include "service/analyses.h"
+#include "service/csv_answer.h"
 #include "service/evaluate.h"
 #include "service/version.h"
 
@@ -29,7 +30,9 @@ void print_usage(std::ostream& stream) {
               "commands:\n"
               "  scenario      print the default scenario (JSON, engineering units in every name)\n"
               "  run FILE      evaluate the request in FILE ('-' reads standard input) and print\n"
-              "                the result, or RFC 9457 problem details if the request is invalid\n"
+              "                the result, or RFC 9457 problem details if the request is invalid;\n"
+              "                --format csv prints a table of the result as CSV instead\n"
+              "                (--table NAME picks which: distribution, scan, points, ...)\n"
               "  serve         run the HTTP service (REST API v1; 'rollgap serve --help')\n"
               "  healthcheck   ask a running service's /readyz (container health check)\n"
               "  openapi       print the service's OpenAPI 3.1 document\n"
@@ -84,7 +87,7 @@ int print_outcome(std::ostream& out, const Outcome& outcome) {
     return exit_status(outcome);
 }
 
-int run_request(std::string_view source, std::istream& in, std::ostream& out) {
+int run_request(std::string_view source, std::istream& in, std::ostream& out, bool csv, std::string_view table) {
     std::optional<std::string> text;
     if (source == "-") {
         text = read_bounded(in);
@@ -97,7 +100,15 @@ int run_request(std::string_view source, std::istream& in, std::ostream& out) {
         return print_outcome(out, problem_outcome(api::make_problem(api::ProblemCode::unreadable_input,
                                                                     api::concat("cannot read ", name))));
     }
-    return print_outcome(out, evaluate_text(*text));
+    const Outcome outcome = evaluate_text(*text);
+    if (!csv || !outcome.ok()) return print_outcome(out, outcome);
+    const CsvAnswer answer = csv_answer(outcome.body, table);
+    if (answer.status != 200) {
+        out << answer.body << '\n';
+        return exit_bad_input;
+    }
+    out << answer.body;
+    return exit_success;
 }
 
 }  // namespace
@@ -122,8 +133,22 @@ int run_cli(std::span<const std::string_view> arguments, std::istream& in, std::
         return exit_success;
     }
     if (command == "run") {
-        if (operands.size() != 1) return usage_error(err, "'run' takes one argument: FILE or '-'");
-        return run_request(operands.front(), in, out);
+        // run FILE [--format json|csv] [--table NAME]
+        std::string_view format = "json", table, source;
+        for (std::size_t i = 0; i < operands.size(); ++i) {
+            const bool valued = (operands[i] == "--format" || operands[i] == "--table") && i + 1 < operands.size();
+            if (valued) {
+                std::string_view& target = operands[i] == "--format" ? format : table;
+                target = operands[++i];
+            } else if (source.empty() && !operands[i].starts_with("--")) {
+                source = operands[i];
+            } else {
+                return usage_error(err, api::concat("'run': unexpected '", operands[i], "'"));
+            }
+        }
+        if (source.empty()) return usage_error(err, "'run' takes one argument: FILE or '-'");
+        if (format != "json" && format != "csv") return usage_error(err, "'run --format' is json or csv");
+        return run_request(source, in, out, format == "csv", table);
     }
     return usage_error(err, api::concat("unknown command '", command, "'"));
 }
