@@ -294,38 +294,37 @@ const ResultTable<CriticalSpeedView>& critical_speed_table() {
         "CriticalSpeed",
         "The critical-speed search: a scan of the speed range, refined where the stability changes. With "
         "options.detail \"summary\" the scan and the damping branches are left out.",
-        {
-            {"status", critical_status_text, critical_status_schema(),
-             [](const CriticalSpeedView& v) { return nlohmann::json(core::to_string(v.result.status)); }},
-            {"critical_speed_m_per_s", "The lowest unstable speed of the range; null unless found.",
-             number_schema(units::metre_per_second),
-             [](const CriticalSpeedView& v) {
-                 return found(v.result) ? quantity_json(v.result.critical_speed, units::metre_per_second)
-                                        : nlohmann::json(nullptr);
-             }},
-            {"unstable_mode", "The mode whose eigenvalue crosses zero there; null unless found or unstable_at_lower_bound.",
-             ref_schema("Eigenmode", true),
-             [](const CriticalSpeedView& v) {
-                 return mode_known(v.result) ? eigenmode_table().write(v.result.unstable_mode) : nlohmann::json(nullptr);
-             }},
-            {"scan", "The scanned speeds (options.detail \"full\" only).", array_schema(ref_schema("ScanPoint")),
-             [](const CriticalSpeedView& v) {
-                 if (v.detail == Detail::summary) return absent();
-                 nlohmann::json scan = nlohmann::json::array();
-                 for (const SpeedStability& point : v.result.scan) scan.push_back(scan_point_table().write(point));
-                 return scan;
-             },
-             true},
-            {"damping_branches", "The damping ratio of each oscillatory mode over the scan (options.detail \"full\" only).",
-             array_schema(ref_schema("DampingBranch")),
-             [](const CriticalSpeedView& v) {
-                 if (v.detail == Detail::summary) return absent();
-                 nlohmann::json branches = nlohmann::json::array();
-                 for (const core::DampingBranch& branch : v.result.branches) branches.push_back(damping_branch_table().write(branch));
-                 return branches;
-             },
-             true},
-        }};
+        [] {
+            std::vector<Member<CriticalSpeedView>> members = lift<CriticalSpeedView>(
+                critical_speed_head_members(),
+                [](const CriticalSpeedView& v) -> const core::CriticalSpeedResult& { return v.result; });
+            std::vector<Member<CriticalSpeedView>> rest{
+                {"unstable_mode", "The mode whose eigenvalue crosses zero there; null unless found or unstable_at_lower_bound.",
+                 ref_schema("Eigenmode", true),
+                 [](const CriticalSpeedView& v) {
+                     return mode_known(v.result) ? eigenmode_table().write(v.result.unstable_mode) : nlohmann::json(nullptr);
+                 }},
+                {"scan", "The scanned speeds (options.detail \"full\" only).", array_schema(ref_schema("ScanPoint")),
+                 [](const CriticalSpeedView& v) {
+                     if (v.detail == Detail::summary) return absent();
+                     nlohmann::json scan = nlohmann::json::array();
+                     for (const SpeedStability& point : v.result.scan) scan.push_back(scan_point_table().write(point));
+                     return scan;
+                 },
+                 true},
+                {"damping_branches", "The damping ratio of each oscillatory mode over the scan (options.detail \"full\" only).",
+                 array_schema(ref_schema("DampingBranch")),
+                 [](const CriticalSpeedView& v) {
+                     if (v.detail == Detail::summary) return absent();
+                     nlohmann::json branches = nlohmann::json::array();
+                     for (const core::DampingBranch& branch : v.result.branches) branches.push_back(damping_branch_table().write(branch));
+                     return branches;
+                 },
+                 true},
+            };
+            members.insert(members.end(), rest.begin(), rest.end());
+            return members;
+        }()};
     return table;
 }
 
@@ -400,25 +399,32 @@ const ResultTable<core::SpeedStability>& speed_stability_summary_table() {
     return table;
 }
 
+std::vector<Member<core::CriticalSpeedResult>> critical_speed_head_members() {
+    return {
+        {"status", critical_status_text, critical_status_schema(),
+         [](const core::CriticalSpeedResult& r) { return nlohmann::json(core::to_string(r.status)); }},
+        {"critical_speed_m_per_s", "The lowest unstable speed of the range; null unless found.",
+         number_schema(units::metre_per_second),
+         [](const core::CriticalSpeedResult& r) {
+             return found(r) ? quantity_json(r.critical_speed, units::metre_per_second) : nlohmann::json(nullptr);
+         }},
+    };
+}
+
+Member<core::CriticalSpeedResult> unstable_frequency_member(std::string_view name) {
+    return {name, "The frequency of the mode that goes unstable; null unless found or unstable_at_lower_bound.",
+            number_schema(units::hertz), [](const core::CriticalSpeedResult& r) {
+                return mode_known(r) ? quantity_json(r.unstable_mode.frequency_Hz, units::hertz) : nlohmann::json(nullptr);
+            }};
+}
+
 const ResultTable<core::CriticalSpeedResult>& critical_speed_summary_table() {
     static const ResultTable<core::CriticalSpeedResult> table{
-        "CriticalSpeedSummary",
-        "The outcome of the critical-speed search.",
-        {
-            {"status", critical_status_text, critical_status_schema(),
-             [](const core::CriticalSpeedResult& r) { return nlohmann::json(core::to_string(r.status)); }},
-            {"critical_speed_m_per_s", "The lowest unstable speed of the range; null unless found.",
-             number_schema(units::metre_per_second),
-             [](const core::CriticalSpeedResult& r) {
-                 return found(r) ? quantity_json(r.critical_speed, units::metre_per_second) : nlohmann::json(nullptr);
-             }},
-            {"unstable_mode_frequency_Hz",
-             "The frequency of the mode that goes unstable; null unless found or unstable_at_lower_bound.",
-             number_schema(units::hertz),
-             [](const core::CriticalSpeedResult& r) {
-                 return mode_known(r) ? quantity_json(r.unstable_mode.frequency_Hz, units::hertz) : nlohmann::json(nullptr);
-             }},
-        }};
+        "CriticalSpeedSummary", "The outcome of the critical-speed search.", [] {
+            std::vector<Member<core::CriticalSpeedResult>> members = critical_speed_head_members();
+            members.push_back(unstable_frequency_member("unstable_mode_frequency_Hz"));
+            return members;
+        }()};
     return table;
 }
 

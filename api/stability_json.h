@@ -78,6 +78,10 @@ const ResultTable<core::SpeedStability>& scan_point_table();
 const ResultTable<core::DampingBranch>& damping_branch_table();
 const ResultTable<core::SpeedStability>& speed_stability_summary_table();
 const ResultTable<core::CriticalSpeedResult>& critical_speed_summary_table();
+// Members shared with a sweep point: status and critical_speed_m_per_s; the unstable mode's
+// frequency under `name`.
+std::vector<Member<core::CriticalSpeedResult>> critical_speed_head_members();
+Member<core::CriticalSpeedResult> unstable_frequency_member(std::string_view name);
 const ResultTable<StabilityReport>& stability_result_table();
 std::vector<ResultSchema> stability_result_schemas();
 

@@ -364,18 +364,9 @@ const ResultTable<core::CriticalSpeedResult>& critical_point_table() {
         "SweepCriticalSpeedPoint",
         "The critical speed at one value of the swept field, which the point carries under value_name.",
         [] {
-            return std::vector<Member<CriticalSpeedResult>>{
-                {"status", "The outcome of the search (as CriticalSpeedSummary.status).",
-                 enum_schema({"found", "stable_in_range", "unstable_at_lower_bound", "no_steady_state"}),
-                 [](const CriticalSpeedResult& r) { return critical_speed_summary_json(r)["status"]; }},
-                {"critical_speed_m_per_s", "The lowest unstable speed of the range; null unless found.",
-                 number_schema(units::metre_per_second),
-                 [](const CriticalSpeedResult& r) { return critical_speed_summary_json(r)["critical_speed_m_per_s"]; }},
-                {"frequency_Hz", "The frequency of the mode that goes unstable; null unless found or "
-                                 "unstable_at_lower_bound.",
-                 number_schema(units::hertz),
-                 [](const CriticalSpeedResult& r) { return critical_speed_summary_json(r)["unstable_mode_frequency_Hz"]; }},
-            };
+            std::vector<Member<CriticalSpeedResult>> members = critical_speed_head_members();
+            members.push_back(unstable_frequency_member("frequency_Hz"));
+            return members;
         }()};
     return table;
 }
