@@ -23,6 +23,7 @@ constexpr std::array kinds{
     ProblemKind{ProblemCode::method_not_allowed, "method_not_allowed", 405, "Method not allowed"},
     ProblemKind{ProblemCode::payload_too_large, "payload_too_large", 413, "Request is too large"},
     ProblemKind{ProblemCode::unsupported_media_type, "unsupported_media_type", 415, "Unsupported media type"},
+    ProblemKind{ProblemCode::not_acceptable, "not_acceptable", 406, "No representation in the format asked for"},
     ProblemKind{ProblemCode::overloaded, "overloaded", 503, "Service is overloaded"},
     ProblemKind{ProblemCode::deadline_exceeded, "deadline_exceeded", 504, "Analysis exceeded its deadline"},
     // The facade cannot tell why its Control said stop: a caller whose reason is a deadline

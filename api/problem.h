@@ -24,6 +24,7 @@ enum class ProblemCode {
     method_not_allowed,      // HTTP: route exists, method does not
     payload_too_large,       // the request exceeds the size limit
     unsupported_media_type,  // HTTP: not application/json
+    not_acceptable,          // the result has no table in the format asked for (Accept: text/csv)
     overloaded,              // HTTP: every worker busy and the queue full
     deadline_exceeded,       // the analysis did not finish within its time budget
     cancelled,               // the caller stopped the analysis (core::Control), e.g. a deleted job

@@ -7,6 +7,7 @@
 #include "api/scenario_json.h"
 #include "api/text.h"
 #include "service/analyses.h"
+#include "service/csv_answer.h"
 #include "service/openapi.h"
 #include "service/request_log.h"
 #include "service/version.h"
@@ -474,6 +475,7 @@ struct HttpServer::Impl {
                     cancel_job(id, response);
                 } else if (auto document = jobs.document(id)) {
                     set_json(response, 200, *document, "application/json");
+                    offer_csv(request, *document, response);
                 } else {
                     job_not_found(id, response);
                 }
@@ -502,7 +504,15 @@ struct HttpServer::Impl {
         }
     }
 
-    void handle_post(const httplib::Request& /*request*/, httplib::Response& response,
+    // Accept: text/csv on a 200 answer that holds a result: its table, or 406 (csv_answer.h).
+    static void offer_csv(const httplib::Request& request, const json& answer, httplib::Response& response) {
+        if (response.status != 200 || !wants_csv(request.get_header_value("Accept"))) return;
+        const CsvAnswer csv = csv_answer(answer, request.get_param_value("table"));
+        response.status = csv.status;
+        response.set_content(csv.body, std::string(csv.media_type));
+    }
+
+    void handle_post(const httplib::Request& request, httplib::Response& response,
                      const httplib::ContentReader& read_content) {
         // pre_route() ran for this request on this thread and let it through.
         const Route* route = t_context.route;
@@ -539,6 +549,7 @@ struct HttpServer::Impl {
                 create_job(std::move(document), response);
             } else {
                 run_route(*route, std::move(document), response);
+                if (response.status == 200) offer_csv(request, json::parse(response.body), response);
             }
         });
     }
