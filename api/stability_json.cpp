@@ -98,8 +98,17 @@ std::string stability_status(const core::SpeedStability& stability) {
     return core::to_string(stability.status);
 }
 
+// A mode of the coupled model (its shape has phases): with its chatter type (docs/model.md,
+// "Chatter type") and the type its frequency band alone suggests.
+nlohmann::json classified_mode_json(const core::Eigenmode& mode) {
+    nlohmann::json body = eigenmode_json(mode);
+    body["chatter_type"] = core::to_string(mode.chatter.type);
+    body["chatter_band"] = core::to_string(mode.chatter.band);
+    return body;
+}
+
 nlohmann::json nullable_mode(bool known, const core::Eigenmode& mode) {
-    return known ? eigenmode_json(mode) : nlohmann::json(nullptr);
+    return known ? classified_mode_json(mode) : nlohmann::json(nullptr);
 }
 
 }  // namespace
@@ -169,7 +178,7 @@ nlohmann::json speed_stability_json(const core::SpeedStability& stability) {
                            ? quantity_json(stability.force, units::kilonewton)
                            : nullptr;
     nlohmann::json modes = nlohmann::json::array();
-    for (const core::Eigenmode& mode : stability.oscillatory) modes.push_back(eigenmode_json(mode));
+    for (const core::Eigenmode& mode : stability.oscillatory) modes.push_back(classified_mode_json(mode));
     body["oscillatory_modes"] = std::move(modes);
 
     // Least damped first; conjugates by ascending imaginary part. Deterministic whatever order
@@ -220,6 +229,10 @@ nlohmann::json critical_speed_summary_json(const core::CriticalSpeedResult& resu
         {"critical_speed_m_per_s", found ? quantity_json(result.critical_speed, units::metre_per_second) : nullptr},
         {"unstable_mode_frequency_Hz",
          mode_known ? quantity_json(result.unstable_mode.frequency_Hz, units::hertz) : nullptr},
+        {"unstable_mode_chatter_type",
+         mode_known ? nlohmann::json(core::to_string(result.unstable_mode.chatter.type)) : nullptr},
+        {"unstable_mode_chatter_band",
+         mode_known ? nlohmann::json(core::to_string(result.unstable_mode.chatter.band)) : nullptr},
     };
 }
 

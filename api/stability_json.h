@@ -46,7 +46,7 @@ nlohmann::json eigenmode_json(const core::Eigenmode& mode);
 
 // The linearisation at one speed: {"speed_m_per_s", "status", "steady_status", "stable",
 // "max_growth_rate_per_s", "strip_stiffness_GN_per_m", "force_kN", "least_damped_mode",
-// "oscillatory_modes", "eigenvalues": [{"real_per_s", "imag_per_s"}]}. "status" is "ok",
+// "oscillatory_modes" (each mode also with "chatter_type" and "chatter_band"), "eigenvalues": [{"real_per_s", "imag_per_s"}]}. "status" is "ok",
 // "no_steady_state" (the steady bite skids or loses contact: "steady_status" says which) or why
 // the linearisation failed; without "ok" every figure is null.
 nlohmann::json speed_stability_json(const core::SpeedStability& stability);
@@ -66,7 +66,8 @@ nlohmann::json structure_modes_json(const core::ModalAnalysis& modal, double str
 // the unstable mode is null unless found or unstable_at_lower_bound.
 nlohmann::json critical_speed_json(const core::CriticalSpeedResult& result);
 
-// {"status", "critical_speed_m_per_s", "unstable_mode_frequency_Hz"}
+// {"status", "critical_speed_m_per_s", "unstable_mode_frequency_Hz", "unstable_mode_chatter_type",
+//  "unstable_mode_chatter_band"}
 nlohmann::json critical_speed_summary_json(const core::CriticalSpeedResult& result);
 
 }  // namespace rollgap::api

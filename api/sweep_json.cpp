@@ -7,6 +7,7 @@
 #include <string_view>
 
 #include "api/amplitude_json.h"
+#include "api/chatter_json.h"
 #include "api/json_pointer.h"
 #include "api/name_suggestion.h"
 #include "api/options_reader.h"
@@ -362,6 +363,8 @@ nlohmann::json sweep_critical_speed_json(const SweepPlan& plan, const std::vecto
             {"status", summary["status"]},
             {"critical_speed_m_per_s", summary["critical_speed_m_per_s"]},
             {"frequency_Hz", summary["unstable_mode_frequency_Hz"]},
+            {"chatter_type", summary["unstable_mode_chatter_type"]},
+            {"chatter_band", summary["unstable_mode_chatter_band"]},
         });
     }
     return {
@@ -369,6 +372,8 @@ nlohmann::json sweep_critical_speed_json(const SweepPlan& plan, const std::vecto
         {"unit", plan.field->unit.code},
         {"quantity", "critical_speed"},
         {"points", std::move(points)},
+        {"chatter_type_changes", chatter_type_changes_json(core::chatter_type_changes(results),
+                                                           [&](int i) { return plan.values[static_cast<std::size_t>(i)]; })},
     };
 }
 

@@ -55,8 +55,10 @@ SweepPlan sweep_plan_from_json(const nlohmann::json& options, const std::string&
                                const core::Scenario* valid_scenario, FieldErrors& errors);
 
 // {"parameter", "unit", "quantity", "points": [{"value", "status", "critical_speed_m_per_s",
-// "frequency_Hz"}]}: the critical speed and the frequency of the mode that goes unstable there
-// (null unless found; the frequency also for unstable_at_lower_bound).
+// "frequency_Hz", "chatter_type", "chatter_band"}], "chatter_type_changes": [...]}: the critical
+// speed and the frequency and chatter type of the mode that goes unstable there (null unless
+// found; the mode also for unstable_at_lower_bound); the changes (api/chatter_json.h) name each
+// pair of consecutive values whose crossing modes differ in type.
 nlohmann::json sweep_critical_speed_json(const SweepPlan& plan, const std::vector<core::CriticalSpeedResult>& results);
 
 // The same with amplitude points: {"value", "status", "message", "frequency_Hz" (of the

@@ -46,4 +46,30 @@ std::vector<AmplitudeResult> sweep_amplitude(const std::vector<Scenario>& scenar
                                   [&](const Scenario& s) { return vibration_amplitude(s, options, inner); });
 }
 
+std::optional<ChatterType> crossing_chatter_type(const CriticalSpeedResult& result) {
+    if (result.status != CriticalSpeedStatus::found && result.status != CriticalSpeedStatus::unstable_at_lower_bound) {
+        return std::nullopt;
+    }
+    return result.unstable_mode.chatter.type;
+}
+
+std::vector<ChatterTypeChange> chatter_type_changes(const std::vector<CriticalSpeedResult>& results,
+                                                    const std::vector<std::pair<int, int>>& neighbours) {
+    std::vector<ChatterTypeChange> changes;
+    const int n = static_cast<int>(results.size());
+    for (const auto& [a, b] : neighbours) {
+        if (a < 0 || b < 0 || a >= n || b >= n) continue;
+        const auto from = crossing_chatter_type(results[static_cast<std::size_t>(a)]);
+        const auto to = crossing_chatter_type(results[static_cast<std::size_t>(b)]);
+        if (from && to && *from != *to) changes.push_back({a, b, *from, *to});
+    }
+    return changes;
+}
+
+std::vector<ChatterTypeChange> chatter_type_changes(const std::vector<CriticalSpeedResult>& results) {
+    std::vector<std::pair<int, int>> neighbours;
+    for (int i = 0; i + 1 < static_cast<int>(results.size()); ++i) neighbours.emplace_back(i, i + 1);
+    return chatter_type_changes(results, neighbours);
+}
+
 }  // namespace rollgap::core
