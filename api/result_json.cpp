@@ -58,6 +58,7 @@ nlohmann::json bite_result_json(const core::BiteResult& result) {
         {"exit_speed_m_per_s", solution(result.exit_speed, units::metre_per_second)},
         {"forward_slip", solution(result.forward_slip, units::one)},
         {"inlet_film_um", solution(result.inlet_film, units::micrometre)},
+        {"roll_radius_mm", geometry_known ? quantity(result.roll_radius, units::millimetre) : nullptr},
         {"contact_length_mm", geometry_known ? quantity(result.contact_length, units::millimetre) : nullptr},
         {"inlet_angle_rad", geometry_known ? quantity(result.inlet_angle, units::radian) : nullptr},
         {"mean_friction_coefficient", solution(result.mean_friction_coefficient, units::one)},

@@ -87,6 +87,10 @@ constexpr std::array<EnumName<core::InletFilmModel>, 2> inlet_film_models{{
     {"paper", core::InletFilmModel::paper},
     {"eulerian", core::InletFilmModel::eulerian},
 }};
+constexpr std::array<EnumName<core::RollFlattening>, 2> roll_flattenings{{
+    {"none", core::RollFlattening::none},
+    {"hitchcock", core::RollFlattening::hitchcock},
+}};
 constexpr std::array<EnumName<core::TensionMode>, 3> tension_modes{{
     {"span", core::TensionMode::span},
     {"constant", core::TensionMode::constant},
@@ -132,6 +136,13 @@ std::vector<ScenarioField> build_fields() {
                                   [](core::Scenario& s) -> auto& { return s.rolls.radius; }));
     fields.push_back(number_field("/rolls/speed_m_per_s", metre_per_second, closed(0.01, 100.0),
                                   [](core::Scenario& s) -> auto& { return s.rolls.speed; }));
+    fields.push_back(choice_field("/rolls/flattening", roll_flattenings,
+                                  [](core::Scenario& s) -> auto& { return s.rolls.flattening; }));
+    // Roll materials from cast iron to cemented carbide.
+    fields.push_back(number_field("/rolls/youngs_modulus_GPa", gigapascal, closed(50.0, 1000.0),
+                                  [](core::Scenario& s) -> auto& { return s.rolls.youngs_modulus; }));
+    fields.push_back(number_field("/rolls/poisson_ratio", one, closed(0.0, 0.49),
+                                  [](core::Scenario& s) -> auto& { return s.rolls.poisson_ratio; }));
 
     fields.push_back(number_field("/lubricant/viscosity_Pa_s", pascal_second, closed(1e-5, 10.0),
                                   [](core::Scenario& s) -> auto& { return s.lubricant.viscosity; }));

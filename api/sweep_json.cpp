@@ -218,11 +218,7 @@ void build_scenarios(const ScenarioField& field, const std::vector<Point>& point
             // read back, which could differ from it in the 17th digit of another field).
             const double value = point.value.get<double>();
             core::Scenario swept = scenario;
-            if (field.kind == FieldKind::integer) {
-                field.integer(swept) = static_cast<int>(value);  // validated: an integer in range
-            } else {
-                field.number(swept) = to_si(value + 0.0, field.unit);
-            }
+            set_scenario_field(swept, field, value);
             plan.values.push_back(value);
             plan.scenarios.push_back(swept);
             continue;
@@ -289,6 +285,34 @@ void check_work(const OptionsReader& reader, SweepPlan& plan, std::size_t point_
 }
 
 }  // namespace
+
+void set_scenario_field(core::Scenario& scenario, const ScenarioField& field, double value) {
+    if (field.kind == FieldKind::integer) {
+        field.integer(scenario) = static_cast<int>(value);  // validated: an integer in range
+    } else {
+        field.number(scenario) = to_si(value + 0.0, field.unit);
+    }
+}
+
+SweepAxis sweep_axis_from_json(const nlohmann::json& axis, const std::string& pointer,
+                               const core::Scenario* valid_scenario, FieldErrors& errors) {
+    static constexpr std::array<std::string_view, 3> axis_members{parameter_name, values_name, range_name};
+    SweepAxis out;
+    const OptionsReader reader(axis, pointer, axis_members, errors);
+    if (!reader.is_object()) return out;
+    out.field = read_parameter(reader);
+    nlohmann::json echo_values;
+    const auto points = read_points(reader, echo_values);
+    if (out.field != nullptr && points && valid_scenario != nullptr) {
+        SweepPlan plan;
+        build_scenarios(*out.field, *points, *valid_scenario, plan, errors);
+        out.values = std::move(plan.values);
+        out.scenarios = std::move(plan.scenarios);
+    }
+    out.resolved = {{parameter_name, out.field != nullptr ? nlohmann::json(out.field->path) : nlohmann::json(nullptr)}};
+    if (echo_values.is_object()) out.resolved.update(echo_values);
+    return out;
+}
 
 SweepPlan sweep_plan_from_json(const nlohmann::json& options, const std::string& pointer,
                                const core::Scenario* valid_scenario, FieldErrors& errors) {

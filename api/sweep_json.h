@@ -54,6 +54,21 @@ struct SweepPlan {
 SweepPlan sweep_plan_from_json(const nlohmann::json& options, const std::string& pointer,
                                const core::Scenario* valid_scenario, FieldErrors& errors);
 
+// One swept field with its values, read as a sweep reads them: the object {"parameter", "values"
+// | "range"} at `pointer` (a map's axes). Values and scenarios are filled only for a valid
+// request; `resolved` is the echo.
+struct SweepAxis {
+    const ScenarioField* field = nullptr;
+    std::vector<double> values;             // in the field's unit
+    std::vector<core::Scenario> scenarios;  // the request's scenario with this field at each value
+    nlohmann::json resolved;
+};
+SweepAxis sweep_axis_from_json(const nlohmann::json& axis, const std::string& pointer,
+                               const core::Scenario* valid_scenario, FieldErrors& errors);
+
+// Sets a numeric field to `value`, in the field's unit (already validated).
+void set_scenario_field(core::Scenario& scenario, const ScenarioField& field, double value);
+
 // {"parameter", "unit", "quantity", "points": [{"value", "status", "critical_speed_m_per_s",
 // "frequency_Hz", "chatter_type", "chatter_band"}], "chatter_type_changes": [...]}: the critical
 // speed and the frequency and chatter type of the mode that goes unstable there (null unless

@@ -29,13 +29,19 @@ std::vector<Result> sweep(const std::vector<Scenario>& scenarios, int threads, c
 
 std::vector<CriticalSpeedResult> sweep_critical_speed(const std::vector<Scenario>& scenarios,
                                                       const CriticalSpeedOptions& options, int threads,
-                                                      const Control& control) {
+                                                      const Control& control, bool keep_scan) {
     CriticalSpeedOptions serial = options;
     serial.threads = 1;  // the parallelism is across the sweep
     Control inner;
     inner.cancelled = control.cancelled;
-    return sweep<CriticalSpeedResult>(scenarios, threads, control,
-                                      [&](const Scenario& s) { return critical_speed(s, serial, inner); });
+    return sweep<CriticalSpeedResult>(scenarios, threads, control, [&](const Scenario& s) {
+        CriticalSpeedResult result = critical_speed(s, serial, inner);
+        if (!keep_scan) {
+            result.scan = {};
+            result.branches = {};
+        }
+        return result;
+    });
 }
 
 std::vector<AmplitudeResult> sweep_amplitude(const std::vector<Scenario>& scenarios, const AmplitudeOptions& options,

@@ -13,9 +13,11 @@
 
 namespace rollgap::core {
 
+// keep_scan = false drops each point's scan and damping branches as soon as it is done (a map's
+// thousands of cells would otherwise hold some 100 kB each).
 std::vector<CriticalSpeedResult> sweep_critical_speed(const std::vector<Scenario>& scenarios,
                                                       const CriticalSpeedOptions& options, int threads,
-                                                      const Control& control = {});
+                                                      const Control& control = {}, bool keep_scan = true);
 
 std::vector<AmplitudeResult> sweep_amplitude(const std::vector<Scenario>& scenarios, const AmplitudeOptions& options,
                                              int threads, const Control& control = {});

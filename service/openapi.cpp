@@ -131,7 +131,7 @@ struct OptionsSchema {
     const char* minimal_options;
     const char* member = "";  // the defaults are this member of the resolved options ("": all)
 };
-constexpr std::array<OptionsSchema, 7> options_schemas{{
+constexpr std::array<OptionsSchema, 8> options_schemas{{
     {"roll_gap", "RollGapOptions", "{}"},
     {"tension_cycle", "TensionCycleOptions", "{}"},
     {"stability", "StabilityOptions", "{}"},
@@ -139,6 +139,9 @@ constexpr std::array<OptionsSchema, 7> options_schemas{{
     {"sweep", "SweepOptions", R"({"parameter": "/rolls/speed_m_per_s", "values": [19]})"},
     {"sweep", "SweepAmplitudeOptions",
      R"({"parameter": "/rolls/speed_m_per_s", "values": [19], "quantity": "amplitude"})", "amplitude"},
+    {"map", "MapOptions",
+     R"({"parameters": [{"parameter": "/strip/reduction", "values": [0.15]},
+                        {"parameter": "/strip/entry_thickness_mm", "values": [1.6]}]})"},
     {"evaluate", "EvaluateOptions", "{}"},
 }};
 
