@@ -182,7 +182,7 @@ DynamicsStatus CoupledModel::rhs(double t, const double* z, double* zdot, BiteRe
 namespace {
 bool same(const BiteState& a, const BiteState& b) {
     return a.exit_thickness == b.exit_thickness && a.gap_rate == b.gap_rate && a.inlet_film == b.inlet_film &&
-           a.back_tension == b.back_tension && a.front_tension == b.front_tension;
+           a.back_tension == b.back_tension && a.front_tension == b.front_tension && a.roll_radius == b.roll_radius;
 }
 }  // namespace
 

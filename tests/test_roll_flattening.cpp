@@ -120,11 +120,14 @@ TEST_CASE("the flattened radius is frozen in the dynamics: the steady state stay
     const CoupledModel model(s, ref);
     const Eigen::VectorXd z0 = model.equilibrium();
     CHECK(model.bite_state(0.0, z0.data()).roll_radius == ref.bite.roll_radius);
+    // 1 nm more gap: the force changes by about k4 x 1 nm (20 N), the upper work roll's
+    // acceleration by ~(k3 + k4) x 1 nm / m3 = 0.005 m/s^2; a bite re-solved on the rigid radius
+    // would lose the ~1.1 MN between the flattened and the rigid force (~100 m/s^2)
+    Eigen::VectorXd nudged = z0;
+    nudged(2) += 1e-9;
     Eigen::VectorXd zdot(model.size());
-    REQUIRE(model.rhs(0.0, z0.data(), zdot.data()) == DynamicsStatus::ok);
-    // no force imbalance at rest: the accelerations vanish (a rigid radius here would leave the
-    // difference between the flattened and the rigid force, ~1 MN, on the work rolls)
-    for (int i = 6; i < 12; ++i) CHECK(std::abs(zdot(i)) < 1e-6);
+    REQUIRE(model.rhs(0.0, nudged.data(), zdot.data()) == DynamicsStatus::ok);
+    CHECK(std::abs(zdot(8)) < 1.0);
 
     // and a displaced gap still sees the frozen radius, not one re-flattened to the new force
     Eigen::VectorXd moved = z0;
