@@ -4,6 +4,8 @@
 #include <map>
 
 #include "api/amplitude_json.h"
+#include "api/calibration_json.h"
+#include "api/map_json.h"
 #include "api/result_json.h"
 #include "api/stability_json.h"
 #include "api/sweep_json.h"
@@ -23,6 +25,34 @@ std::function<std::vector<std::string>(const json&)> all_columns(const Table& (*
 template <class Table>
 std::function<std::vector<std::string>(const json&)> scalar_columns(const Table& (*table)()) {
     return [table](const json&) { return table().scalar_names(); };
+}
+
+// A map's value columns: the two fields' pointers without the leading slash ("strip/reduction").
+std::vector<std::string> map_value_columns(const json& result) {
+    std::vector<std::string> names;
+    for (const json& parameter : result.value("parameters", json::array())) {
+        names.push_back(parameter.value("parameter", std::string()).substr(1));
+    }
+    return names;
+}
+
+std::vector<std::string> map_columns(const json& result) {
+    std::vector<std::string> columns = map_value_columns(result);
+    for (std::string& name : map_cell_columns()) columns.push_back(std::move(name));
+    return columns;
+}
+
+json map_rows(const json& result) {
+    const std::vector<std::string> names = map_value_columns(result);
+    json rows = json::array();
+    for (const json& cell : result.value("cells", json::array())) {
+        json row = cell;
+        const json values = row.value("values", json::array());
+        row.erase("values");
+        for (std::size_t k = 0; k < names.size() && k < values.size(); ++k) row[names[k]] = values[k];
+        rows.push_back(std::move(row));
+    }
+    return rows;
 }
 
 const std::map<std::string_view, std::vector<CsvTable>>& tables() {
@@ -64,6 +94,14 @@ const std::map<std::string_view, std::vector<CsvTable>>& tables() {
                }
                return columns;
            }}}},
+        {"calibrate",
+         {{"parameters", "One row per fitted field.", "", {}, "/parameters",
+           [](const json&) { return calibration_parameter_columns(); }},
+          {"observations", "One row per observation.", "", {}, "/observations",
+           [](const json&) { return calibration_observation_columns(); }}}},
+        {"map",
+         {{"cells", "One row per cell, the two fields' values first (columns named by their scenario pointers).", "",
+           {}, "", map_columns, map_rows}}},
     };
     return by_analysis;
 }
@@ -142,7 +180,7 @@ CsvOutcome result_csv(std::string_view analysis, const json& result, std::string
     if (offered.empty()) {
         return {false, {},
                 concat("the ", analysis, " result has no table to give as CSV: ask for application/json, or run the "
-                       "analysis whose table you want (roll_gap, stability, amplitude, tension_cycle, sweep)")};
+                       "analysis whose table you want (roll_gap, stability, amplitude, tension_cycle, sweep, map, calibrate)")};
     }
     const auto chosen = table.empty() ? offered.begin()
                                       : std::find_if(offered.begin(), offered.end(),
@@ -161,6 +199,10 @@ CsvOutcome result_csv(std::string_view analysis, const json& result, std::string
         concat("this ", analysis, " result has no '", chosen->name, "' table (", chosen->description,
                " It is left out by options such as critical_speed false, detail \"summary\", time_series false, "
                "distributions false, or when the outcome produced none)");
+    if (chosen->rows_of) {
+        if (!append_rows(chosen->rows_of(result), columns, {}, text)) return {false, {}, missing};
+        return {true, std::move(text), {}};
+    }
     if (chosen->outer.empty()) {
         const json* rows = at(result, chosen->rows);
         if (rows == nullptr || rows->is_null() || !append_rows(*rows, columns, {}, text)) return {false, {}, missing};

@@ -41,6 +41,9 @@ struct CsvTable {
     std::string_view rows;         // JSON pointer (in the result, or in an outer element) of the rows: an array
                                    // of objects, or an object of equal-length arrays (columnar)
     std::function<std::vector<std::string>(const nlohmann::json& result)> columns;  // in order
+    // The rows computed from the result, instead of `rows`, when the JSON holds them in a form a
+    // sheet cannot take (a map cell's pair of values becomes two columns); outer must be "".
+    std::function<nlohmann::json(const nlohmann::json& result)> rows_of = {};
 };
 
 // The tables of an analysis' result; empty when it has none worth a sheet.

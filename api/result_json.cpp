@@ -131,6 +131,10 @@ const ResultTable<BiteResult>& bite_result_table() {
                             &BiteResult::forward_slip, units::one),
             solution_member("inlet_film_um", "Lubricant film thickness at the bite inlet.", &BiteResult::inlet_film,
                             units::micrometre),
+            geometry_member("roll_radius_mm",
+                            "Work-roll radius in the bite: the flattened radius with rolls.flattening, else the "
+                            "nominal radius.",
+                            &BiteResult::roll_radius, units::millimetre),
             geometry_member("contact_length_mm", "Projected contact length of the bite.",
                             &BiteResult::contact_length, units::millimetre),
             geometry_member("inlet_angle_rad", "Bite angle at the entry.", &BiteResult::inlet_angle, units::radian),

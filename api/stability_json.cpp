@@ -8,6 +8,7 @@
 #include <string_view>
 #include <vector>
 
+#include "api/chatter_json.h"
 #include "api/options_reader.h"
 #include "api/result_table.h"
 #include "api/quantity_json.h"
@@ -187,9 +188,9 @@ std::vector<Member<SpeedStability>> summary_members() {
                                                          : nlohmann::json(nullptr);
          }},
         {"least_damped_mode", "The oscillatory mode with the largest growth rate; null if none.",
-         ref_schema("Eigenmode", true),
+         ref_schema("ChatterMode", true),
          [](const SpeedStability& s) {
-             return linearised(s) && !s.oscillatory.empty() ? eigenmode_table().write(s.least_damped)
+             return linearised(s) && !s.oscillatory.empty() ? chatter_mode_table().write(s.least_damped)
                                                             : nlohmann::json(nullptr);
          }},
     };
@@ -204,9 +205,9 @@ std::vector<Member<SpeedStability>> at_speed_members() {
                            return steady(s) ? quantity_json(s.force, units::kilonewton) : nlohmann::json(nullptr);
                        }});
     members.push_back({"oscillatory_modes", "The oscillatory modes (Im > 0), ascending frequency.",
-                       array_schema(ref_schema("Eigenmode")), [](const SpeedStability& s) {
+                       array_schema(ref_schema("ChatterMode")), [](const SpeedStability& s) {
                            nlohmann::json modes = nlohmann::json::array();
-                           for (const core::Eigenmode& mode : s.oscillatory) modes.push_back(eigenmode_table().write(mode));
+                           for (const core::Eigenmode& mode : s.oscillatory) modes.push_back(chatter_mode_table().write(mode));
                            return modes;
                        }});
     members.push_back({"eigenvalues",
@@ -300,9 +301,9 @@ const ResultTable<CriticalSpeedView>& critical_speed_table() {
                 [](const CriticalSpeedView& v) -> const core::CriticalSpeedResult& { return v.result; });
             std::vector<Member<CriticalSpeedView>> rest{
                 {"unstable_mode", "The mode whose eigenvalue crosses zero there; null unless found or unstable_at_lower_bound.",
-                 ref_schema("Eigenmode", true),
+                 ref_schema("ChatterMode", true),
                  [](const CriticalSpeedView& v) {
-                     return mode_known(v.result) ? eigenmode_table().write(v.result.unstable_mode) : nlohmann::json(nullptr);
+                     return mode_known(v.result) ? chatter_mode_table().write(v.result.unstable_mode) : nlohmann::json(nullptr);
                  }},
                 {"scan", "The scanned speeds (options.detail \"full\" only).", array_schema(ref_schema("ScanPoint")),
                  [](const CriticalSpeedView& v) {
@@ -330,19 +331,46 @@ const ResultTable<CriticalSpeedView>& critical_speed_table() {
 
 }  // namespace
 
+std::vector<Member<core::Eigenmode>> eigenmode_members() {
+    return {
+        {"frequency_Hz", "Damped natural frequency.", number_schema(units::hertz),
+         [](const core::Eigenmode& m) { return quantity_json(m.frequency_Hz, units::hertz); }},
+        {"damping_ratio", "Damping ratio, negative when the mode grows.", number_schema(units::one),
+         [](const core::Eigenmode& m) { return quantity_json(m.damping_ratio, units::one); }},
+        {"growth_rate_per_s", "Real part of the eigenvalue.", number_schema(units::per_second),
+         [](const core::Eigenmode& m) { return quantity_json(m.eigenvalue.real(), units::per_second); }},
+        {"shape", shape_text, shape_schema(), [](const core::Eigenmode& m) { return shape_json(m.shape); }},
+    };
+}
+
 const ResultTable<core::Eigenmode>& eigenmode_table() {
     static const ResultTable<core::Eigenmode> table{
-        "Eigenmode",
-        "An oscillatory mode of the linearised stand and bite.",
-        {
-            {"frequency_Hz", "Damped natural frequency.", number_schema(units::hertz),
-             [](const core::Eigenmode& m) { return quantity_json(m.frequency_Hz, units::hertz); }},
-            {"damping_ratio", "Damping ratio, negative when the mode grows.", number_schema(units::one),
-             [](const core::Eigenmode& m) { return quantity_json(m.damping_ratio, units::one); }},
-            {"growth_rate_per_s", "Real part of the eigenvalue.", number_schema(units::per_second),
-             [](const core::Eigenmode& m) { return quantity_json(m.eigenvalue.real(), units::per_second); }},
-            {"shape", shape_text, shape_schema(), [](const core::Eigenmode& m) { return shape_json(m.shape); }},
-        }};
+        "Eigenmode", "An oscillatory mode of the stack.", eigenmode_members()};
+    return table;
+}
+
+std::vector<Member<core::Eigenmode>> chatter_type_members(std::string_view type_name, std::string_view band_name) {
+    return {
+        {type_name, chatter_type_text, chatter_type_schema(),
+         [](const core::Eigenmode& m) { return nlohmann::json(core::to_string(m.chatter.type)); }},
+        {band_name, chatter_band_text, chatter_type_schema(),
+         [](const core::Eigenmode& m) { return nlohmann::json(core::to_string(m.chatter.band)); }},
+    };
+}
+
+// A mode of the coupled model (its shape has phases): with its chatter type (docs/model.md,
+// "Chatter type") and the type its frequency band alone suggests.
+const ResultTable<core::Eigenmode>& chatter_mode_table() {
+    static const ResultTable<core::Eigenmode> table{
+        "ChatterMode",
+        "An oscillatory mode of the linearised stand and bite, with its chatter type.",
+        [] {
+            std::vector<Member<core::Eigenmode>> members = eigenmode_members();
+            for (Member<core::Eigenmode>& member : chatter_type_members("chatter_type", "chatter_band")) {
+                members.push_back(std::move(member));
+            }
+            return members;
+        }()};
     return table;
 }
 
@@ -418,11 +446,42 @@ Member<core::CriticalSpeedResult> unstable_frequency_member(std::string_view nam
             }};
 }
 
+std::vector<Member<core::CriticalSpeedResult>> unstable_chatter_members(std::string_view type_name,
+                                                                      std::string_view band_name) {
+    std::vector<Member<core::CriticalSpeedResult>> members;
+    const std::array<std::string_view, 2> texts{
+        "The chatter type of the mode that goes unstable (from its shape); null unless found or "
+        "unstable_at_lower_bound.",
+        "The chatter type the frequency band of the mode that goes unstable suggests; null unless found or "
+        "unstable_at_lower_bound."};
+    std::vector<Member<core::Eigenmode>> mode_members = chatter_type_members(type_name, band_name);
+    for (std::size_t i = 0; i < mode_members.size(); ++i) {
+        members.push_back({mode_members[i].name, texts[i], chatter_type_schema(true),
+                           [get = mode_members[i].get](const core::CriticalSpeedResult& r) {
+                               return mode_known(r) ? get(r.unstable_mode) : nlohmann::json(nullptr);
+                           }});
+    }
+    return members;
+}
+
+std::vector<Member<core::CriticalSpeedResult>> crossing_members() {
+    std::vector<Member<core::CriticalSpeedResult>> members = critical_speed_head_members();
+    members.push_back(unstable_frequency_member("frequency_Hz"));
+    for (Member<core::CriticalSpeedResult>& member : unstable_chatter_members("chatter_type", "chatter_band")) {
+        members.push_back(std::move(member));
+    }
+    return members;
+}
+
 const ResultTable<core::CriticalSpeedResult>& critical_speed_summary_table() {
     static const ResultTable<core::CriticalSpeedResult> table{
         "CriticalSpeedSummary", "The outcome of the critical-speed search.", [] {
             std::vector<Member<core::CriticalSpeedResult>> members = critical_speed_head_members();
             members.push_back(unstable_frequency_member("unstable_mode_frequency_Hz"));
+            for (Member<core::CriticalSpeedResult>& member : unstable_chatter_members("unstable_mode_chatter_type",
+                                                                                     "unstable_mode_chatter_band")) {
+                members.push_back(std::move(member));
+            }
             return members;
         }()};
     return table;
@@ -454,7 +513,7 @@ const ResultTable<StabilityReport>& stability_result_table() {
 }
 
 std::vector<ResultSchema> stability_result_schemas() {
-    return {result_schema(eigenmode_table()),      result_schema(eigenvalue_table()),
+    return {result_schema(eigenmode_table()),      result_schema(chatter_mode_table()), result_schema(eigenvalue_table()),
             result_schema(scan_point_table()),     result_schema(damping_branch_table()),
             result_schema(structure_table()),      result_schema(critical_speed_table()),
             result_schema(speed_stability_summary_table()), result_schema(critical_speed_summary_table()),

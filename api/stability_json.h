@@ -82,6 +82,13 @@ const ResultTable<core::CriticalSpeedResult>& critical_speed_summary_table();
 // frequency under `name`.
 std::vector<Member<core::CriticalSpeedResult>> critical_speed_head_members();
 Member<core::CriticalSpeedResult> unstable_frequency_member(std::string_view name);
+// The chatter type and band of the mode that goes unstable, under these names.
+std::vector<Member<core::CriticalSpeedResult>> unstable_chatter_members(std::string_view type_name,
+                                                                      std::string_view band_name);
+const ResultTable<core::Eigenmode>& chatter_mode_table();
+// A sweep point's or a map cell's figures: status, critical_speed_m_per_s, and the frequency_Hz,
+// chatter_type and chatter_band of the mode that goes unstable.
+std::vector<Member<core::CriticalSpeedResult>> crossing_members();
 const ResultTable<StabilityReport>& stability_result_table();
 std::vector<ResultSchema> stability_result_schemas();
 

@@ -7,6 +7,7 @@
 #include <string_view>
 
 #include "api/amplitude_json.h"
+#include "api/chatter_json.h"
 #include "api/json_pointer.h"
 #include "api/name_suggestion.h"
 #include "api/options_reader.h"
@@ -218,11 +219,7 @@ void build_scenarios(const ScenarioField& field, const std::vector<Point>& point
             // read back, which could differ from it in the 17th digit of another field).
             const double value = point.value.get<double>();
             core::Scenario swept = scenario;
-            if (field.kind == FieldKind::integer) {
-                field.integer(swept) = static_cast<int>(value);  // validated: an integer in range
-            } else {
-                field.number(swept) = to_si(value + 0.0, field.unit);
-            }
+            set_scenario_field(swept, field, value);
             plan.values.push_back(value);
             plan.scenarios.push_back(swept);
             continue;
@@ -289,6 +286,34 @@ void check_work(const OptionsReader& reader, SweepPlan& plan, std::size_t point_
 }
 
 }  // namespace
+
+void set_scenario_field(core::Scenario& scenario, const ScenarioField& field, double value) {
+    if (field.kind == FieldKind::integer) {
+        field.integer(scenario) = static_cast<int>(value);  // validated: an integer in range
+    } else {
+        field.number(scenario) = to_si(value + 0.0, field.unit);
+    }
+}
+
+SweepAxis sweep_axis_from_json(const nlohmann::json& axis, const std::string& pointer,
+                               const core::Scenario* valid_scenario, FieldErrors& errors) {
+    static constexpr std::array<std::string_view, 3> axis_members{parameter_name, values_name, range_name};
+    SweepAxis out;
+    const OptionsReader reader(axis, pointer, axis_members, errors);
+    if (!reader.is_object()) return out;
+    out.field = read_parameter(reader);
+    nlohmann::json echo_values;
+    const auto points = read_points(reader, echo_values);
+    if (out.field != nullptr && points && valid_scenario != nullptr) {
+        SweepPlan plan;
+        build_scenarios(*out.field, *points, *valid_scenario, plan, errors);
+        out.values = std::move(plan.values);
+        out.scenarios = std::move(plan.scenarios);
+    }
+    out.resolved = {{parameter_name, out.field != nullptr ? nlohmann::json(out.field->path) : nlohmann::json(nullptr)}};
+    if (echo_values.is_object()) out.resolved.update(echo_values);
+    return out;
+}
 
 SweepPlan sweep_plan_from_json(const nlohmann::json& options, const std::string& pointer,
                                const core::Scenario* valid_scenario, FieldErrors& errors) {
@@ -363,11 +388,7 @@ const ResultTable<core::CriticalSpeedResult>& critical_point_table() {
     static const ResultTable<CriticalSpeedResult> table{
         "SweepCriticalSpeedPoint",
         "The critical speed at one value of the swept field, which the point carries under value_name.",
-        [] {
-            std::vector<Member<CriticalSpeedResult>> members = critical_speed_head_members();
-            members.push_back(unstable_frequency_member("frequency_Hz"));
-            return members;
-        }()};
+        crossing_members()};
     return table;
 }
 
@@ -407,7 +428,7 @@ nlohmann::json point_schema(nlohmann::json schema) {
 
 template <class Result, class Table>
 nlohmann::json sweep_json(const SweepPlan& plan, std::string_view quantity, const std::vector<Result>& results,
-                          const Table& table) {
+                          const Table& table, nlohmann::json chatter_type_changes = absent()) {
     const std::string key = value_name(plan.field->unit);
     nlohmann::json points = nlohmann::json::array();
     for (std::size_t i = 0; i < results.size() && i < plan.values.size(); ++i) {
@@ -415,7 +436,8 @@ nlohmann::json sweep_json(const SweepPlan& plan, std::string_view quantity, cons
         point[key] = plan.values[i];
         points.push_back(std::move(point));
     }
-    return sweep_result_table().write({plan.field->path, plan.field->unit.code, key, quantity, std::move(points)});
+    return sweep_result_table().write(
+        {plan.field->path, plan.field->unit.code, key, quantity, std::move(points), std::move(chatter_type_changes)});
 }
 
 }  // namespace
@@ -440,6 +462,11 @@ const ResultTable<SweepOutput>& sweep_result_table() {
              array_schema({{"oneOf", nlohmann::json::array({ref_schema("SweepCriticalSpeedPoint"),
                                                              ref_schema("SweepAmplitudePoint")})}}),
              [](const SweepOutput& o) { return o.points; }},
+            {"chatter_type_changes",
+             "Each pair of consecutive values whose crossing modes differ in chatter type; critical_speed sweeps "
+             "only.",
+             chatter_type_changes_schema({{"type", "number"}}),
+             [](const SweepOutput& o) { return o.chatter_type_changes; }, true},
         }};
     return table;
 }
@@ -455,7 +482,10 @@ std::vector<ResultSchema> sweep_result_schemas() {
 }
 
 nlohmann::json sweep_critical_speed_json(const SweepPlan& plan, const std::vector<core::CriticalSpeedResult>& results) {
-    return sweep_json(plan, "critical_speed", results, critical_point_table());
+    return sweep_json(plan, "critical_speed", results, critical_point_table(),
+                      chatter_type_changes_json(core::chatter_type_changes(results), [&](int i) {
+                          return nlohmann::json(plan.values[static_cast<std::size_t>(i)]);
+                      }));
 }
 
 nlohmann::json sweep_amplitude_json(const SweepPlan& plan, const std::vector<core::AmplitudeResult>& results) {

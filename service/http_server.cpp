@@ -58,7 +58,7 @@ Outcome call_facade(const Request& request, const core::Control& control) {
 enum Method : unsigned { get = 1, post = 2, del = 4 };
 
 enum class RouteId {
-    scenarios_default, roll_gap, stability, amplitude, tension_cycle, sweeps, evaluate, calibrate,
+    scenarios_default, roll_gap, stability, amplitude, tension_cycle, sweeps, maps, evaluate, calibrate,
     jobs, job, openapi, livez, readyz, metrics,
 };
 
@@ -77,6 +77,7 @@ constexpr std::array routes{
     Route{RouteId::amplitude, "/v1/amplitude", post, true, "amplitude"},
     Route{RouteId::tension_cycle, "/v1/tension-cycle", post, true, "tension_cycle"},
     Route{RouteId::sweeps, "/v1/sweeps", post, true, "sweep"},
+    Route{RouteId::maps, "/v1/maps", post, true, "map"},
     Route{RouteId::evaluate, "/v1/evaluate", post, true, "evaluate"},
     Route{RouteId::calibrate, "/v1/calibrate", post, true, "calibrate"},
     Route{RouteId::jobs, "/v1/jobs", post, true, ""},

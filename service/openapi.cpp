@@ -6,9 +6,11 @@
 #include <string_view>
 
 #include "api/amplitude_json.h"
+#include "api/calibration_json.h"
 #include "api/csv.h"
 #include "api/evaluation_json.h"
 #include "api/field_errors.h"
+#include "api/map_json.h"
 #include "api/problem.h"
 #include "api/result_json.h"
 #include "api/scenario_json.h"
@@ -144,7 +146,7 @@ struct OptionsSchema {
     const char* minimal_options;
     const char* member = "";  // the defaults are this member of the resolved options ("": all)
 };
-constexpr std::array<OptionsSchema, 8> options_schemas{{
+constexpr std::array<OptionsSchema, 9> options_schemas{{
     {"roll_gap", "RollGapOptions", "{}"},
     {"tension_cycle", "TensionCycleOptions", "{}"},
     {"stability", "StabilityOptions", "{}"},
@@ -152,6 +154,9 @@ constexpr std::array<OptionsSchema, 8> options_schemas{{
     {"sweep", "SweepOptions", R"({"parameter": "/rolls/speed_m_per_s", "values": [19]})"},
     {"sweep", "SweepAmplitudeOptions",
      R"({"parameter": "/rolls/speed_m_per_s", "values": [19], "quantity": "amplitude"})", "amplitude"},
+    {"map", "MapOptions",
+     R"({"parameters": [{"parameter": "/strip/reduction", "values": [0.15]},
+                        {"parameter": "/strip/entry_thickness_mm", "values": [1.6]}]})"},
     {"evaluate", "EvaluateOptions", "{}"},
     {"calibrate", "CalibrateOptions",
      R"({"parameters": [{"field": "/strip/flow_stress_MPa"}],
@@ -189,7 +194,7 @@ struct AnalysisRoute {
     std::string_view result;
     std::vector<api::ResultSchema> (*schemas)();  // the components the result uses
 };
-const std::array<AnalysisRoute, 6> analysis_routes{{
+const std::array<AnalysisRoute, 8> analysis_routes{{
     {"roll_gap", "/v1/roll-gap", "RollGapResponse", "RollGapOptions", "RollGapResult", &api::bite_result_schemas},
     {"tension_cycle", "/v1/tension-cycle", "TensionCycleResponse", "TensionCycleOptions", "TensionCycleResult",
      &api::tension_cycle_result_schemas},
@@ -198,8 +203,11 @@ const std::array<AnalysisRoute, 6> analysis_routes{{
     {"amplitude", "/v1/amplitude", "AmplitudeResponse", "AmplitudeOptions", "AmplitudeResult",
      &api::amplitude_result_schemas},
     {"sweep", "/v1/sweeps", "SweepResponse", "SweepOptions", "SweepResult", &api::sweep_result_schemas},
+    {"map", "/v1/maps", "MapResponse", "MapOptions", "MapResult", &api::map_result_schemas},
     {"evaluate", "/v1/evaluate", "EvaluateResponse", "EvaluateOptions", "EvaluateResult",
      &api::evaluation_result_schemas},
+    {"calibrate", "/v1/calibrate", "CalibrateResponse", "CalibrateOptions", "CalibrationResult",
+     &api::calibration_result_schemas},
 }};
 
 json component_ref(std::string_view component) { return {{"$ref", concat("#/components/schemas/", component)}}; }
