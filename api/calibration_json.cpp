@@ -503,7 +503,7 @@ const ResultTable<ObservationRow>& observation_table() {
              [](const ObservationRow& r) { return r.predicted; }},
             {"normalised_residual", "(predicted - value) / standard_uncertainty; null without a prediction.",
              plain_number_schema(true), [](const ObservationRow& r) { return r.normalised_residual; }},
-            {"failure", "Why the model had no answer, or null.", {{"type", {"string", "null"}}},
+            {"failure", "Why the model had no answer, or null.", {{"type", nlohmann::json::array({"string", "null"})}},
              [](const ObservationRow& r) { return r.failure; }},
             {"mode", "The mode the observation followed (natural_frequency_Hz and damping_ratio only).",
              object_schema("The followed mode.",

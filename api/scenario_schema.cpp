@@ -209,7 +209,7 @@ std::vector<ScenarioField> build_fields() {
         [](core::Scenario& s) -> auto& { return s.rolls.speed; }));
     fields.push_back(choice_field(
         "/rolls/flattening", roll_flattenings,
-        "How the work rolls deform under the roll force. none: rigid rolls, the paper's model. hitchcock: the "
+        "How the work rolls deform under the roll force. none = rigid rolls, the paper's model. hitchcock = the "
         "rolls flatten elastically in the bite (Hitchcock's formula), which lengthens the contact and raises the "
         "force; worth switching on for hard, thin strip and heavy reductions (docs/model-extensions.md).",
         [](core::Scenario& s) -> auto& { return s.rolls.flattening; }));
@@ -222,8 +222,8 @@ std::vector<ScenarioField> build_fields() {
         [](core::Scenario& s) -> auto& { return s.rolls.youngs_modulus; }));
     fields.push_back(number_field(
         "/rolls/poisson_ratio", one, closed(0.0, 0.49),
-        "Poisson's ratio ν_r of the work-roll material, used only with flattening hitchcock. Steel rolls about "
-        "0.3, cemented carbide about 0.22.",
+        "Poisson's ratio ν_r of the work-roll material (dimensionless), used only with flattening hitchcock. "
+        "Steel rolls about 0.3, cemented carbide about 0.22.",
         [](core::Scenario& s) -> auto& { return s.rolls.poisson_ratio; }));
 
     fields.push_back(number_field(

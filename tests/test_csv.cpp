@@ -199,7 +199,8 @@ TEST_CASE("csv: sweep points, the value first under its unit-carrying name") {
                               {"options", {{"parameter", "/lubricant/viscosity_Pa_s"}, {"values", {4e-4, 7e-4}},
                                            {"critical_speed", {{"speed_min_m_per_s", 10}, {"speed_max_m_per_s", 35}}}}}});
     const Rows rows = table(body);
-    CHECK(rows[0] == std::vector<std::string>{"value_Pa_s", "status", "critical_speed_m_per_s", "frequency_Hz"});
+    CHECK(rows[0] == std::vector<std::string>{"value_Pa_s", "status", "critical_speed_m_per_s", "frequency_Hz",
+                                               "chatter_type", "chatter_band"});
     check_row_table(rows, body["result"]["points"]);
 }
 
