@@ -7,6 +7,7 @@
 #include "api/json_pointer.h"
 #include "api/options_reader.h"
 #include "api/quantity_json.h"
+#include "api/result_table.h"
 #include "api/scenario_schema.h"
 #include "api/text.h"
 
@@ -115,50 +116,182 @@ nlohmann::json amplitude_options_json(const AmplitudeOptions& options, Amplitude
     return document;
 }
 
-nlohmann::json amplitude_figures_json(const core::AmplitudeResult& result) {
-    const bool known = figures_known(result);
-    const auto figure = [known](double value_si, Unit unit) {
-        return known ? quantity_json(value_si, unit) : nlohmann::json(nullptr);
-    };
+namespace {
+
+using core::AmplitudeResult;
+
+// A figure of the last windows: null unless two 10 % windows completed.
+Member<AmplitudeResult> figure_member(std::string_view name, std::string_view description,
+                                      double AmplitudeResult::*member, Unit unit) {
+    return {name, description, number_schema(unit), [member, unit](const AmplitudeResult& result) {
+                return figures_known(result) ? quantity_json(result.*member, unit) : nlohmann::json(nullptr);
+            }};
+}
+
+nlohmann::json dynamics_status_schema(bool nullable) {
+    return enum_schema({"ok", "contact_lost", "skidding", "slack_strip", "solver_failure"}, nullable);
+}
+
+}  // namespace
+
+const ResultTable<AmplitudeWindowView>& amplitude_window_table() {
+    using Window = AmplitudeWindowView;
+    static const ResultTable<Window> table{
+        "AmplitudeWindow",
+        "One of the ten 10 % windows of the run.",
+        {
+            {"start_s", "Start of the window.", number_schema(units::second),
+             [](const Window& w) { return quantity_json(w.window.start, units::second); }},
+            {"end_s", "End of the window.", number_schema(units::second),
+             [](const Window& w) { return quantity_json(w.window.end, units::second); }},
+            {"upper_roll_amplitude_um",
+             "Half peak-to-peak displacement of the upper work roll (m3) in the window; null if a limit ended the "
+             "run before it.",
+             number_schema(units::micrometre),
+             [](const Window& w) {
+                 // A limit may end the run before the window.
+                 return w.window.start < w.end_time ? quantity_json(w.window.upper_roll, units::micrometre)
+                                                    : nlohmann::json(nullptr);
+             }},
+        }};
+    return table;
+}
+
+namespace {
+
+Member<AmplitudeResult> series_member(std::string_view name, std::string_view description,
+                                      std::vector<double> AmplitudeResult::*member, Unit unit) {
+    return {name, description, array_schema(number_schema(unit)),
+            [member, unit](const AmplitudeResult& result) { return quantities_json(result.*member, unit); }};
+}
+
+}  // namespace
+
+std::vector<Member<core::AmplitudeResult>> amplitude_figure_members(std::string_view frequency_name) {
     return {
-        {"status", core::to_string(result.status)},
-        {"message", result.message != nullptr ? result.message : ""},
-        {"excitation_frequency_Hz", ran(result) ? quantity_json(result.excitation_frequency_Hz, units::hertz) : nullptr},
-        {"upper_roll_amplitude_um", figure(result.upper_roll, units::micrometre)},
-        {"gap_amplitude_um", figure(result.gap, units::micrometre)},
-        {"force_amplitude_kN", figure(result.force, units::kilonewton)},
-        {"settled", known ? nlohmann::json(result.settled) : nlohmann::json(nullptr)},
-        {"growth_rate_per_s", figure(result.growth_rate, units::per_second)},
-        {"end_time_s", ran(result) ? quantity_json(result.end_time, units::second) : nullptr},
+        {"status",
+         "`settled`: the last two 10 % windows agree within 1 %. `growing` / `decaying`: they do not. "
+         "`limit_reached`: the vibration slackened the strip, opened the gap or made the rolls skid (the figures "
+         "are those of the window it happened in). `no_steady_state`: no steady bite to vibrate about. "
+         "`solver_failure`: the integration failed.",
+         enum_schema({"settled", "growing", "decaying", "limit_reached", "no_steady_state", "solver_failure"}),
+         [](const AmplitudeResult& r) { return nlohmann::json(core::to_string(r.status)); }},
+        {"message", "Why, for humans; empty when settled.", string_schema(),
+         [](const AmplitudeResult& r) { return nlohmann::json(r.message != nullptr ? r.message : ""); }},
+        {frequency_name, "The excitation frequency (the least-damped mode's unless given).",
+         number_schema(units::hertz),
+         [](const AmplitudeResult& r) {
+             return ran(r) ? quantity_json(r.excitation_frequency_Hz, units::hertz) : nlohmann::json(nullptr);
+         }},
+        figure_member("upper_roll_amplitude_um", "Half peak-to-peak displacement of the upper work roll (m3).",
+                      &AmplitudeResult::upper_roll, units::micrometre),
+        figure_member("gap_amplitude_um", "Half peak-to-peak change of the work-roll gap (m3 − m4).",
+                      &AmplitudeResult::gap, units::micrometre),
+        figure_member("force_amplitude_kN", "Half peak-to-peak change of the roll force.", &AmplitudeResult::force,
+                      units::kilonewton),
+        {"settled", "Whether the last two 10 % windows agree within 1 %.", boolean_schema(true),
+         [](const AmplitudeResult& r) { return figures_known(r) ? nlohmann::json(r.settled) : nlohmann::json(nullptr); }},
+        figure_member("growth_rate_per_s", "Growth rate of the amplitude from the last two 10 % windows.",
+                      &AmplitudeResult::growth_rate, units::per_second),
+        {"end_time_s", "Simulated time: the window unless a limit ended the run.", number_schema(units::second),
+         [](const AmplitudeResult& r) { return ran(r) ? quantity_json(r.end_time, units::second) : nlohmann::json(nullptr); }},
     };
 }
 
-nlohmann::json amplitude_result_json(const core::AmplitudeResult& result, bool with_time_series) {
-    nlohmann::json body = amplitude_figures_json(result);
-    body["speed_m_per_s"] = quantity_json(result.speed, units::metre_per_second);
-    body["steady_status"] = core::to_string(result.steady_status);
-    body["end_status"] = ran(result) ? nlohmann::json(core::to_string(result.end_status)) : nlohmann::json(nullptr);
-    body["least_damped_growth_rate_per_s"] =
-        ran(result) ? quantity_json(result.least_damped_growth_rate, units::per_second) : nullptr;
-    nlohmann::json windows = nlohmann::json::array();
-    for (const core::AmplitudeWindow& window : result.windows) {
-        const bool sampled = window.start < result.end_time;  // a limit may end the run before it
-        windows.push_back({
-            {"start_s", quantity_json(window.start, units::second)},
-            {"end_s", quantity_json(window.end, units::second)},
-            {"upper_roll_amplitude_um", sampled ? quantity_json(window.upper_roll, units::micrometre) : nullptr},
-        });
-    }
-    body["windows"] = std::move(windows);
-    if (with_time_series) {
-        body["time_series"] = {
-            {"t_s", quantities_json(result.t, units::second)},
-            {"x3_um", quantities_json(result.x3, units::micrometre)},
-            {"gap_um", quantities_json(result.g, units::micrometre)},
-            {"force_kN", quantities_json(result.dP, units::kilonewton)},
-        };
-    }
-    return body;
+const ResultTable<core::AmplitudeResult>& time_series_table() {
+    static const ResultTable<AmplitudeResult> table{
+        "AmplitudeTimeSeries",
+        "The run, decimated to options.time_series_points samples, columnar (arrays of equal length).",
+        {
+            series_member("time_s", "Simulated time.", &AmplitudeResult::t, units::second),
+            series_member("upper_work_roll_displacement_um",
+                          "Displacement of the upper work roll (m3, x3) from its steady position, upward positive.",
+                          &AmplitudeResult::x3, units::micrometre),
+            series_member("work_roll_gap_change_um",
+                          "Change of the gap between the work rolls (x3 − x4) from its steady value.",
+                          &AmplitudeResult::g, units::micrometre),
+            series_member("roll_force_change_kN", "Change of the roll force from its steady value.",
+                          &AmplitudeResult::dP, units::kilonewton),
+        }};
+    return table;
+}
+
+const ResultTable<AmplitudeView>& amplitude_point_table() {
+    static const ResultTable<AmplitudeView> table{
+        "AmplitudePoint",
+        "The vibration at one speed. Amplitudes are half peak-to-peak over the last complete 10 % window; they, "
+        "`settled` and the growth rate are null when fewer than two 10 % windows completed or there is no steady "
+        "state.",
+        [] {
+            std::vector<Member<AmplitudeView>> members = lift<AmplitudeView>(
+                amplitude_figure_members("excitation_frequency_Hz"),
+                [](const AmplitudeView& v) -> const AmplitudeResult& { return v.result; });
+            const std::vector<Member<AmplitudeView>> more{
+                {"speed_m_per_s", "The roll speed.", number_schema(units::metre_per_second),
+                 [](const AmplitudeView& v) { return quantity_json(v.result.speed, units::metre_per_second); }},
+                {"steady_status", "The status of the steady bite at this speed.",
+                 enum_schema({"ok", "skidding", "contact_lost", "solver_failure"}),
+                 [](const AmplitudeView& v) { return nlohmann::json(core::to_string(v.result.steady_status)); }},
+                {"end_status", "What ended the run (`ok`: the window did); null without a steady state.",
+                 dynamics_status_schema(true),
+                 [](const AmplitudeView& v) {
+                     return ran(v.result) ? nlohmann::json(core::to_string(v.result.end_status)) : nlohmann::json(nullptr);
+                 }},
+                {"least_damped_growth_rate_per_s", "Real part of the least-damped eigenvalue at this speed.",
+                 number_schema(units::per_second),
+                 [](const AmplitudeView& v) {
+                     return ran(v.result) ? quantity_json(v.result.least_damped_growth_rate, units::per_second)
+                                          : nlohmann::json(nullptr);
+                 }},
+                {"windows", "The ten 10 % windows (options.detail \"full\" only).",
+                 array_schema(ref_schema("AmplitudeWindow")),
+                 [](const AmplitudeView& v) {
+                     if (v.detail == Detail::summary) return absent();
+                     nlohmann::json windows = nlohmann::json::array();
+                     for (const core::AmplitudeWindow& window : v.result.windows) {
+                         windows.push_back(amplitude_window_table().write({window, v.result.end_time}));
+                     }
+                     return windows;
+                 },
+                 true},
+                {"time_series", "Present when options.time_series is true (and detail is \"full\").",
+                 ref_schema("AmplitudeTimeSeries"),
+                 [](const AmplitudeView& v) {
+                     return v.time_series && v.detail == Detail::full ? time_series_table().write(v.result) : absent();
+                 },
+                 true},
+            };
+            members.insert(members.end(), more.begin(), more.end());
+            return members;
+        }()};
+    return table;
+}
+
+const ResultTable<AmplitudeRuns>& amplitude_result_table() {
+    static const ResultTable<AmplitudeRuns> table{
+        "AmplitudeResult",
+        "The vibration amplitude under a back-tension excitation, per speed (docs/model.md §7.4).",
+        {
+            {"points", "One per speed of options.speeds_m_per_s, in that order.",
+             array_schema(ref_schema("AmplitudePoint")),
+             [](const AmplitudeRuns& runs) {
+                 nlohmann::json points = nlohmann::json::array();
+                 for (const AmplitudeResult& result : runs.results) {
+                     points.push_back(amplitude_point_table().write({result, runs.time_series, Detail::full}));
+                 }
+                 return points;
+             }},
+        }};
+    return table;
+}
+
+std::vector<ResultSchema> amplitude_result_schemas() {
+    return {result_schema(amplitude_window_table()), result_schema(time_series_table()), result_schema(amplitude_point_table()),
+            result_schema(amplitude_result_table())};
+}
+
+nlohmann::json amplitude_result_json(const core::AmplitudeResult& result, bool with_time_series, Detail detail) {
+    return amplitude_point_table().write({result, with_time_series, detail});
 }
 
 }  // namespace rollgap::api

@@ -18,6 +18,8 @@
 #include <nlohmann/json.hpp>
 
 #include "api/field_errors.h"
+#include "api/result_table.h"
+#include "api/stability_json.h"
 #include "core/amplitude.h"
 #include "core/scenario.h"
 
@@ -46,15 +48,42 @@ nlohmann::json amplitude_options_json(const AmplitudeOptions& options, Amplitude
 // One speed: {"speed_m_per_s", "status", "message", "steady_status", "end_status",
 // "excitation_frequency_Hz", "upper_roll_amplitude_um", "gap_amplitude_um", "force_amplitude_kN",
 // "settled", "growth_rate_per_s", "least_damped_growth_rate_per_s", "end_time_s",
-// "windows": [{"start_s", "end_s", "upper_roll_amplitude_um"}],
-// "time_series": {"t_s", "x3_um", "gap_um", "force_kN"} (only if asked for)}.
+// "windows": [{"start_s", "end_s", "upper_roll_amplitude_um"}] (detail full),
+// "time_series": {"time_s", "upper_work_roll_displacement_um", "work_roll_gap_change_um",
+// "roll_force_change_kN"} (only if asked for, detail full)}.
 // Amplitudes are half peak-to-peak over the last complete 10 % window; they, "settled" and the
 // growth rate are null when fewer than two 10 % windows completed (a physical limit ended the
 // run early) or there is no steady state.
-nlohmann::json amplitude_result_json(const core::AmplitudeResult& result, bool with_time_series);
+nlohmann::json amplitude_result_json(const core::AmplitudeResult& result, bool with_time_series,
+                                     Detail detail = Detail::full);
 
-// The figures alone (a sweep point): status, message, excitation_frequency_Hz, the three
-// amplitudes, settled, growth_rate_per_s, end_time_s.
-nlohmann::json amplitude_figures_json(const core::AmplitudeResult& result);
+struct AmplitudeView {
+    const core::AmplitudeResult& result;
+    bool time_series;
+    Detail detail;
+};
+
+// The amplitude analysis' result: {"points": [one per speed]}.
+struct AmplitudeRuns {
+    const std::vector<core::AmplitudeResult>& results;
+    bool time_series;
+};
+
+// The figures alone (the head of a point; a sweep point, with the excitation frequency under
+// `frequency_name`): status, message, the frequency, the three amplitudes, settled,
+// growth_rate_per_s, end_time_s.
+std::vector<Member<core::AmplitudeResult>> amplitude_figure_members(std::string_view frequency_name);
+
+struct AmplitudeWindowView {
+    const core::AmplitudeWindow& window;
+    double end_time;  // of the run: a window after it was not sampled
+};
+
+// The tables that write them (result_table.h) and their OpenAPI components.
+const ResultTable<AmplitudeWindowView>& amplitude_window_table();
+const ResultTable<core::AmplitudeResult>& time_series_table();
+const ResultTable<AmplitudeView>& amplitude_point_table();
+const ResultTable<AmplitudeRuns>& amplitude_result_table();
+std::vector<ResultSchema> amplitude_result_schemas();
 
 }  // namespace rollgap::api

@@ -32,6 +32,7 @@
 #include <nlohmann/json.hpp>
 
 #include "api/field_errors.h"
+#include "api/result_table.h"
 #include "api/scenario_schema.h"
 #include "core/calibration_observables.h"
 #include "core/scenario.h"
@@ -70,6 +71,12 @@ CalibrationPlan calibration_plan_from_json(const nlohmann::json& options, const 
 // correlation, observations (predicted, normalised residual), chi-squared, degrees of freedom,
 // warnings and the calibrated scenario as a merge patch onto the defaults.
 nlohmann::json calibration_result_json(const CalibrationPlan& plan, const core::ScenarioCalibrationResult& result);
+
+// The tables that write it (api/result_table.h): their OpenAPI components, and the scalar
+// members of a parameter and of an observation (the CSV columns).
+std::vector<ResultSchema> calibration_result_schemas();
+std::vector<std::string> calibration_parameter_columns();
+std::vector<std::string> calibration_observation_columns();
 
 // RFC 7396 in reverse: the smallest merge patch that turns `from` into `to` (objects only;
 // members of `from` missing in `to` become null).

@@ -5,6 +5,7 @@
 
 #include "api/options_reader.h"
 #include "api/result_json.h"
+#include "api/result_table.h"
 #include "api/stability_json.h"
 
 namespace rollgap::api {
@@ -12,7 +13,37 @@ namespace {
 
 constexpr std::string_view critical_speed_name = "critical_speed";
 constexpr std::string_view amplitude_name = "amplitude";
-constexpr std::array<std::string_view, 2> members{critical_speed_name, amplitude_name};
+constexpr std::array<std::string_view, 3> members{critical_speed_name, amplitude_name, "detail"};
+
+struct EvaluationView {
+    const core::Evaluation& evaluation;
+    const EvaluationOptions& options;
+};
+
+const ResultTable<EvaluationView>& evaluation_table() {
+    static const ResultTable<EvaluationView> table{
+        "EvaluateResult",
+        "Roll gap, stability, critical speed and amplitude at the scenario's speed. Without a steady bite there "
+        "(roll_gap status not ok) the other three have status no_steady_state and null figures. With "
+        "options.detail \"summary\" the distributions, amplitude windows and time series are left out.",
+        {
+            {"roll_gap", "The steady roll bite.", ref_schema("RollGapResult"),
+             [](const EvaluationView& v) {
+                 nlohmann::json bite = bite_result_json(v.evaluation.roll_gap);
+                 if (v.options.detail == Detail::summary) bite.erase("distribution");
+                 return bite;
+             }},
+            {"stability", "The linearisation at the scenario's speed.", ref_schema("StabilitySummary"),
+             [](const EvaluationView& v) { return speed_stability_summary_json(v.evaluation.stability); }},
+            {"critical_speed", "The critical-speed search.", ref_schema("CriticalSpeedSummary"),
+             [](const EvaluationView& v) { return critical_speed_summary_json(v.evaluation.critical); }},
+            {"amplitude", "The vibration at the scenario's speed.", ref_schema("AmplitudePoint"),
+             [](const EvaluationView& v) {
+                 return amplitude_result_json(v.evaluation.amplitude, v.options.amplitude.time_series, v.options.detail);
+             }},
+        }};
+    return table;
+}
 
 }  // namespace
 
@@ -28,6 +59,7 @@ EvaluationOptions evaluation_options_from_json(const nlohmann::json& options, co
         parsed.amplitude =
             amplitude_options_from_json(*run, reader.at(amplitude_name), AmplitudeMembers::single_run, 0.0, errors).run;
     }
+    read_detail(reader, parsed.detail);
     return parsed;
 }
 
@@ -35,6 +67,7 @@ nlohmann::json evaluation_options_json(const EvaluationOptions& options) {
     return {
         {critical_speed_name, critical_speed_options_json(options.critical_speed)},
         {amplitude_name, amplitude_options_json({{}, options.amplitude}, AmplitudeMembers::single_run)},
+        {"detail", detail_json(options.detail)},
     };
 }
 
@@ -52,12 +85,13 @@ nlohmann::json evaluation_result_json(const core::Evaluation& evaluation, const 
         amplitude.status = core::AmplitudeStatus::no_steady_state;
         amplitude.message = "no steady state at the scenario's speed: the bite skids or loses contact";
     }
-    return {
-        {"roll_gap", bite_result_json(evaluation.roll_gap)},
-        {"stability", speed_stability_summary_json(stability)},
-        {"critical_speed", critical_speed_summary_json(critical)},
-        {"amplitude", amplitude_result_json(amplitude, options.amplitude.time_series)},
-    };
+    core::Evaluation completed = evaluation;
+    completed.stability = stability;
+    completed.amplitude = amplitude;
+    completed.critical = critical;
+    return evaluation_table().write({completed, options});
 }
+
+std::vector<ResultSchema> evaluation_result_schemas() { return {result_schema(evaluation_table())}; }
 
 }  // namespace rollgap::api

@@ -4,7 +4,8 @@
 // the vibration amplitude at the scenario's speed.
 //
 // Options: {"critical_speed": {search options, stability_json.h},
-//           "amplitude": {run options without speeds_m_per_s, amplitude_json.h}}
+//           "amplitude": {run options without speeds_m_per_s, amplitude_json.h},
+//           "detail": "full" | "summary" (stability_json.h)}
 
 #include <string>
 
@@ -12,6 +13,8 @@
 
 #include "api/amplitude_json.h"
 #include "api/field_errors.h"
+#include "api/result_table.h"
+#include "api/stability_json.h"
 #include "core/evaluation.h"
 
 namespace rollgap::api {
@@ -19,6 +22,7 @@ namespace rollgap::api {
 struct EvaluationOptions {
     core::CriticalSpeedOptions critical_speed;
     core::AmplitudeOptions amplitude;
+    Detail detail = Detail::full;
 };
 
 EvaluationOptions evaluation_options_from_json(const nlohmann::json& options, const std::string& pointer,
@@ -32,5 +36,8 @@ nlohmann::json evaluation_options_json(const EvaluationOptions& options);
 // the roll gap then; `scenario_speed`, m/s, fills in the speed it did not record).
 nlohmann::json evaluation_result_json(const core::Evaluation& evaluation, const EvaluationOptions& options,
                                       double scenario_speed);
+
+// Its OpenAPI component (EvaluateResult), from the table that writes it.
+std::vector<ResultSchema> evaluation_result_schemas();
 
 }  // namespace rollgap::api

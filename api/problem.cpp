@@ -29,6 +29,7 @@ constexpr std::array kinds{
     ProblemKind{ProblemCode::header_fields_too_large, "header_fields_too_large", 431,
                 "Request header fields are too large"},
     ProblemKind{ProblemCode::invalid_header, "invalid_header", 400, "Request header is invalid"},
+    ProblemKind{ProblemCode::not_acceptable, "not_acceptable", 406, "No representation in the format asked for"},
     ProblemKind{ProblemCode::overloaded, "overloaded", 503, "Service is overloaded"},
     ProblemKind{ProblemCode::deadline_exceeded, "deadline_exceeded", 504, "Analysis exceeded its deadline"},
     // The facade cannot tell why its Control said stop: a caller whose reason is a deadline

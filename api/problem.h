@@ -29,6 +29,7 @@ enum class ProblemCode {
     range_not_satisfiable,   // HTTP: a malformed Range header (a valid one is ignored)
     header_fields_too_large, // HTTP: the header section exceeds its size or field count limit
     invalid_header,          // HTTP: a header the server cannot take as sent (a NUL byte)
+    not_acceptable,          // the result has no table in the format asked for (Accept: text/csv)
     overloaded,              // HTTP: every worker busy and the queue full
     deadline_exceeded,       // the analysis did not finish within its time budget
     cancelled,               // the caller stopped the analysis (core::Control), e.g. a deleted job

@@ -5,6 +5,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include <vector>
+
+#include "api/result_table.h"
 #include "core/roll_bite.h"
 
 namespace rollgap::api {
@@ -16,5 +19,11 @@ namespace rollgap::api {
 // contact_lost everything but force and torque, which are 0; with solver_failure everything.
 // Non-finite values are null as well.
 nlohmann::json bite_result_json(const core::BiteResult& result);
+
+// The tables that write it (result_table.h): components RollGapResult, Skidding, BiteDistribution.
+const ResultTable<core::BiteResult>& bite_result_table();
+const ResultTable<core::BiteResult>& skidding_table();
+const ResultTable<std::vector<core::BitePoint>>& bite_distribution_table();
+std::vector<ResultSchema> bite_result_schemas();
 
 }  // namespace rollgap::api

@@ -92,6 +92,10 @@ constexpr std::array<EnumName<core::InletFilmModel>, 2> inlet_film_models{{
     {"paper", core::InletFilmModel::paper},
     {"eulerian", core::InletFilmModel::eulerian},
 }};
+constexpr std::array<EnumName<core::RollFlattening>, 2> roll_flattenings{{
+    {"none", core::RollFlattening::none},
+    {"hitchcock", core::RollFlattening::hitchcock},
+}};
 constexpr std::array<EnumName<core::TensionMode>, 3> tension_modes{{
     {"span", core::TensionMode::span},
     {"constant", core::TensionMode::constant},
@@ -195,14 +199,32 @@ std::vector<ScenarioField> build_fields() {
 
     fields.push_back(number_field(
         "/rolls/radius_mm", millimetre, closed(10.0, 2000.0),
-        "Work-roll radius a (half the work-roll diameter); rigid rolls, no flattening. Cold-mill work rolls "
-        "typically 150–350 mm.",
+        "Work-roll radius a (half the work-roll diameter) of the unloaded roll; with flattening none the bite "
+        "uses it as is (rigid rolls). Cold-mill work rolls typically 150–350 mm.",
         [](core::Scenario& s) -> auto& { return s.rolls.radius; }));
     fields.push_back(number_field(
         "/rolls/speed_m_per_s", metre_per_second, closed(0.01, 100.0),
         "Rolling speed v: the surface speed of the work rolls. Cold tandem mills typically 5–30 m/s; the critical "
         "chatter speed is a value of this field.",
         [](core::Scenario& s) -> auto& { return s.rolls.speed; }));
+    fields.push_back(choice_field(
+        "/rolls/flattening", roll_flattenings,
+        "How the work rolls deform under the roll force. none = rigid rolls, the paper's model. hitchcock = the "
+        "rolls flatten elastically in the bite (Hitchcock's formula), which lengthens the contact and raises the "
+        "force; worth switching on for hard, thin strip and heavy reductions (docs/model-extensions.md).",
+        [](core::Scenario& s) -> auto& { return s.rolls.flattening; }));
+    // Roll materials from cast iron to cemented carbide.
+    fields.push_back(number_field(
+        "/rolls/youngs_modulus_GPa", gigapascal, closed(50.0, 1000.0),
+        "Young's modulus E_r of the work-roll material, used only with flattening hitchcock: the stiffer the "
+        "roll, the less it flattens. Forged steel rolls about 210 GPa, cast iron 150–180 GPa, cemented "
+        "carbide 500–650 GPa.",
+        [](core::Scenario& s) -> auto& { return s.rolls.youngs_modulus; }));
+    fields.push_back(number_field(
+        "/rolls/poisson_ratio", one, closed(0.0, 0.49),
+        "Poisson's ratio ν_r of the work-roll material (dimensionless), used only with flattening hitchcock. "
+        "Steel rolls about 0.3, cemented carbide about 0.22.",
+        [](core::Scenario& s) -> auto& { return s.rolls.poisson_ratio; }));
 
     fields.push_back(number_field(
         "/lubricant/viscosity_Pa_s", pascal_second, closed(1e-5, 10.0),

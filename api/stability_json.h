@@ -9,12 +9,18 @@
 //   speed_step_m_per_s  0.5   (0, 0.5], at most max_scan_points scan speeds
 //   relative_tolerance  1e-4  [1e-8, 0.01], of the critical speed
 //   critical_speed      true  (stability only) whether to search the critical speed at all
+//   detail              "full" (stability only) "full" | "summary", see read_detail
 
+#include <complex>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "api/field_errors.h"
+#include "api/options_reader.h"
+#include "api/result_table.h"
 #include "core/mill_structure.h"
 #include "core/stability.h"
 
@@ -24,9 +30,12 @@ namespace rollgap::api {
 // range 1-60 m/s at 0.5 m/s is 119 speeds).
 inline constexpr int max_scan_points = 4000;
 
+enum class Detail { full, summary };
+
 struct StabilityOptions {
     core::CriticalSpeedOptions search;  // `threads` is the service's choice, not an option
     bool critical_speed = true;
+    Detail detail = Detail::full;
 };
 
 StabilityOptions stability_options_from_json(const nlohmann::json& options, const std::string& pointer,
@@ -41,32 +50,46 @@ nlohmann::json critical_speed_options_json(const core::CriticalSpeedOptions& opt
 // The number of scan speeds core::critical_speed evaluates for these options.
 int scan_point_count(const core::CriticalSpeedOptions& options);
 
-// {"frequency_Hz", "damping_ratio", "growth_rate_per_s", "shape": [m1..m6, largest 1]}
-nlohmann::json eigenmode_json(const core::Eigenmode& mode);
+// How much of a large result to return: "full" (the default) or "summary", the headline
+// figures and modes without the critical-speed scan and damping branches (nor, in evaluate, the
+// distributions, the amplitude windows and the time series).
+void read_detail(const OptionsReader& reader, Detail& detail);
+nlohmann::json detail_json(Detail detail);
 
-// The linearisation at one speed: {"speed_m_per_s", "status", "steady_status", "stable",
-// "max_growth_rate_per_s", "strip_stiffness_GN_per_m", "force_kN", "least_damped_mode",
-// "oscillatory_modes", "eigenvalues": [{"real_per_s", "imag_per_s"}]}. "status" is "ok",
-// "no_steady_state" (the steady bite skids or loses contact: "steady_status" says which) or why
-// the linearisation failed; without "ok" every figure is null.
-nlohmann::json speed_stability_json(const core::SpeedStability& stability);
+// The stability analysis' result: the linearisation at the scenario's speed, the modes of the
+// stack (without a steady bite: none) and the critical-speed search (if asked for).
+struct StabilityReport {
+    core::SpeedStability at_speed;
+    std::optional<core::ModalAnalysis> modal;
+    std::optional<core::CriticalSpeedResult> critical;
+    Detail detail = Detail::full;
+};
+nlohmann::json stability_result_json(const StabilityReport& report);
 
-// The same, short (evaluate): status, steady_status, stable, max_growth_rate_per_s,
-// strip_stiffness_GN_per_m, least_damped_mode.
+// The short forms: evaluate's "stability" and "critical_speed", a sweep point's figures.
 nlohmann::json speed_stability_summary_json(const core::SpeedStability& stability);
-
-// Natural and damped modes of the stack with the strip spring k4 (not the bite dynamics):
-// {"strip_stiffness_GN_per_m", "natural_frequencies_Hz": [...], "natural_mode_shapes": [[m1..m6]...],
-//  "damped_modes": [{eigenmode}]}; shapes normalised to their largest component 1.
-nlohmann::json structure_modes_json(const core::ModalAnalysis& modal, double strip_stiffness);
-
-// {"status", "critical_speed_m_per_s", "unstable_mode", "scan": [{"speed_m_per_s", "stable",
-// "max_growth_rate_per_s", "steady_status"}], "damping_branches": [{"speed_m_per_s": [...],
-// "frequency_Hz": [...], "damping_ratio": [...]}]}. The critical speed is null unless found;
-// the unstable mode is null unless found or unstable_at_lower_bound.
-nlohmann::json critical_speed_json(const core::CriticalSpeedResult& result);
-
-// {"status", "critical_speed_m_per_s", "unstable_mode_frequency_Hz"}
 nlohmann::json critical_speed_summary_json(const core::CriticalSpeedResult& result);
+nlohmann::json critical_speed_json(const core::CriticalSpeedResult& result, Detail detail = Detail::full);
+
+// The tables that write them (result_table.h) and their OpenAPI components.
+const ResultTable<core::Eigenmode>& eigenmode_table();
+const ResultTable<std::complex<double>>& eigenvalue_table();
+const ResultTable<core::SpeedStability>& scan_point_table();
+const ResultTable<core::DampingBranch>& damping_branch_table();
+const ResultTable<core::SpeedStability>& speed_stability_summary_table();
+const ResultTable<core::CriticalSpeedResult>& critical_speed_summary_table();
+// Members shared with a sweep point: status and critical_speed_m_per_s; the unstable mode's
+// frequency under `name`.
+std::vector<Member<core::CriticalSpeedResult>> critical_speed_head_members();
+Member<core::CriticalSpeedResult> unstable_frequency_member(std::string_view name);
+// The chatter type and band of the mode that goes unstable, under these names.
+std::vector<Member<core::CriticalSpeedResult>> unstable_chatter_members(std::string_view type_name,
+                                                                      std::string_view band_name);
+const ResultTable<core::Eigenmode>& chatter_mode_table();
+// A sweep point's or a map cell's figures: status, critical_speed_m_per_s, and the frequency_Hz,
+// chatter_type and chatter_band of the mode that goes unstable.
+std::vector<Member<core::CriticalSpeedResult>> crossing_members();
+const ResultTable<StabilityReport>& stability_result_table();
+std::vector<ResultSchema> stability_result_schemas();
 
 }  // namespace rollgap::api

@@ -7,10 +7,12 @@
 #include <string_view>
 
 #include "api/amplitude_json.h"
+#include "api/chatter_json.h"
 #include "api/json_pointer.h"
 #include "api/name_suggestion.h"
 #include "api/options_reader.h"
 #include "api/quantity_json.h"
+#include "api/result_table.h"
 #include "api/scenario_json.h"
 #include "api/stability_json.h"
 #include "api/text.h"
@@ -217,11 +219,7 @@ void build_scenarios(const ScenarioField& field, const std::vector<Point>& point
             // read back, which could differ from it in the 17th digit of another field).
             const double value = point.value.get<double>();
             core::Scenario swept = scenario;
-            if (field.kind == FieldKind::integer) {
-                field.integer(swept) = static_cast<int>(value);  // validated: an integer in range
-            } else {
-                field.number(swept) = to_si(value + 0.0, field.unit);
-            }
+            set_scenario_field(swept, field, value);
             plan.values.push_back(value);
             plan.scenarios.push_back(swept);
             continue;
@@ -289,6 +287,34 @@ void check_work(const OptionsReader& reader, SweepPlan& plan, std::size_t point_
 
 }  // namespace
 
+void set_scenario_field(core::Scenario& scenario, const ScenarioField& field, double value) {
+    if (field.kind == FieldKind::integer) {
+        field.integer(scenario) = static_cast<int>(value);  // validated: an integer in range
+    } else {
+        field.number(scenario) = to_si(value + 0.0, field.unit);
+    }
+}
+
+SweepAxis sweep_axis_from_json(const nlohmann::json& axis, const std::string& pointer,
+                               const core::Scenario* valid_scenario, FieldErrors& errors) {
+    static constexpr std::array<std::string_view, 3> axis_members{parameter_name, values_name, range_name};
+    SweepAxis out;
+    const OptionsReader reader(axis, pointer, axis_members, errors);
+    if (!reader.is_object()) return out;
+    out.field = read_parameter(reader);
+    nlohmann::json echo_values;
+    const auto points = read_points(reader, echo_values);
+    if (out.field != nullptr && points && valid_scenario != nullptr) {
+        SweepPlan plan;
+        build_scenarios(*out.field, *points, *valid_scenario, plan, errors);
+        out.values = std::move(plan.values);
+        out.scenarios = std::move(plan.scenarios);
+    }
+    out.resolved = {{parameter_name, out.field != nullptr ? nlohmann::json(out.field->path) : nlohmann::json(nullptr)}};
+    if (echo_values.is_object()) out.resolved.update(echo_values);
+    return out;
+}
+
 SweepPlan sweep_plan_from_json(const nlohmann::json& options, const std::string& pointer,
                                const core::Scenario* valid_scenario, FieldErrors& errors) {
     SweepPlan plan;
@@ -353,41 +379,117 @@ SweepPlan sweep_plan_from_json(const nlohmann::json& options, const std::string&
     return plan;
 }
 
-nlohmann::json sweep_critical_speed_json(const SweepPlan& plan, const std::vector<core::CriticalSpeedResult>& results) {
+namespace {
+
+constexpr std::string_view value_pattern = "^value(_[A-Za-z0-9_]+)?$";
+
+const ResultTable<core::CriticalSpeedResult>& critical_point_table() {
+    using core::CriticalSpeedResult;
+    static const ResultTable<CriticalSpeedResult> table{
+        "SweepCriticalSpeedPoint",
+        "The critical speed at one value of the swept field, which the point carries under value_name.",
+        crossing_members()};
+    return table;
+}
+
+const ResultTable<core::AmplitudeResult>& amplitude_point_figures_table() {
+    static const ResultTable<core::AmplitudeResult> table{
+        "SweepAmplitudePoint",
+        "The vibration at one value of the swept field, which the point carries under value_name.",
+        amplitude_figure_members("frequency_Hz")};
+    return table;
+}
+
+// The swept value's member in the points: "value_" and the unit in a name's spelling
+// ("value_Pa_s", "value_per_MPa", "value_m_per_s"); dimensionless: "value".
+std::string value_name(Unit unit) {
+    if (unit.code == "1") return "value";
+    std::string name = "value_";
+    for (std::size_t i = 0; i < unit.code.size(); ++i) {
+        const char c = unit.code[i];
+        if (c == '/') {
+            name += i == 0 ? "per_" : "_per_";
+        } else if (c == '.') {
+            name += '_';
+        } else {
+            name += c;
+        }
+    }
+    return name;
+}
+
+// A point's schema: the table's members and the swept value under value_name.
+nlohmann::json point_schema(nlohmann::json schema) {
+    schema["patternProperties"] = {
+        {value_pattern, {{"type", "number"}, {"description", "The swept value, in the field's unit (see value_name)."}}}};
+    schema["minProperties"] = schema["required"].size() + 1;
+    return schema;
+}
+
+template <class Result, class Table>
+nlohmann::json sweep_json(const SweepPlan& plan, std::string_view quantity, const std::vector<Result>& results,
+                          const Table& table, nlohmann::json chatter_type_changes = absent()) {
+    const std::string key = value_name(plan.field->unit);
     nlohmann::json points = nlohmann::json::array();
     for (std::size_t i = 0; i < results.size() && i < plan.values.size(); ++i) {
-        const nlohmann::json summary = critical_speed_summary_json(results[i]);
-        points.push_back({
-            {"value", plan.values[i]},
-            {"status", summary["status"]},
-            {"critical_speed_m_per_s", summary["critical_speed_m_per_s"]},
-            {"frequency_Hz", summary["unstable_mode_frequency_Hz"]},
-        });
+        nlohmann::json point = table.write(results[i]);
+        point[key] = plan.values[i];
+        points.push_back(std::move(point));
     }
-    return {
-        {"parameter", plan.field->path},
-        {"unit", plan.field->unit.code},
-        {"quantity", "critical_speed"},
-        {"points", std::move(points)},
-    };
+    return sweep_result_table().write(
+        {plan.field->path, plan.field->unit.code, key, quantity, std::move(points), std::move(chatter_type_changes)});
+}
+
+}  // namespace
+
+const ResultTable<SweepOutput>& sweep_result_table() {
+    static const ResultTable<SweepOutput> table{
+        "SweepResult",
+        "The critical speed or the vibration amplitude over the values of one scenario field (docs/model.md §7.5).",
+        {
+            {"parameter", "The swept field's JSON pointer in the scenario.", string_schema(),
+             [](const SweepOutput& o) { return nlohmann::json(o.parameter); }},
+            {"unit", "The swept field's unit (UCUM code).", string_schema(),
+             [](const SweepOutput& o) { return nlohmann::json(o.unit); }},
+            {"value_name",
+             "The member under which each point carries its value: value_ and the unit (value_Pa_s, value_m_per_s; "
+             "value when dimensionless).",
+             {{"type", "string"}, {"pattern", value_pattern}},
+             [](const SweepOutput& o) { return nlohmann::json(o.value_name); }},
+            {"quantity", "What each point holds.", enum_schema({"critical_speed", "amplitude"}),
+             [](const SweepOutput& o) { return nlohmann::json(o.quantity); }},
+            {"points", "One per value, in the order of options.values or the range.",
+             array_schema({{"oneOf", nlohmann::json::array({ref_schema("SweepCriticalSpeedPoint"),
+                                                             ref_schema("SweepAmplitudePoint")})}}),
+             [](const SweepOutput& o) { return o.points; }},
+            {"chatter_type_changes",
+             "Each pair of consecutive values whose crossing modes differ in chatter type; critical_speed sweeps "
+             "only.",
+             chatter_type_changes_schema({{"type", "number"}}),
+             [](const SweepOutput& o) { return o.chatter_type_changes; }, true},
+        }};
+    return table;
+}
+
+std::vector<std::string> sweep_point_columns(bool amplitude) {
+    return amplitude ? amplitude_point_figures_table().names() : critical_point_table().names();
+}
+
+std::vector<ResultSchema> sweep_result_schemas() {
+    return {{critical_point_table().component(), point_schema(critical_point_table().schema())},
+            {amplitude_point_figures_table().component(), point_schema(amplitude_point_figures_table().schema())},
+            result_schema(sweep_result_table())};
+}
+
+nlohmann::json sweep_critical_speed_json(const SweepPlan& plan, const std::vector<core::CriticalSpeedResult>& results) {
+    return sweep_json(plan, "critical_speed", results, critical_point_table(),
+                      chatter_type_changes_json(core::chatter_type_changes(results), [&](int i) {
+                          return nlohmann::json(plan.values[static_cast<std::size_t>(i)]);
+                      }));
 }
 
 nlohmann::json sweep_amplitude_json(const SweepPlan& plan, const std::vector<core::AmplitudeResult>& results) {
-    nlohmann::json points = nlohmann::json::array();
-    for (std::size_t i = 0; i < results.size() && i < plan.values.size(); ++i) {
-        nlohmann::json figures = amplitude_figures_json(results[i]);
-        nlohmann::json point = {{"value", plan.values[i]}};
-        for (auto& [name, value] : figures.items()) {
-            point[name == "excitation_frequency_Hz" ? std::string("frequency_Hz") : name] = std::move(value);
-        }
-        points.push_back(std::move(point));
-    }
-    return {
-        {"parameter", plan.field->path},
-        {"unit", plan.field->unit.code},
-        {"quantity", "amplitude"},
-        {"points", std::move(points)},
-    };
+    return sweep_json(plan, "amplitude", results, amplitude_point_figures_table());
 }
 
 }  // namespace rollgap::api

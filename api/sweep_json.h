@@ -24,6 +24,7 @@
 #include <nlohmann/json.hpp>
 
 #include "api/field_errors.h"
+#include "api/result_table.h"
 #include "api/scenario_schema.h"
 #include "core/amplitude.h"
 #include "core/scenario.h"
@@ -54,12 +55,43 @@ struct SweepPlan {
 SweepPlan sweep_plan_from_json(const nlohmann::json& options, const std::string& pointer,
                                const core::Scenario* valid_scenario, FieldErrors& errors);
 
-// {"parameter", "unit", "quantity", "points": [{"value", "status", "critical_speed_m_per_s",
-// "frequency_Hz"}]}: the critical speed and the frequency of the mode that goes unstable there
-// (null unless found; the frequency also for unstable_at_lower_bound).
+// One swept field with its values, read as a sweep reads them: the object {"parameter", "values"
+// | "range"} at `pointer` (a map's axes). Values and scenarios are filled only for a valid
+// request; `resolved` is the echo.
+struct SweepAxis {
+    const ScenarioField* field = nullptr;
+    std::vector<double> values;             // in the field's unit
+    std::vector<core::Scenario> scenarios;  // the request's scenario with this field at each value
+    nlohmann::json resolved;
+};
+SweepAxis sweep_axis_from_json(const nlohmann::json& axis, const std::string& pointer,
+                               const core::Scenario* valid_scenario, FieldErrors& errors);
+
+// Sets a numeric field to `value`, in the field's unit (already validated).
+void set_scenario_field(core::Scenario& scenario, const ScenarioField& field, double value);
+
+// The sweep's result as written: the points carry the swept value under value_name.
+struct SweepOutput {
+    std::string_view parameter;
+    std::string_view unit;
+    std::string value_name;
+    std::string_view quantity;
+    nlohmann::json points;
+    nlohmann::json chatter_type_changes;  // absent() unless the points are critical speeds
+};
+const ResultTable<SweepOutput>& sweep_result_table();
+std::vector<ResultSchema> sweep_result_schemas();
+// The members of a point besides the value, in order (the CSV columns).
+std::vector<std::string> sweep_point_columns(bool amplitude);
+
+// {"parameter", "unit", "value_name", "quantity", "points": [{"value_<unit>", "status", "critical_speed_m_per_s",
+// "frequency_Hz", "chatter_type", "chatter_band"}], "chatter_type_changes": [...]}: the critical
+// speed and the frequency and chatter type of the mode that goes unstable there (null unless
+// found; the mode also for unstable_at_lower_bound); the changes (api/chatter_json.h) name each
+// pair of consecutive values whose crossing modes differ in type.
 nlohmann::json sweep_critical_speed_json(const SweepPlan& plan, const std::vector<core::CriticalSpeedResult>& results);
 
-// The same with amplitude points: {"value", "status", "message", "frequency_Hz" (of the
+// The same with amplitude points: {"value_<unit>", "status", "message", "frequency_Hz" (of the
 // excitation), "upper_roll_amplitude_um", "gap_amplitude_um", "force_amplitude_kN", "settled",
 // "growth_rate_per_s", "end_time_s"}.
 nlohmann::json sweep_amplitude_json(const SweepPlan& plan, const std::vector<core::AmplitudeResult>& results);

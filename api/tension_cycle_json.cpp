@@ -10,6 +10,7 @@
 #include "api/options_reader.h"
 #include "api/quantity_json.h"
 #include "api/result_json.h"
+#include "api/result_table.h"
 #include "api/scenario_consistency.h"
 #include "api/text.h"
 
@@ -116,25 +117,63 @@ void check_tension_cycle_scenario(const core::Scenario& scenario, const std::str
     }
 }
 
+const ResultTable<core::PhaseDistribution>& tension_phase_table() {
+    using core::PhaseDistribution;
+    static const ResultTable<PhaseDistribution> table{
+        "TensionCyclePhase",
+        "The bite at one phase of the back-tension cycle.",
+        {
+            {"phase", "Phase T in the cycle, s_b = mean + amplitude·sin 2πT.", number_schema(units::one),
+             [](const PhaseDistribution& p) { return quantity_json(p.phase, units::one); }},
+            {"time_s", "Simulated time of the phase, in the last cycle.", number_schema(units::second),
+             [](const PhaseDistribution& p) { return quantity_json(p.time, units::second); }},
+            {"back_tension_MPa", "Back tension at this phase.", number_schema(units::megapascal),
+             [](const PhaseDistribution& p) { return quantity_json(p.back_tension, units::megapascal); }},
+            {"gap_um", "Change of the work-roll gap (x3 − x4) from its steady value.", number_schema(units::micrometre),
+             [](const PhaseDistribution& p) { return quantity_json(p.gap, units::micrometre); }},
+            {"inlet_film_um", "Lubricant film thickness at the bite inlet.", number_schema(units::micrometre),
+             [](const PhaseDistribution& p) { return quantity_json(p.inlet_film, units::micrometre); }},
+            {"roll_gap", "The bite at this phase, with its distributions.", ref_schema("RollGapResult"),
+             [](const PhaseDistribution& p) { return bite_result_json(p.bite); }},
+        }};
+    return table;
+}
+
+const ResultTable<core::TensionCycleResult>& tension_cycle_result_table() {
+    using core::TensionCycleResult;
+    static const ResultTable<TensionCycleResult> table{
+        "TensionCycleResult",
+        "The bite at phases of a sinusoidal back tension, from the coupled model run over whole cycles "
+        "(docs/model.md §7.2).",
+        {
+            {"status",
+             "`ok`, `no_steady_state` (no steady bite to start from: steady_status says why), or what ended the run "
+             "early.",
+             enum_schema({"ok", "no_steady_state", "contact_lost", "skidding", "slack_strip", "solver_failure"}),
+             [](const TensionCycleResult& r) { return nlohmann::json(run_status(r)); }},
+            {"message", "Why, for humans; empty when ok.", string_schema(),
+             [](const TensionCycleResult& r) { return nlohmann::json(r.message != nullptr ? r.message : ""); }},
+            {"steady_status", "The status of the steady bite the run starts from.",
+             enum_schema({"ok", "skidding", "contact_lost", "solver_failure"}),
+             [](const TensionCycleResult& r) { return nlohmann::json(core::to_string(r.steady_status)); }},
+            {"frequency_Hz", "Frequency of the back-tension sinusoid.", number_schema(units::hertz),
+             [](const TensionCycleResult& r) { return quantity_json(r.frequency_Hz, units::hertz); }},
+            {"phases", "One per phase of options.phases, ascending.", array_schema(ref_schema("TensionCyclePhase")),
+             [](const TensionCycleResult& r) {
+                 nlohmann::json phases = nlohmann::json::array();
+                 for (const core::PhaseDistribution& phase : r.phases) phases.push_back(tension_phase_table().write(phase));
+                 return phases;
+             }},
+        }};
+    return table;
+}
+
+std::vector<ResultSchema> tension_cycle_result_schemas() {
+    return {result_schema(tension_phase_table()), result_schema(tension_cycle_result_table())};
+}
+
 nlohmann::json tension_cycle_result_json(const core::TensionCycleResult& result) {
-    nlohmann::json phases = nlohmann::json::array();
-    for (const core::PhaseDistribution& phase : result.phases) {
-        phases.push_back({
-            {"phase", quantity_json(phase.phase, units::one)},
-            {"time_s", quantity_json(phase.time, units::second)},
-            {"back_tension_MPa", quantity_json(phase.back_tension, units::megapascal)},
-            {"gap_um", quantity_json(phase.gap, units::micrometre)},
-            {"inlet_film_um", quantity_json(phase.inlet_film, units::micrometre)},
-            {"roll_gap", bite_result_json(phase.bite)},
-        });
-    }
-    return {
-        {"status", run_status(result)},
-        {"message", result.message != nullptr ? result.message : ""},
-        {"steady_status", core::to_string(result.steady_status)},
-        {"frequency_Hz", quantity_json(result.frequency_Hz, units::hertz)},
-        {"phases", std::move(phases)},
-    };
+    return tension_cycle_result_table().write(result);
 }
 
 }  // namespace rollgap::api

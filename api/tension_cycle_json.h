@@ -16,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "api/field_errors.h"
+#include "api/result_table.h"
 #include "core/scenario.h"
 #include "core/tension_cycle.h"
 
@@ -43,5 +44,10 @@ void check_tension_cycle_scenario(const core::Scenario& scenario, const std::str
 // "status" is "ok", "no_steady_state" or what ended the run early (contact_lost, skidding,
 // slack_strip, solver_failure): then only the phases reached are listed.
 nlohmann::json tension_cycle_result_json(const core::TensionCycleResult& result);
+
+// The tables that write it (result_table.h) and their OpenAPI components.
+const ResultTable<core::PhaseDistribution>& tension_phase_table();
+const ResultTable<core::TensionCycleResult>& tension_cycle_result_table();
+std::vector<ResultSchema> tension_cycle_result_schemas();
 
 }  // namespace rollgap::api

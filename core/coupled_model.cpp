@@ -115,6 +115,7 @@ BiteState CoupledModel::bite_state(double t, const double* z) const {
             excitation_.back_tension_amplitude * std::sin(2.0 * std::numbers::pi * excitation_.frequency_Hz * t);
     }
     state.front_tension = front_tension(t, z);
+    state.roll_radius = ref_.bite.roll_radius;  // flattened or not: frozen at the steady state
     return state;
 }
 
@@ -154,9 +155,9 @@ DynamicsStatus CoupledModel::rhs(double t, const double* z, double* zdot, BiteRe
     film.inlet_film = state.inlet_film;
     film.inlet_angle = bite.inlet_angle;
     film.gap_rate = state.gap_rate;
-    film.inlet_angle_rate = -state.gap_rate / (2.0 * s_.rolls.radius * bite.inlet_angle);
+    film.inlet_angle_rate = -state.gap_rate / (2.0 * bite.roll_radius * bite.inlet_angle);
     film.mean_inlet_speed = 0.5 * (bite.entry_speed + s_.rolls.speed);
-    film.roll_radius = s_.rolls.radius;
+    film.roll_radius = bite.roll_radius;
     film.viscosity = s_.lubricant.viscosity;
     film.pressure_viscosity = s_.lubricant.pressure_viscosity;
     film.flow_stress = s_.strip.flow_stress;
@@ -181,7 +182,7 @@ DynamicsStatus CoupledModel::rhs(double t, const double* z, double* zdot, BiteRe
 namespace {
 bool same(const BiteState& a, const BiteState& b) {
     return a.exit_thickness == b.exit_thickness && a.gap_rate == b.gap_rate && a.inlet_film == b.inlet_film &&
-           a.back_tension == b.back_tension && a.front_tension == b.front_tension;
+           a.back_tension == b.back_tension && a.front_tension == b.front_tension && a.roll_radius == b.roll_radius;
 }
 }  // namespace
 

@@ -6,6 +6,7 @@
 #include "core/brent.h"
 #include "core/christensen_contact.h"
 #include "core/inlet_film.h"
+#include "core/roll_flattening.h"
 
 namespace rollgap::core {
 
@@ -16,6 +17,10 @@ BiteState steady_bite_state(const Scenario& s) {
     state.inlet_film = 0.0;
     state.back_tension = s.tensions.back.stress;
     state.front_tension = s.tensions.front.stress;
+    if (s.rolls.flattening == RollFlattening::hitchcock) {
+        const FlatteningResult flattening = flattened_radius(s, state);
+        if (flattening.status == BiteStatus::ok) state.roll_radius = flattening.radius;
+    }
     return state;
 }
 
@@ -342,7 +347,7 @@ BiteResult solve_roll_bite(const Scenario& s, const BiteState& state, const Bite
     b.s = &s;
     b.y1 = s.strip.entry_thickness;
     b.y2 = state.exit_thickness;
-    b.a = s.rolls.radius;
+    b.a = state.roll_radius > 0.0 ? state.roll_radius : s.rolls.radius;
     b.v = s.rolls.speed;
     b.sigma = s.strip.flow_stress;
     b.back = state.back_tension;
@@ -369,6 +374,7 @@ BiteResult solve_roll_bite(const Scenario& s, const BiteState& state, const Bite
 
     b.contact_length = std::sqrt(b.a * (b.y1 - b.y2));
     b.inlet_angle = b.contact_length / b.a;
+    result.roll_radius = b.a;
     result.contact_length = b.contact_length;
     result.inlet_angle = b.inlet_angle;
 
@@ -410,7 +416,8 @@ BiteResult solve_roll_bite(const Scenario& s, const BiteState& state, const Bite
     const double integral_tau = exit.integral_tau - entry.integral_tau;
     const double integral_abs_tau = exit.integral_abs_tau - entry.integral_abs_tau;
     result.force = b.width * integral_p;
-    result.torque = -b.width * b.a * integral_tau;
+    // the tractions act on the roll's surface, at its own radius from its axis, flattened or not
+    result.torque = -b.width * s.rolls.radius * integral_tau;
     result.mean_friction_coefficient = integral_abs_tau / integral_p;
 
     if (options.distributions) {

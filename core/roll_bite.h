@@ -16,6 +16,9 @@ struct BiteState {
     double inlet_film = 0.0;      // h0, m; <= 0 means "steady": h0 = h00(u1) inside the solve
     double back_tension = 0.0;    // s_b, Pa
     double front_tension = 0.0;   // s_f, Pa
+    // The radius of the bite's arc, m; <= 0: the scenario's rigid radius. steady_bite_state()
+    // sets the flattened one when the scenario asks for it (core/roll_flattening.h).
+    double roll_radius = 0.0;
 };
 
 enum class BiteStatus {
@@ -49,6 +52,7 @@ struct BiteResult {
     bool skid_at_exit = false;
     double skid_residual = 0.0;
 
+    double roll_radius = 0.0;     // the radius of the arc the bite was solved on (R or R'), m
     double contact_length = 0.0;  // x_w, m
     double inlet_angle = 0.0;     // theta, rad
     double inlet_film = 0.0;      // h0 actually used, m
@@ -71,7 +75,8 @@ struct BiteOptions {
 };
 
 // The reference (steady) state of a scenario: y2 = y1 (1 - R), no gap motion, steady film,
-// the scenario's mean tensions.
+// the scenario's mean tensions; with rolls.flattening = hitchcock, the flattened radius of this
+// steady state (rigid when the bite has none).
 BiteState steady_bite_state(const Scenario& s);
 
 BiteResult solve_roll_bite(const Scenario& s, const BiteState& state, const BiteOptions& options = {});

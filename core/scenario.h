@@ -9,6 +9,9 @@ enum class InletFilmModel { paper, eulerian };
 enum class FrictionModel { mixed, coulomb };
 enum class ContactModel { christensen_exact, paper_fit };
 enum class TensionMode { constant, span, sinusoid };
+// none: the paper's rigid rolls; hitchcock: the elastically flattened radius (docs/model.md,
+// "Roll flattening").
+enum class RollFlattening { none, hitchcock };
 
 struct Strip {
     double entry_thickness = 1.6e-3;  // y1
@@ -21,6 +24,9 @@ struct Strip {
 struct Rolls {
     double radius = 0.280;  // a
     double speed = 19.0;    // v, roll surface speed
+    RollFlattening flattening = RollFlattening::none;
+    double youngs_modulus = 210e9;  // E_r, for the flattening (steel work rolls)
+    double poisson_ratio = 0.3;     // nu_r
 };
 
 struct Lubricant {

@@ -119,6 +119,12 @@ Eigenmode make_mode(std::complex<double> lambda, const Eigen::VectorXcd& vector)
     Vector6 shape = vector.head<6>().cwiseAbs();
     const double largest = shape.maxCoeff();
     mode.shape = largest > 0.0 ? Vector6(shape / largest) : shape;
+    if (largest > 0.0) {
+        Eigen::Index k;
+        shape.maxCoeff(&k);
+        mode.displacement = vector.head<6>() / vector(k);
+    }
+    mode.chatter = classify_chatter(mode.displacement, mode.frequency_Hz);
     return mode;
 }
 

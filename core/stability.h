@@ -7,6 +7,7 @@
 
 #include <Eigen/Dense>
 
+#include "core/chatter_type.h"
 #include "core/control.h"
 #include "core/coupled_model.h"
 
@@ -31,6 +32,10 @@ struct Eigenmode {
     double frequency_Hz = 0.0;        // Im / 2 pi
     double damping_ratio = 1.0;       // -Re / |lambda|
     Vector6 shape = Vector6::Zero();  // |q| per mass (m1..m6), largest 1
+    // q per mass with its phase, scaled so that the largest component is 1 (real): which
+    // masses move with and against which, the basis of the chatter type
+    Vector6c displacement = Vector6c::Zero();
+    ChatterClassification chatter;  // from `displacement` and the frequency
 };
 
 struct SpeedStability {

@@ -29,13 +29,19 @@ std::vector<Result> sweep(const std::vector<Scenario>& scenarios, int threads, c
 
 std::vector<CriticalSpeedResult> sweep_critical_speed(const std::vector<Scenario>& scenarios,
                                                       const CriticalSpeedOptions& options, int threads,
-                                                      const Control& control) {
+                                                      const Control& control, bool keep_scan) {
     CriticalSpeedOptions serial = options;
     serial.threads = 1;  // the parallelism is across the sweep
     Control inner;
     inner.cancelled = control.cancelled;
-    return sweep<CriticalSpeedResult>(scenarios, threads, control,
-                                      [&](const Scenario& s) { return critical_speed(s, serial, inner); });
+    return sweep<CriticalSpeedResult>(scenarios, threads, control, [&](const Scenario& s) {
+        CriticalSpeedResult result = critical_speed(s, serial, inner);
+        if (!keep_scan) {
+            result.scan = {};
+            result.branches = {};
+        }
+        return result;
+    });
 }
 
 std::vector<AmplitudeResult> sweep_amplitude(const std::vector<Scenario>& scenarios, const AmplitudeOptions& options,
@@ -44,6 +50,32 @@ std::vector<AmplitudeResult> sweep_amplitude(const std::vector<Scenario>& scenar
     inner.cancelled = control.cancelled;
     return sweep<AmplitudeResult>(scenarios, threads, control,
                                   [&](const Scenario& s) { return vibration_amplitude(s, options, inner); });
+}
+
+std::optional<ChatterType> crossing_chatter_type(const CriticalSpeedResult& result) {
+    if (result.status != CriticalSpeedStatus::found && result.status != CriticalSpeedStatus::unstable_at_lower_bound) {
+        return std::nullopt;
+    }
+    return result.unstable_mode.chatter.type;
+}
+
+std::vector<ChatterTypeChange> chatter_type_changes(const std::vector<CriticalSpeedResult>& results,
+                                                    const std::vector<std::pair<int, int>>& neighbours) {
+    std::vector<ChatterTypeChange> changes;
+    const int n = static_cast<int>(results.size());
+    for (const auto& [a, b] : neighbours) {
+        if (a < 0 || b < 0 || a >= n || b >= n) continue;
+        const auto from = crossing_chatter_type(results[static_cast<std::size_t>(a)]);
+        const auto to = crossing_chatter_type(results[static_cast<std::size_t>(b)]);
+        if (from && to && *from != *to) changes.push_back({a, b, *from, *to});
+    }
+    return changes;
+}
+
+std::vector<ChatterTypeChange> chatter_type_changes(const std::vector<CriticalSpeedResult>& results) {
+    std::vector<std::pair<int, int>> neighbours;
+    for (int i = 0; i + 1 < static_cast<int>(results.size()); ++i) neighbours.emplace_back(i, i + 1);
+    return chatter_type_changes(results, neighbours);
 }
 
 }  // namespace rollgap::core

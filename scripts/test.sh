@@ -12,6 +12,7 @@ source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 cd "$ROLLGAP_ROOT"
 
 rollgap_install_deps     # a fast no-op when the packages are installed
+bash "$ROLLGAP_ROOT/scripts/install-node-tools.sh" >/dev/null  # contract tests' npm tools, outside the tree
 rollgap_configure
 # shellcheck disable=SC2119  # no targets: build everything
 rollgap_build

@@ -27,12 +27,10 @@ PreparedAnalysis prepare_amplitude(const core::Scenario& scenario, const nlohman
                 runs.size() == 1 ? std::vector<core::AmplitudeResult>{core::vibration_amplitude(runs.front(), parsed.run, control)}
                                  : core::sweep_amplitude(runs, parsed.run, control.thread_budget(), control);
             throw_if_cancelled(control);
-            nlohmann::json points = nlohmann::json::array();
             for (const core::AmplitudeResult& result : results) {
                 if (result.status == core::AmplitudeStatus::cancelled) throw AnalysisCancelled{};
-                points.push_back(api::amplitude_result_json(result, parsed.run.time_series));
             }
-            return nlohmann::json{{"points", std::move(points)}};
+            return api::amplitude_result_table().write({results, parsed.run.time_series});
         },
     };
 }

@@ -11,6 +11,7 @@
 #include "service/amplitude_analysis.h"
 #include "service/calibration_analysis.h"
 #include "service/evaluation_analysis.h"
+#include "service/map_analysis.h"
 #include "service/roll_gap_analysis.h"
 #include "service/stability_analysis.h"
 #include "service/sweep_analysis.h"
@@ -30,6 +31,9 @@ constexpr std::array table{
              &prepare_amplitude},
     Analysis{"sweep", "critical speed or amplitude over the values of one scenario field (MODEL.md §7.5)",
              &prepare_sweep},
+    Analysis{"map", "critical speed, frequency and chatter type over a grid of two scenario fields "
+                    "(docs/model.md, \"Stability maps\")",
+             &prepare_map},
     Analysis{"evaluate", "roll gap, stability, critical speed and amplitude of the scenario at once",
              &prepare_evaluation},
     Analysis{"calibrate", "fit scenario fields to plant observations, weighted least squares (docs/calibration.md)",

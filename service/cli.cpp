@@ -20,6 +20,7 @@
 #include "api/text.h"
 #include "service/analyses.h"
 #include "service/config.h"
+#include "service/csv_answer.h"
 #include "service/evaluate.h"
 #include "service/openapi.h"
 #include "service/scenario_explain.h"
@@ -38,9 +39,11 @@ constexpr std::array commands{
     Command{"scenario", "[--explain]",
             "print the default scenario (JSON, engineering units in every name);\n"
             "--explain: what each field is: pointer, unit, bounds, default, description"},
-    Command{"run", "FILE",
+    Command{"run", "FILE [--format json|csv] [--table NAME]",
             "evaluate the request in FILE ('-' reads standard input) and print\n"
-            "the result, or RFC 9457 problem details if the request is invalid"},
+            "the result, or RFC 9457 problem details if the request is invalid;\n"
+            "--format csv prints a table of the result as CSV instead\n"
+            "(--table NAME picks which: distribution, scan, points, ...)"},
     Command{"serve", "", "run the HTTP service (REST API v1; 'rollgap serve --help')"},
     Command{"healthcheck", "", "ask a running service's /readyz (container health check)"},
     Command{"openapi", "", "print the service's OpenAPI 3.1 document"},
@@ -126,7 +129,7 @@ int print_outcome(std::ostream& out, const Outcome& outcome) {
     return exit_status(outcome);
 }
 
-int run_request(std::string_view source, std::istream& in, std::ostream& out) {
+int run_request(std::string_view source, std::istream& in, std::ostream& out, bool csv, std::string_view table) {
     std::optional<std::string> text;
     if (source == "-") {
         text = read_bounded(in);
@@ -139,7 +142,15 @@ int run_request(std::string_view source, std::istream& in, std::ostream& out) {
         return print_outcome(out, problem_outcome(api::make_problem(api::ProblemCode::unreadable_input,
                                                                     api::concat("cannot read ", name))));
     }
-    return print_outcome(out, evaluate_text(*text));
+    const Outcome outcome = evaluate_text(*text);
+    if (!csv || !outcome.ok()) return print_outcome(out, outcome);
+    const CsvAnswer answer = csv_answer(outcome.body, table);
+    if (answer.status != 200) {
+        out << answer.body << '\n';
+        return exit_bad_input;
+    }
+    out << answer.body;
+    return exit_success;
 }
 
 // The admin listener answers whatever the public connections do, so the health check asks it.
@@ -165,6 +176,10 @@ int run_cli(std::span<const std::string_view> arguments, std::istream& in, std::
     CLI::App* run = add_command(app, "run");
     std::string source;
     run->add_option("FILE", source, "the request, '-' for standard input")->required();
+    std::string format = "json";
+    std::string table;
+    run->add_option("--format", format, "json (default) or csv")->check(CLI::IsMember({"json", "csv"}));
+    run->add_option("--table", table, "with --format csv: which table of the result");
     CLI::App* serve_command = add_command(app, "serve");
     ServerConfig config;
     add_server_options(*serve_command, config);
@@ -236,7 +251,7 @@ int run_cli(std::span<const std::string_view> arguments, std::istream& in, std::
         print_json(out, api::default_scenario_json());
         return exit_success;
     }
-    if (run->parsed()) return run_request(source, in, out);
+    if (run->parsed()) return run_request(source, in, out, format == "csv", table);
     if (health->parsed()) {
         if (!server.healthcheck) {
             err << "rollgap healthcheck: this build has no HTTP layer\n";

@@ -4,6 +4,7 @@
 #include "api/problem.h"
 #include "api/scenario_json.h"
 #include "api/text.h"
+#include "service/csv_answer.h"
 #include "service/http/admin_endpoints.h"
 #include "service/http/job_endpoints.h"
 #include "service/http/listener.h"
@@ -184,6 +185,7 @@ struct HttpServer::Impl {
                     job_endpoints.cancel(id, response);
                 } else {
                     job_endpoints.get(id, response);
+                    if (response.status == 200) offer_csv(request, json::parse(response.body), response);
                 }
                 return;
             }
@@ -194,7 +196,16 @@ struct HttpServer::Impl {
         }
     }
 
-    void handle_post(httplib::Response& response, const httplib::ContentReader& read_content) {
+    // Accept: text/csv on a 200 answer that holds a result: its table, or 406 (csv_answer.h).
+    static void offer_csv(const httplib::Request& request, const json& answer, httplib::Response& response) {
+        if (response.status != 200 || !wants_csv(request.get_header_value("Accept"))) return;
+        const CsvAnswer csv = csv_answer(answer, request.get_param_value("table"));
+        response.status = csv.status;
+        response.set_content(csv.body, std::string(csv.media_type));
+    }
+
+    void handle_post(const httplib::Request& request, httplib::Response& response,
+                     const httplib::ContentReader& read_content) {
         // pre_route() ran for this request on this thread and let it through.
         const Route* route = t_context.route;
         const std::size_t limit = config().max_body_bytes;
@@ -239,6 +250,7 @@ struct HttpServer::Impl {
                 job_endpoints.create(std::move(document), response);
             } else {
                 run_route(*route, std::move(document), response);
+                if (response.status == 200) offer_csv(request, json::parse(response.body), response);
             }
         });
     }
@@ -292,7 +304,7 @@ struct HttpServer::Impl {
                 if ((route.methods & post) == 0) continue;
                 listener.Post(std::string(route.pattern),
                               [this](const httplib::Request&, httplib::Response& response,
-                                     const httplib::ContentReader& reader) { handle_post(response, reader); });
+                                     const httplib::ContentReader& reader) { handle_post(request, response, reader); });
             }
         }
         listener.set_error_handler([](const httplib::Request& request, httplib::Response& response) {

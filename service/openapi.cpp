@@ -1,12 +1,23 @@
 #include "service/openapi.h"
 
+#include <algorithm>
 #include <array>
+#include <vector>
 #include <string_view>
 
+#include "api/amplitude_json.h"
+#include "api/calibration_json.h"
+#include "api/csv.h"
+#include "api/evaluation_json.h"
 #include "api/field_errors.h"
+#include "api/map_json.h"
 #include "api/problem.h"
+#include "api/result_json.h"
 #include "api/scenario_json.h"
 #include "api/scenario_schema.h"
+#include "api/stability_json.h"
+#include "api/sweep_json.h"
+#include "api/tension_cycle_json.h"
 #include "api/text.h"
 #include "api/units.h"
 #include "core/scenario.h"
@@ -135,7 +146,7 @@ struct OptionsSchema {
     const char* minimal_options;
     const char* member = "";  // the defaults are this member of the resolved options ("": all)
 };
-constexpr std::array<OptionsSchema, 8> options_schemas{{
+constexpr std::array<OptionsSchema, 9> options_schemas{{
     {"roll_gap", "RollGapOptions", "{}"},
     {"tension_cycle", "TensionCycleOptions", "{}"},
     {"stability", "StabilityOptions", "{}"},
@@ -143,6 +154,9 @@ constexpr std::array<OptionsSchema, 8> options_schemas{{
     {"sweep", "SweepOptions", R"({"parameter": "/rolls/speed_m_per_s", "values": [19]})"},
     {"sweep", "SweepAmplitudeOptions",
      R"({"parameter": "/rolls/speed_m_per_s", "values": [19], "quantity": "amplitude"})", "amplitude"},
+    {"map", "MapOptions",
+     R"({"parameters": [{"parameter": "/strip/reduction", "values": [0.15]},
+                        {"parameter": "/strip/entry_thickness_mm", "values": [1.6]}]})"},
     {"evaluate", "EvaluateOptions", "{}"},
     {"calibrate", "CalibrateOptions",
      R"({"parameters": [{"field": "/strip/flow_stress_MPa"}],
@@ -167,6 +181,105 @@ void add_option_defaults(json& schemas) {
             add_defaults(schemas, *schema, prepared.resolved_options.at(member));
         }
     }
+}
+
+// The synchronous route of each analysis and the components of its answer. The result schemas
+// come from the tables that write the results (api/result_table.h), so they cannot drift.
+// A new analysis: a row here (and its route, request and options in openapi.json).
+struct AnalysisRoute {
+    std::string_view analysis;
+    std::string_view path;
+    std::string_view response;  // the component this adds: {analysis, scenario, options, result}
+    std::string_view options;   // components in openapi.json or generated here
+    std::string_view result;
+    std::vector<api::ResultSchema> (*schemas)();  // the components the result uses
+};
+const std::array<AnalysisRoute, 8> analysis_routes{{
+    {"roll_gap", "/v1/roll-gap", "RollGapResponse", "RollGapOptions", "RollGapResult", &api::bite_result_schemas},
+    {"tension_cycle", "/v1/tension-cycle", "TensionCycleResponse", "TensionCycleOptions", "TensionCycleResult",
+     &api::tension_cycle_result_schemas},
+    {"stability", "/v1/stability", "StabilityResponse", "StabilityOptions", "StabilityResult",
+     &api::stability_result_schemas},
+    {"amplitude", "/v1/amplitude", "AmplitudeResponse", "AmplitudeOptions", "AmplitudeResult",
+     &api::amplitude_result_schemas},
+    {"sweep", "/v1/sweeps", "SweepResponse", "SweepOptions", "SweepResult", &api::sweep_result_schemas},
+    {"map", "/v1/maps", "MapResponse", "MapOptions", "MapResult", &api::map_result_schemas},
+    {"evaluate", "/v1/evaluate", "EvaluateResponse", "EvaluateOptions", "EvaluateResult",
+     &api::evaluation_result_schemas},
+    {"calibrate", "/v1/calibrate", "CalibrateResponse", "CalibrateOptions", "CalibrationResult",
+     &api::calibration_result_schemas},
+}};
+
+json component_ref(std::string_view component) { return {{"$ref", concat("#/components/schemas/", component)}}; }
+
+// Accept: text/csv on a response that holds a result of these analyses: the tables, the
+// ?table= parameter and the 406 when there is none.
+void add_csv(json& operation, json& ok, const std::vector<std::string_view>& analyses_here) {
+    json names = json::array();
+    std::string list;
+    for (const std::string_view analysis : analyses_here) {
+        for (const api::CsvTable& table : api::csv_tables(analysis)) {
+            if (std::find(names.begin(), names.end(), table.name) == names.end()) names.push_back(table.name);
+            list += concat(list.empty() ? "" : "; ", analysis, " `", table.name, "`: ", table.description);
+        }
+    }
+    operation["responses"]["406"] = {{"$ref", "#/components/responses/NotAcceptable"}};
+    if (names.empty()) return;
+    ok["content"][std::string(api::csv_media_type)] = {
+        {"schema", {{"type", "string"}}},
+        {"example", "speed_m_per_s,stable,max_growth_rate_per_s,steady_status\r\n10,true,-19.09,ok\r\n"}};
+    ok["description"] = concat(
+        ok.value("description", std::string()),
+        " With `Accept: text/csv`: one table of the result as RFC 4180 CSV (header row of column names with their "
+        "units, CRLF line ends, empty field for null); `table` picks it, the first listed is the default. Tables: ",
+        list, ".");
+    operation["parameters"].push_back({
+        {"name", "table"},
+        {"in", "query"},
+        {"required", false},
+        {"description", "With Accept: text/csv, the table of the result to return (default: the analysis' first)."},
+        {"schema", {{"enum", std::move(names)}}},
+    });
+}
+
+void add_result_schemas(json& document) {
+    json& schemas = document["components"]["schemas"];
+    json responses = json::array();
+    json mapping = json::object();
+    std::vector<std::string_view> names;
+    for (const AnalysisRoute& route : analysis_routes) {
+        for (api::ResultSchema& component : route.schemas()) {
+            schemas[std::string(component.component)] = std::move(component.schema);
+        }
+        schemas[std::string(route.response)] = {
+            {"type", "object"},
+            {"description", concat("The ", route.analysis, " analysis' answer: the complete scenario and the options "
+                                                          "it used (so it can be rerun) and the result.")},
+            {"required", {"analysis", "scenario", "options", "result"}},
+            {"additionalProperties", false},
+            {"properties",
+             {{"analysis", {{"const", route.analysis}, {"description", "The analysis that ran."}}},
+              {"scenario", component_ref("Scenario")},
+              {"options", component_ref(route.options)},
+              {"result", component_ref(route.result)}}},
+        };
+        responses.push_back(component_ref(route.response));
+        mapping[std::string(route.analysis)] = concat("#/components/schemas/", route.response);
+        names.push_back(route.analysis);
+
+        json& operation = document["paths"][std::string(route.path)]["post"];
+        json& ok = operation["responses"]["200"];
+        ok["content"]["application/json"]["schema"] = component_ref(route.response);
+        add_csv(operation, ok, {route.analysis});
+    }
+    schemas["AnalysisResponse"] = {
+        {"description", "An analysis' answer (a job's result): the analysis, the complete scenario and the options "
+                        "it used, and the result typed per analysis."},
+        {"oneOf", std::move(responses)},
+        {"discriminator", {{"propertyName", "analysis"}, {"mapping", std::move(mapping)}}},
+    };
+    json& get_job = document["paths"]["/v1/jobs/{id}"]["get"];
+    add_csv(get_job, get_job["responses"]["200"], names);
 }
 
 }  // namespace
@@ -206,6 +319,7 @@ json openapi_document() {
     }
     schemas["SweepOptions"]["properties"]["parameter"]["enum"] = std::move(numeric_paths);
     add_option_defaults(schemas);
+    add_result_schemas(document);
     return document;
 }
 

@@ -121,14 +121,16 @@ TEST_CASE("amplitude at several speeds: one point per speed, in order; the ampli
 TEST_CASE("amplitude: the time series, decimated, when asked for") {
     const json body = run_amplitude({{"window_s", 0.2}, {"time_series", true}, {"time_series_points", 100}});
     const json& series = body["result"]["points"][0]["time_series"];
-    const std::size_t n = series["t_s"].size();
+    const std::size_t n = series["time_s"].size();
     // core decimates with a whole-number stride, floor(samples / points), so it returns between
     // points and 2 × points samples (reported: "at most points" is its contract).
     CHECK(n >= 100);
     CHECK(n < 200);
-    for (const char* column : {"x3_um", "gap_um", "force_kN"}) CHECK(series[column].size() == n);
-    for (std::size_t i = 1; i < n; ++i) CHECK(series["t_s"][i].get<double>() > series["t_s"][i - 1].get<double>());
-    CHECK(series["t_s"][n - 1].get<double>() <= 0.2);
+    for (const char* column : {"upper_work_roll_displacement_um", "work_roll_gap_change_um", "roll_force_change_kN"}) {
+        CHECK(series[column].size() == n);
+    }
+    for (std::size_t i = 1; i < n; ++i) CHECK(series["time_s"][i].get<double>() > series["time_s"][i - 1].get<double>());
+    CHECK(series["time_s"][n - 1].get<double>() <= 0.2);
 }
 
 TEST_CASE("amplitude: a physical limit or no steady state is a 200 result with a status") {

@@ -52,7 +52,8 @@ TEST_CASE("evaluate options: the defaults are resolved and echoed") {
                                                            {"excitation_frequency_Hz", 0.0},
                                                            {"relative_tolerance", 1e-6},
                                                            {"time_series", false},
-                                                           {"time_series_points", 2000}}}});
+                                                           {"time_series_points", 2000}}},
+                                            {"detail", "full"}});
 }
 
 TEST_CASE("evaluate options: nested bounds are reported at their own pointers") {

@@ -74,6 +74,10 @@ TEST_CASE("http: every analysis route runs its analysis (small options)") {
         {"/v1/tension-cycle", "tension_cycle", {{"cycles", 1}, {"phases", {0.5}}}},
         {"/v1/sweeps", "sweep",
          {{"parameter", "/lubricant/viscosity_Pa_s"}, {"values", {0.0005, 0.0006}}, {"critical_speed", narrow_search}}},
+        {"/v1/maps", "map",
+         {{"parameters", {{{"parameter", "/strip/reduction"}, {"values", {0.15}}},
+                          {{"parameter", "/lubricant/viscosity_Pa_s"}, {"values", {0.0005, 0.0006}}}}},
+          {"critical_speed", narrow_search}}},
         {"/v1/evaluate", "evaluate", {{"critical_speed", narrow_search}, {"amplitude", short_run}}},
     };
     for (const auto& [path, analysis, options] : cases) {
@@ -103,7 +107,7 @@ TEST_CASE("http: GET /openapi.json, /livez, /readyz") {
     CHECK(document["openapi"] == "3.1.0");
     CHECK(document == service::openapi_document());
     for (const char* path : {"/v1/scenarios/default", "/v1/roll-gap", "/v1/stability", "/v1/amplitude",
-                             "/v1/tension-cycle", "/v1/sweeps", "/v1/evaluate", "/v1/jobs", "/v1/jobs/{id}",
+                             "/v1/tension-cycle", "/v1/sweeps", "/v1/maps", "/v1/evaluate", "/v1/jobs", "/v1/jobs/{id}",
                              "/openapi.json", "/livez", "/readyz", "/metrics"}) {
         CAPTURE(path);
         CHECK(document["paths"].contains(path));

@@ -40,7 +40,8 @@ TEST_CASE("stability options: the defaults are resolved and echoed") {
                                             {"speed_max_m_per_s", 60.0},
                                             {"speed_step_m_per_s", 0.5},
                                             {"relative_tolerance", 1e-4},
-                                            {"critical_speed", true}});
+                                            {"critical_speed", true},
+                                            {"detail", "full"}});
 }
 
 TEST_CASE("stability options: every bound is enforced, with its pointer, bound and unit") {

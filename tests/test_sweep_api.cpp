@@ -222,8 +222,9 @@ TEST_CASE("sweep of the critical speed over the viscosity: the critical speed fa
     CHECK(result["quantity"] == "critical_speed");
     const json& points = result["points"];
     REQUIRE(points.size() == 2);
-    CHECK(points[0]["value"] == 3e-4);
-    CHECK(points[1]["value"] == 8e-4);
+    CHECK(result["value_name"] == "value_Pa_s");
+    CHECK(points[0]["value_Pa_s"] == 3e-4);
+    CHECK(points[1]["value_Pa_s"] == 8e-4);
     for (const json& point : points) {
         REQUIRE(point["status"] == "found");
         CHECK(point["critical_speed_m_per_s"].get<double>() > 10.0);

@@ -13,6 +13,7 @@ constexpr std::array routes{
     Route{RouteId::amplitude, "/v1/amplitude", post, true, "amplitude", false},
     Route{RouteId::tension_cycle, "/v1/tension-cycle", post, true, "tension_cycle", false},
     Route{RouteId::sweeps, "/v1/sweeps", post, true, "sweep", false},
+    Route{RouteId::maps, "/v1/maps", post, true, "map", false},
     Route{RouteId::evaluate, "/v1/evaluate", post, true, "evaluate", false},
     Route{RouteId::calibrate, "/v1/calibrate", post, true, "calibrate", false},
     Route{RouteId::jobs, "/v1/jobs", post, true, "", false},

@@ -11,7 +11,7 @@ namespace rollgap::service::http {
 enum Method : unsigned { get = 1, post = 2, del = 4 };
 
 enum class RouteId {
-    scenarios_default, roll_gap, stability, amplitude, tension_cycle, sweeps, evaluate, calibrate,
+    scenarios_default, roll_gap, stability, amplitude, tension_cycle, sweeps, maps, evaluate, calibrate,
     jobs, job, openapi, livez, readyz, metrics,
 };
 

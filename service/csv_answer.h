@@ -1,0 +1,29 @@
+#pragma once
+// CSV instead of JSON, on request: Accept: text/csv on an analysis route or a finished job
+// (GET /v1/jobs/{id}), `rollgap run --format csv`. The tables and the format are api/csv.h's.
+
+#include <string>
+#include <string_view>
+
+#include <nlohmann/json.hpp>
+
+namespace rollgap::service {
+
+// RFC 4180 with its header parameter (RFC 7111 / 4180 §3): the first record names the columns.
+inline constexpr std::string_view csv_content_type = "text/csv; charset=utf-8; header=present";
+
+// Whether an Accept header prefers CSV: text/csv listed with q > 0 and at least the quality
+// application/json gets (itself, application/*, or */*). Without an Accept header: JSON.
+bool wants_csv(std::string_view accept);
+
+struct CsvAnswer {
+    int status = 200;         // 200, or 406 with a problem
+    std::string body;
+    std::string_view media_type;
+};
+
+// `answer`: what an analysis answers ({"analysis", "scenario", "options", "result"}) or a job
+// document (its "result" once it succeeded). `table` "" is the analysis' first table.
+CsvAnswer csv_answer(const nlohmann::json& answer, std::string_view table);
+
+}  // namespace rollgap::service

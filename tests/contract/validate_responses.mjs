@@ -1,0 +1,228 @@
+// Contract test: real responses of every route and analysis of a running `rollgap serve`,
+// validated against the OpenAPI document the same service serves (ajv, JSON Schema 2020-12 as
+// OpenAPI 3.1 uses it). Every status a response carries must be declared for its operation,
+// with its content type, and the body must match the declared schema.
+//
+// usage: node validate_responses.mjs path/to/rollgap
+// The cases are a table: a route or analysis added later joins by adding a row. A row's `expect`
+// checks what the row is about (the status of the outcome it provokes), so a scenario that no
+// longer reaches, say, `skidding` fails loudly instead of validating something else.
+import { createRequire } from 'node:module';
+import { startService, toolsDir } from './service.mjs';
+
+const require = createRequire(`${toolsDir()}/`);
+const Ajv2020 = require('ajv/dist/2020').default;
+const addFormats = require('ajv-formats');
+
+const binary = process.argv[2];
+if (!binary) throw new Error('usage: node validate_responses.mjs path/to/rollgap');
+
+const json = (body) => ({ body: JSON.stringify(body), headers: { 'Content-Type': 'application/json' } });
+const skids = { lubricant: { limiting_shear: false }, rolls: { speed_m_per_s: 40 } };
+const at = (pointer) => (document) => pointer.split('/').slice(1).reduce((node, key) => node?.[key], document);
+const equals = (pointer, value) => (document) => {
+  const actual = at(pointer)(document);
+  if (actual !== value) throw new Error(`${pointer} is ${JSON.stringify(actual)}, expected ${JSON.stringify(value)}`);
+};
+const every = (...checks) => (document) => checks.forEach((check) => check(document));
+
+// [name, method, path, request, expected HTTP status, check of the body]
+const cases = [
+  ['default scenario', 'GET', '/v1/scenarios/default', {}, 200],
+  ['openapi', 'GET', '/openapi.json', {}, 200],
+  ['livez', 'GET', '/livez', {}, 200],
+  ['readyz', 'GET', '/readyz', {}, 200],
+  ['metrics', 'GET', '/metrics', {}, 200],
+  ['roll gap', 'POST', '/v1/roll-gap', json({}), 200, equals('/result/status', 'ok')],
+  ['roll gap without distributions', 'POST', '/v1/roll-gap', json({ options: { distributions: false } }), 200,
+    (d) => { if ('distribution' in d.result) throw new Error('distribution present'); }],
+  ['roll gap skidding', 'POST', '/v1/roll-gap', json({ scenario: skids }), 200, equals('/result/status', 'skidding')],
+  ['roll gap csv', 'POST', '/v1/roll-gap', { ...json({}), accept: 'text/csv' }, 200],
+  ['stability', 'POST', '/v1/stability', json({}), 200, equals('/result/critical_speed/status', 'found')],
+  ['stability stable in range', 'POST', '/v1/stability',
+    json({ options: { speed_min_m_per_s: 5, speed_max_m_per_s: 15 } }), 200,
+    equals('/result/critical_speed/status', 'stable_in_range')],
+  ['stability unstable at lower bound', 'POST', '/v1/stability',
+    json({ options: { speed_min_m_per_s: 20.5, speed_max_m_per_s: 25 } }), 200,
+    equals('/result/critical_speed/status', 'unstable_at_lower_bound')],
+  ['stability no steady state', 'POST', '/v1/stability',
+    json({ scenario: skids, options: { speed_min_m_per_s: 39, speed_max_m_per_s: 41 } }), 200,
+    every(equals('/result/status', 'no_steady_state'), equals('/result/critical_speed/status', 'no_steady_state'))],
+  ['stability summary', 'POST', '/v1/stability', json({ options: { detail: 'summary' } }), 200,
+    (d) => { if ('scan' in d.result.critical_speed) throw new Error('scan in a summary'); }],
+  ['stability without search', 'POST', '/v1/stability', json({ options: { critical_speed: false } }), 200,
+    equals('/result/critical_speed', null)],
+  ['stability csv scan', 'POST', '/v1/stability', { ...json({}), accept: 'text/csv' }, 200],
+  ['stability csv branches', 'POST', '/v1/stability?table=damping_branches', { ...json({}), accept: 'text/csv' }, 200],
+  ['stability csv summary has no scan', 'POST', '/v1/stability', { ...json({ options: { detail: 'summary' } }), accept: 'text/csv' }, 406],
+  ['stability csv unknown table', 'POST', '/v1/stability?table=nothing', { ...json({}), accept: 'text/csv' }, 406],
+  ['amplitude', 'POST', '/v1/amplitude', json({}), 200, equals('/result/points/0/status', 'settled')],
+  ['amplitude limit reached', 'POST', '/v1/amplitude',
+    json({ options: { speeds_m_per_s: [21], excitation_amplitude_MPa: 20 } }), 200,
+    equals('/result/points/0/status', 'limit_reached')],
+  ['amplitude time series', 'POST', '/v1/amplitude',
+    json({ options: { speeds_m_per_s: [10, 15], window_s: 0.5, time_series: true, time_series_points: 50 } }), 200,
+    (d) => { if (d.result.points[1].time_series.time_s.length === 0) throw new Error('no time series'); }],
+  ['amplitude no steady state', 'POST', '/v1/amplitude', json({ scenario: skids }), 200,
+    equals('/result/points/0/status', 'no_steady_state')],
+  ['amplitude csv time series', 'POST', '/v1/amplitude?table=time_series',
+    { ...json({ options: { window_s: 0.2, time_series: true, time_series_points: 20 } }), accept: 'text/csv' }, 200],
+  ['tension cycle', 'POST', '/v1/tension-cycle', json({}), 200, equals('/result/status', 'ok')],
+  ['tension cycle no steady state', 'POST', '/v1/tension-cycle', json({ scenario: skids }), 200,
+    equals('/result/status', 'no_steady_state')],
+  ['tension cycle csv', 'POST', '/v1/tension-cycle', { ...json({ options: { phases: [0.25, 0.75] } }), accept: 'text/csv' }, 200],
+  ['sweep critical speed', 'POST', '/v1/sweeps',
+    json({ options: { parameter: '/lubricant/viscosity_Pa_s', values: [0.0004, 0.0007] } }), 200,
+    equals('/result/points/0/status', 'found')],
+  ['sweep amplitude over a range', 'POST', '/v1/sweeps',
+    json({ options: { parameter: '/rolls/speed_m_per_s', range: { from: 10, to: 12, count: 2 }, quantity: 'amplitude',
+      amplitude: { window_s: 0.5 } } }), 200,
+    equals('/result/value_name', 'value_m_per_s')],
+  ['sweep dimensionless', 'POST', '/v1/sweeps',
+    json({ options: { parameter: '/strip/reduction', values: [0.1, 0.2], critical_speed: { speed_step_m_per_s: 0.5 } } }), 200,
+    equals('/result/value_name', 'value')],
+  ['sweep csv', 'POST', '/v1/sweeps',
+    { ...json({ options: { parameter: '/lubricant/viscosity_Pa_s', values: [0.0004, 0.0007] } }), accept: 'text/csv' }, 200],
+  ['map', 'POST', '/v1/maps',
+    json({ options: { parameters: [{ parameter: '/strip/reduction', values: [0.15, 0.25] },
+      { parameter: '/lubricant/viscosity_Pa_s', values: [0.0005, 0.0008] }],
+    critical_speed: { speed_step_m_per_s: 0.5 } } }), 200,
+    every(equals('/result/cells/0/status', 'found'), equals('/result/parameters/1/unit', 'Pa.s'))],
+  ['map csv', 'POST', '/v1/maps',
+    { ...json({ options: { parameters: [{ parameter: '/strip/reduction', values: [0.15] },
+      { parameter: '/lubricant/viscosity_Pa_s', values: [0.0005, 0.0008] }] } }), accept: 'text/csv' }, 200],
+  ['evaluate', 'POST', '/v1/evaluate', json({}), 200, equals('/result/critical_speed/status', 'found')],
+  ['evaluate summary', 'POST', '/v1/evaluate', json({ options: { detail: 'summary' } }), 200,
+    (d) => { if ('distribution' in d.result.roll_gap || 'windows' in d.result.amplitude) throw new Error('not a summary'); }],
+  ['evaluate no steady state', 'POST', '/v1/evaluate', json({ scenario: skids }), 200,
+    every(equals('/result/roll_gap/status', 'skidding'), equals('/result/amplitude/status', 'no_steady_state'))],
+  ['evaluate csv', 'POST', '/v1/evaluate', { ...json({}), accept: 'text/csv' }, 406],
+  ['calibrate', 'POST', '/v1/calibrate',
+    json({ options: { parameters: [{ field: '/strip/flow_stress_MPa' }], observations: [
+      { quantity: 'roll_force_kN', value: 9000, standard_uncertainty: 60 },
+      { scenario: { strip: { reduction: 0.3 } }, quantity: 'roll_force_kN', value: 11000, standard_uncertainty: 80 }] } }),
+    200, equals('/result/parameters/0/field', '/strip/flow_stress_MPa')],
+  ['calibrate csv', 'POST', '/v1/calibrate?table=observations',
+    { ...json({ options: { parameters: [{ field: '/strip/flow_stress_MPa' }], observations: [
+      { quantity: 'roll_force_kN', value: 9000, standard_uncertainty: 60 }] } }), accept: 'text/csv' }, 200],
+  ['invalid json', 'POST', '/v1/roll-gap', { body: '{', headers: { 'Content-Type': 'application/json' } }, 400],
+  ['not json', 'POST', '/v1/roll-gap', { body: '{}', headers: { 'Content-Type': 'text/plain' } }, 415],
+  ['invalid scenario', 'POST', '/v1/roll-gap', json({ scenario: { strip: { reduction: 25 } } }), 422,
+    equals('/errors/0/pointer', '/scenario/strip/reduction')],
+  ['invalid options', 'POST', '/v1/stability', json({ options: { speed_step_m_per_s: 3 } }), 422],
+  ['unknown analysis', 'POST', '/v1/jobs', json({ analysis: 'chatter' }), 422],
+  ['too large', 'POST', '/v1/roll-gap', { body: `{"x": "${'a'.repeat(1100000)}"}`, headers: { 'Content-Type': 'application/json' } }, 413],
+  ['no such route', 'GET', '/v1/nothing', {}, 404],
+  ['method not allowed', 'GET', '/v1/roll-gap', {}, 405],
+  ['no such job', 'GET', '/v1/jobs/0123456789abcdef0123456789abcdef', {}, 404],
+];
+
+// The jobs: create, poll to the end, read as JSON and CSV, delete.
+async function jobCases(base, run) {
+  const created = await run(['create job', 'POST', '/v1/jobs',
+    json({ analysis: 'sweep', options: { parameter: '/lubricant/viscosity_Pa_s', values: [0.0004, 0.0007] } }), 202]);
+  const id = created.json.id;
+  let job = created.json;
+  for (let i = 0; i < 600 && (job.state === 'queued' || job.state === 'running'); ++i) {
+    await new Promise((resolve) => setTimeout(resolve, 100));
+    job = (await run(['poll job', 'GET', `/v1/jobs/${id}`, {}, 200])).json;
+  }
+  if (job.state !== 'succeeded') throw new Error(`job ended ${job.state}`);
+  await run(['finished job', 'GET', `/v1/jobs/${id}`, {}, 200, equals('/result/analysis', 'sweep')]);
+  await run(['finished job csv', 'GET', `/v1/jobs/${id}`, { accept: 'text/csv' }, 200]);
+  await run(['delete job', 'DELETE', `/v1/jobs/${id}`, {}, 204]);
+  await run(['deleted job', 'GET', `/v1/jobs/${id}`, {}, 404]);
+  const failing = await run(['failing job', 'POST', '/v1/jobs', json({ analysis: 'roll_gap', scenario: { strip: { reduction: 25 } } }), 202]);
+  let failed = failing.json;
+  for (let i = 0; i < 100 && failed.state !== 'failed'; ++i) {
+    await new Promise((resolve) => setTimeout(resolve, 50));
+    failed = (await run(['poll failing job', 'GET', `/v1/jobs/${failing.json.id}`, {}, 200])).json;
+  }
+  await run(['failed job', 'GET', `/v1/jobs/${failing.json.id}`, {}, 200, equals('/state', 'failed')]);
+  await run(['failed job csv', 'GET', `/v1/jobs/${failing.json.id}`, { accept: 'text/csv' }, 406]);
+}
+
+function templateMatch(template, path) {
+  const pattern = new RegExp(`^${template.replace(/\{[^}]+\}/g, '[^/]+')}$`);
+  return pattern.test(path.split('?')[0]);
+}
+
+const service = await startService(binary);
+let validated = 0;
+const failures = [];
+try {
+  const document = await (await fetch(`${service.base}/openapi.json`)).json();
+  const ajv = new Ajv2020({ strict: false, allErrors: true });
+  addFormats(ajv);
+  ajv.addSchema(document, 'openapi');
+  const escape = (segment) => segment.replace(/~/g, '~0').replace(/\//g, '~1');
+
+  const run = async ([name, method, path, request, status, check]) => {
+    const headers = { ...(request.headers || {}) };
+    if (request.accept) headers.Accept = request.accept;
+    const response = await fetch(`${service.base}${path}`, { method, headers, body: request.body });
+    const text = await response.text();
+    const type = (response.headers.get('content-type') || '').split(';')[0].trim();
+    const outcome = { text, json: undefined };
+    try {
+      if (response.status !== status) throw new Error(`status ${response.status}, expected ${status}: ${text.slice(0, 300)}`);
+      const template = Object.keys(document.paths).find((t) => templateMatch(t, path));
+      let declared;
+      let pointer;
+      if (template) {
+        const operation = document.paths[template][method.toLowerCase()];
+        if (operation) {
+          declared = operation.responses[String(response.status)];
+          pointer = `#/paths/${escape(template)}/${method.toLowerCase()}/responses/${response.status}`;
+        } else if (response.status === 405) {
+          // A method the path does not have has no operation to declare it: a problem.
+          declared = { content: { 'application/problem+json': { schema: { $ref: '#/components/schemas/Problem' } } } };
+          pointer = undefined;
+        } else {
+          throw new Error(`${method} ${template} is not in the document`);
+        }
+      } else {
+        // Unknown paths: the document's NotFound response.
+        declared = { $ref: '#/components/responses/NotFound' };
+      }
+      if (!declared) throw new Error(`status ${response.status} is not declared for ${method} ${template}`);
+      while (declared.$ref) {
+        pointer = declared.$ref;
+        declared = declared.$ref.split('/').slice(1).reduce((node, key) => node[key.replace(/~1/g, '/').replace(/~0/g, '~')], document);
+      }
+      if (response.status === 204) {
+        if (text !== '') throw new Error('204 with a body');
+      } else {
+        const media = declared.content?.[type];
+        if (!media) throw new Error(`content type ${type} is not declared for ${response.status} (${Object.keys(declared.content || {})})`);
+        if (type.endsWith('json')) {
+          outcome.json = JSON.parse(text);
+          const validate = pointer ? ajv.getSchema(`openapi${pointer}/content/${escape(type)}/schema`)
+            : ajv.getSchema('openapi#/components/schemas/Problem');
+          if (!validate(outcome.json)) throw new Error(ajv.errorsText(validate.errors, { separator: '\n  ' }));
+        } else if (type === 'text/csv') {
+          const lines = text.split('\r\n');
+          if (lines.at(-1) !== '' || lines.length < 3) throw new Error('CSV without a header and a row, or not CRLF-terminated');
+          const width = lines[0].split(',').length;
+          if (lines.slice(1, -1).some((line) => line.split(',').length !== width)) throw new Error('ragged CSV');
+        }
+      }
+      if (check) check(outcome.json);
+      ++validated;
+    } catch (error) {
+      failures.push(`${name} (${method} ${path}): ${error.message}`);
+    }
+    return outcome;
+  };
+
+  for (const row of cases) await run(row);
+  await jobCases(service.base, run);
+} finally {
+  await service.stop();
+}
+const routes = new Set(cases.map(([, method, path]) => `${method} ${path.split('?')[0]}`));
+console.log(`validated ${validated} responses against the served /openapi.json (${routes.size} method+path pairs, plus jobs)`);
+if (failures.length > 0) {
+  console.error(`${failures.length} failed:\n- ${failures.join('\n- ')}`);
+  process.exit(1);
+}
