@@ -60,10 +60,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
 
     require(outcome.body.is_object(), "the body is a JSON object");
     require(all_numbers_finite(outcome.body), "every number in the body is finite");
+    // The HTTP layer and the CLI write bodies this way: a parser message may quote the client's
+    // invalid UTF-8, which becomes U+FFFD on the way out.
     try {
-        (void)outcome.body.dump();  // throws on invalid UTF-8, as the HTTP layer would
+        (void)outcome.body.dump(-1, ' ', false, json::error_handler_t::replace);
     } catch (const json::exception&) {
-        require(false, "the body serialises (valid UTF-8)");
+        require(false, "the body serialises");
     }
     if (outcome.ok()) {
         require(outcome.http_status == 200, "a result is 200");
