@@ -47,7 +47,7 @@ for h in "${harnesses[@]}"; do
     [[ -f "fuzz/$h.dict" ]] && args+=(-dict="fuzz/$h.dict")
     result=0
     "$bin" "${args[@]}" "$scratch/$h" "$seeds" >"$log" 2>&1 || result=$?
-    execs=$(awk -F': *' '/stat::number_of_executed_units/ {print $2}' "$log" | tail -1)
+    execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
     corpus=$(grep -Eo 'corp: [0-9]+/[0-9]+[a-zA-Z]*' "$log" | tail -1 | cut -d' ' -f2)
     if [[ $result -eq 0 ]]; then
         printf 'fuzz: %s: %s executions in %s s, corpus %s, no finding\n' "$h" "${execs:-?}" "$seconds" "${corpus:-?}"
