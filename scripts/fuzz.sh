@@ -48,7 +48,7 @@ for h in "${harnesses[@]}"; do
     result=0
     "$bin" "${args[@]}" "$scratch/$h" "$seeds" >"$log" 2>&1 || result=$?
     execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
-    corpus=$(grep -Eo 'corp: [0-9]+/[0-9]+[a-zA-Z]*' "$log" | tail -1 | cut -d' ' -f2)
+    corpus=$(grep -Eo 'corp: [0-9]+/[0-9]+[a-zA-Z]*' "$log" | tail -1 | cut -d' ' -f2 || true)
     if [[ $result -eq 0 ]]; then
         printf 'fuzz: %s: %s executions in %s s, corpus %s, no finding\n' "$h" "${execs:-?}" "$seconds" "${corpus:-?}"
     else
