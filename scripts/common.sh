@@ -3,12 +3,14 @@
 # flags, so the service, test and bench scripts reuse each other's build instead of
 # reconfiguring it back and forth.
 #
-#   ROLLGAP_BUILD_DIR  build directory (default: build, so the CLI is build/rollgap)
-#   ROLLGAP_WERROR     ON (default, locally and in CI) or OFF: warnings are errors
-#   ROLLGAP_JOBS       parallel build jobs (default: nproc)
+#   ROLLGAP_BUILD_DIR       build directory (default: build, so the CLI is build/rollgap)
+#   ROLLGAP_ASAN_BUILD_DIR  the sanitizer + fuzzer build (default: build-asan; clang, ASan+UBSan)
+#   ROLLGAP_WERROR          ON (default, locally and in CI) or OFF: warnings are errors
+#   ROLLGAP_JOBS            parallel build jobs (default: nproc)
 
 ROLLGAP_ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 ROLLGAP_BUILD_DIR="${ROLLGAP_BUILD_DIR:-build}"
+ROLLGAP_ASAN_BUILD_DIR="${ROLLGAP_ASAN_BUILD_DIR:-build-asan}"
 ROLLGAP_WERROR="${ROLLGAP_WERROR:-ON}"
 ROLLGAP_JOBS="${ROLLGAP_JOBS:-$(nproc)}"
 
@@ -22,10 +24,36 @@ rollgap_configure() {
         -DROLLGAP_WERROR="$ROLLGAP_WERROR"
 }
 
-# rollgap_build [target...]: build everything, or only the given targets.
-rollgap_build() {
+# The same sources with clang under AddressSanitizer (LeakSanitizer on) and UBSan, every report
+# fatal, plus the libFuzzer harnesses of fuzz/ (top-level CMakeLists.txt: ROLLGAP_SANITIZE,
+# ROLLGAP_FUZZ). Its ctest runs the whole suite and replays the fuzz seed corpora.
+rollgap_configure_asan() {
+    cmake -S "$ROLLGAP_ROOT" -B "$ROLLGAP_ASAN_BUILD_DIR" \
+        -DCMAKE_BUILD_TYPE=Release \
+        -DCMAKE_CXX_COMPILER=clang++ \
+        -DROLLGAP_WERROR="$ROLLGAP_WERROR" \
+        -DROLLGAP_SANITIZE=ON \
+        -DROLLGAP_FUZZ=ON
+}
+
+# Run-time settings for the sanitizer build's programs (exported: the tests start the rollgap
+# binary and it inherits them). Leaks are reported at exit; any report fails the program.
+rollgap_sanitizer_env() {
+    export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:strict_string_checks=1:check_initialization_order=1:detect_stack_use_after_return=1"
+    export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
+}
+
+# rollgap_build_in <dir> [target...]: build everything in <dir>, or only the given targets.
+rollgap_build_in() {
+    local dir="$1"
+    shift
     local args=()
     local t
     for t in "$@"; do args+=(--target "$t"); done
-    cmake --build "$ROLLGAP_BUILD_DIR" -j"$ROLLGAP_JOBS" "${args[@]}"
+    cmake --build "$dir" -j"$ROLLGAP_JOBS" "${args[@]}"
+}
+
+# rollgap_build [target...]: the same in $ROLLGAP_BUILD_DIR.
+rollgap_build() {
+    rollgap_build_in "$ROLLGAP_BUILD_DIR" "$@"
 }

@@ -11,13 +11,18 @@ set -euo pipefail
 BUILD_PACKAGES=(build-essential cmake pkg-config)
 LIBRARY_PACKAGES=(libeigen3-dev libsundials-dev libcpp-httplib-dev nlohmann-json3-dev libspdlog-dev libcli11-dev)
 TEST_PACKAGES=(doctest-dev)
+# The sanitizer build and the fuzzers (scripts/test.sh, scripts/fuzz.sh): clang 14 (clang++),
+# its sanitizer and libFuzzer runtimes (libclang-rt-14-dev is only a Recommends of clang, and
+# --no-recommends below would leave it out) and llvm for llvm-symbolizer (readable stacks).
+SANITIZER_PACKAGES=(clang libclang-rt-14-dev llvm)
 # Tools for scripts and CI.
 # curl: the test that runs the README's HTTP examples; nginx: the test that runs two service
 # instances behind a load balancer. (wrk and prometheus/promtool are installed by the scripts
 # that use them, bench-http.sh and check-http.sh, not in CI.)
 TOOL_PACKAGES=(curl nginx)
 
-PACKAGES=("${BUILD_PACKAGES[@]}" "${LIBRARY_PACKAGES[@]}" "${TEST_PACKAGES[@]}" "${TOOL_PACKAGES[@]}")
+PACKAGES=("${BUILD_PACKAGES[@]}" "${LIBRARY_PACKAGES[@]}" "${TEST_PACKAGES[@]}" "${SANITIZER_PACKAGES[@]}"
+          "${TOOL_PACKAGES[@]}")
 # -------------------------------------------------------------------------------------------
 
 log() { printf 'install-deps: %s\n' "$*" >&2; }

@@ -23,7 +23,7 @@
 #include "core/scenario.h"
 #include "service/analyses.h"
 #include "service/analysis.h"
-#include "service/openapi_json.h"  // generated: openapi_json_text
+#include "embedded/openapi_json.h"  // generated from service/openapi.json: openapi_json()
 #include "service/version.h"
 
 namespace rollgap::service {
@@ -297,7 +297,7 @@ json scenario_json_schema(bool patch) {
 }
 
 json openapi_document() {
-    json document = json::parse(openapi_json_text);
+    json document = json::parse(openapi_json());
     document["info"]["version"] = std::string(version());
     json& schemas = document["components"]["schemas"];
     schemas["Scenario"] = scenario_json_schema(false);
