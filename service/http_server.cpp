@@ -10,6 +10,7 @@
 #include "service/analyses.h"
 #include "service/openapi.h"
 #include "service/request_log.h"
+#include "service/static_files.h"
 #include "service/version.h"
 
 #include <algorithm>
@@ -59,7 +60,7 @@ enum Method : unsigned { get = 1, post = 2, del = 4 };
 
 enum class RouteId {
     scenarios_default, roll_gap, stability, amplitude, tension_cycle, sweeps, evaluate,
-    jobs, job, openapi, livez, readyz, metrics,
+    jobs, job, openapi, livez, readyz, metrics, page, static_file,
 };
 
 struct Route {
@@ -84,14 +85,20 @@ constexpr std::array routes{
     Route{RouteId::livez, "/livez", get, false, ""},
     Route{RouteId::readyz, "/readyz", get, false, ""},
     Route{RouteId::metrics, "/metrics", get, false, ""},
+    // The browser workbench: the page at / and its files under /static/ (service/static_files.h).
+    Route{RouteId::page, "/", get, false, ""},
+    Route{RouteId::static_file, "/static/{file}", get, false, ""},
 };
 
 constexpr std::string_view unmatched_route = "unmatched";
 constexpr std::string_view jobs_prefix = "/v1/jobs/";
+constexpr std::string_view static_prefix = "/static/";
 
 const Route* match_route(std::string_view path) {
     for (const Route& route : routes) {
-        if (route.id == RouteId::job) {
+        if (route.id == RouteId::static_file) {
+            if (path.starts_with(static_prefix)) return &route;
+        } else if (route.id == RouteId::job) {
             if (path.size() > jobs_prefix.size() && path.starts_with(jobs_prefix) &&
                 path.find('/', jobs_prefix.size()) == std::string_view::npos) {
                 return &route;
@@ -467,6 +474,13 @@ struct HttpServer::Impl {
             case RouteId::metrics:
                 response.status = 200;
                 response.set_content(metrics_text(), "text/plain; version=0.0.4; charset=utf-8");
+                return;
+            case RouteId::page:
+            case RouteId::static_file:
+                if (!serve_static_file(request, response)) {
+                    set_problem(response, api::ProblemCode::not_found,
+                                concat("no file ", api::quoted_for_message(request.path), " in the workbench"));
+                }
                 return;
             case RouteId::job: {
                 const std::string id = request.path.substr(jobs_prefix.size());
