@@ -5,7 +5,7 @@
 //   node workbench.test.mjs <rollgap binary> <screenshot dir>
 // Env: ROLLGAP_NODE_TOOLS (npm packages: playwright-core, axe-core), CHROMIUM (/usr/bin/chromium).
 import { spawn } from 'node:child_process';
-import { mkdirSync, readFileSync, statSync } from 'node:fs';
+import { mkdirSync, readFileSync, rmSync, statSync } from 'node:fs';
 import { createRequire } from 'node:module';
 import path from 'node:path';
 
@@ -14,6 +14,7 @@ const tools = process.env.ROLLGAP_NODE_TOOLS || '/var/cache/rollgap/node-tools';
 const require = createRequire(path.join(tools, 'package.json'));
 const { chromium } = require('playwright-core');
 const axeSource = readFileSync(require.resolve('axe-core/axe.min.js'), 'utf8');
+rmSync(screenshots, { recursive: true, force: true });  // only this run's views
 mkdirSync(screenshots, { recursive: true });
 
 // ---- the server ------------------------------------------------------------------------------

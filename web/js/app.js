@@ -57,7 +57,7 @@ function saveState() {
 function showDiff() {
   app.scenario.markChanges();
   const changes = app.scenario.changes();
-  $('diff-count').textContent = changes.length ? `${changes.length} field${changes.length > 1 ? 's' : ''} differ from the default` : 'the default scenario';
+  $('diff-count').textContent = changes.length ? `${changes.length} field${changes.length > 1 ? 's differ' : ' differs'} from the default` : 'the default scenario';
   $('diff').replaceChildren(...changes.map(([pointer, base, value]) => {
     const item = document.createElement('li');
     item.textContent = `${pointer}: ${base} → ${value}`;
