@@ -76,6 +76,12 @@ function showProblem(problem) {
   const detail = document.createElement('p');
   detail.textContent = problem.detail || '';
   box.append(title, detail);
+  const placed = (problem.errors || []).filter((e) => !unplaced.includes(e)).map((e) => e.pointer);
+  if (placed.length) {
+    const where = document.createElement('p');
+    where.textContent = `Shown at the field${placed.length > 1 ? 's' : ''}: ${placed.join(', ')}`;
+    box.append(where);
+  }
   if (unplaced.length) box.append(table('Other problems', unplaced.map((e) => [e.pointer || '', e.detail, e.bound || ''])));
   box.hidden = false;
 }
@@ -116,6 +122,11 @@ async function run(asJob) {
       setStatus(`done in ${((performance.now() - started) / 1000).toFixed(2)} s`);
     }
   } catch (error) {
+    // A failed run must not leave an earlier result on screen as if it were this one's.
+    app.response = null;
+    clearPlots($('plots'));
+    $('headline').replaceChildren();
+    $('result-actions').hidden = true;
     if (error instanceof ProblemError) showProblem(error.problem);
     else showProblem({ title: 'Request failed', detail: String(error) });
     setStatus('failed');

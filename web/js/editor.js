@@ -214,7 +214,10 @@ export function showFieldErrors(root, errors) {
     if (details) details.open = true;
     first ??= input;
   }
-  if (first) first.focus();
+  if (first) {
+    first.focus();
+    first.parentElement.querySelector('.field-error').scrollIntoView({ block: 'center' });
+  }
   return unplaced;
 }
 
