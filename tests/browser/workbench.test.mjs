@@ -244,9 +244,12 @@ try {
     await shot('job-running');
     await page.click('#cancel');
     await page.waitForFunction(() => /job cancelled/.test(document.getElementById('status').textContent), null, { timeout: 60000 });
+    check(await page.isHidden('#result-actions') && (await page.$$('#plots canvas')).length === 0, 'the earlier result is cleared');
   });
 
   await test('no serious or critical axe-core violations (workbench and report)', async () => {
+    await page.click('#tab-roll_gap');
+    await runAndWait('pressure');
     await page.evaluate(axeSource);
     const audit = () => page.evaluate(async () => (await axe.run(document, { resultTypes: ['violations'] })).violations
       .filter((v) => v.impact === 'serious' || v.impact === 'critical')

@@ -97,6 +97,14 @@ function render(response) {
   if (app.report) fillReportView();
 }
 
+// A run that did not succeed must not leave an earlier result on screen as if it were its own.
+function clearResult() {
+  app.response = null;
+  clearPlots($('plots'));
+  $('headline').replaceChildren();
+  $('result-actions').hidden = true;
+}
+
 const request = () => ({ analysis: app.analysis.key, scenario: app.scenario.patch(), options: app.options.options() });
 
 async function run(asJob) {
@@ -113,7 +121,8 @@ async function run(asJob) {
       $('progress').value = 0;
       const job = await runner.run(body);
       if (job.state === 'succeeded') render(job.result.result ? job.result : { ...body, result: job.result });
-      else if (job.state === 'failed') showProblem(job.problem || { detail: 'the job failed' });
+      else clearResult();
+      if (job.state === 'failed') showProblem(job.problem || { detail: 'the job failed' });
       setStatus(`job ${job.state}`);
       listJobs();
     } else {
@@ -122,11 +131,7 @@ async function run(asJob) {
       setStatus(`done in ${((performance.now() - started) / 1000).toFixed(2)} s`);
     }
   } catch (error) {
-    // A failed run must not leave an earlier result on screen as if it were this one's.
-    app.response = null;
-    clearPlots($('plots'));
-    $('headline').replaceChildren();
-    $('result-actions').hidden = true;
+    clearResult();
     if (error instanceof ProblemError) showProblem(error.problem);
     else showProblem({ title: 'Request failed', detail: String(error) });
     setStatus('failed');
