@@ -20,9 +20,11 @@ SANITIZER_PACKAGES=(clang libclang-rt-14-dev llvm)
 # instances behind a load balancer. (wrk and prometheus/promtool are installed by the scripts
 # that use them, bench-http.sh and check-http.sh, not in CI.)
 TOOL_PACKAGES=(curl nginx)
+# The browser workbench: Chart.js embedded at build time; chromium runs its browser tests.
+WEB_PACKAGES=(libjs-chart.js chromium)
 
 PACKAGES=("${BUILD_PACKAGES[@]}" "${LIBRARY_PACKAGES[@]}" "${TEST_PACKAGES[@]}" "${SANITIZER_PACKAGES[@]}"
-          "${TOOL_PACKAGES[@]}")
+          "${TOOL_PACKAGES[@]}" "${WEB_PACKAGES[@]}")
 # -------------------------------------------------------------------------------------------
 
 log() { printf 'install-deps: %s\n' "$*" >&2; }

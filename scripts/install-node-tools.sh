@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
-# Installs the npm tools of the contract tests (tests/contract/) into a cache OUTSIDE the
+# Installs the npm tools of the contract and browser tests (tests/contract/, tests/browser/) into a cache OUTSIDE the
 # repository, so the tree never holds node_modules:
 #   ajv + ajv-formats      JSON Schema 2020-12 validation of real responses against /openapi.json
 #   openapi-typescript     a TypeScript client type-checked with typescript (tsc --noEmit)
 #   @redocly/cli           lint of the served OpenAPI document
 #   playwright-core        drives Debian's chromium in browser tests
+#   axe-core               accessibility checks of the workbench in the browser tests
 # Idempotent: when the cache already holds exactly these versions it returns at once.
 # Prints the cache directory on its last line. ROLLGAP_NODE_TOOLS overrides the location.
 # Without node/npm on PATH it installs Debian's nodejs and npm (the machine image may bring
@@ -19,6 +20,7 @@ packages=(
     typescript@5.9.3
     @redocly/cli@2.77.0
     playwright-core@1.65.1
+    axe-core@4.14.1
 )
 
 if ! command -v node >/dev/null 2>&1 || ! command -v npm >/dev/null 2>&1; then

@@ -15,6 +15,7 @@
 #include "service/http/sync_dispatch.h"
 #include "service/openapi.h"
 #include "service/request_log.h"
+#include "service/static_files.h"
 
 #include <atomic>
 #include <csignal>
@@ -179,6 +180,13 @@ struct HttpServer::Impl {
             case RouteId::livez:
             case RouteId::readyz:
             case RouteId::metrics: answer_admin(route.id, state, response); return;
+            case RouteId::page:
+            case RouteId::static_file:
+                if (!serve_static_file(request, response)) {
+                    set_problem(response, api::ProblemCode::not_found,
+                                concat("no file ", api::quoted_for_message(request.path), " in the workbench"));
+                }
+                return;
             case RouteId::job: {
                 const std::string id = request.path.substr(jobs_prefix.size());
                 if (request.method == "DELETE") {

@@ -22,15 +22,22 @@ constexpr std::array routes{
     Route{RouteId::livez, "/livez", get, false, "", true},
     Route{RouteId::readyz, "/readyz", get, false, "", true},
     Route{RouteId::metrics, "/metrics", get, false, "", true},
+    // The browser workbench: the page at / and its files under /static/ (service/static_files.h).
+    Route{RouteId::page, "/", get, false, "", false},
+    Route{RouteId::static_file, "/static/{file}", get, false, "", false},
 };
 
 }  // namespace
+
+constexpr std::string_view static_prefix = "/static/";
 
 std::span<const Route> all_routes() { return routes; }
 
 const Route* match_route(std::string_view path) {
     for (const Route& route : routes) {
-        if (route.id == RouteId::job) {
+        if (route.id == RouteId::static_file) {
+            if (path.starts_with(static_prefix)) return &route;
+        } else if (route.id == RouteId::job) {
             if (path.size() > jobs_prefix.size() && path.starts_with(jobs_prefix) &&
                 path.find('/', jobs_prefix.size()) == std::string_view::npos) {
                 return &route;

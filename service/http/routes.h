@@ -12,7 +12,7 @@ enum Method : unsigned { get = 1, post = 2, del = 4 };
 
 enum class RouteId {
     scenarios_default, roll_gap, stability, amplitude, tension_cycle, sweeps, maps, evaluate, calibrate,
-    jobs, job, openapi, livez, readyz, metrics,
+    jobs, job, openapi, livez, readyz, metrics, page, static_file,
 };
 
 struct Route {
