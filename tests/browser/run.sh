@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The browser tests of the workbench (ctest: browser_workbench). Fails, never skips, when
-# chromium or node is missing: CI installs both (scripts/install-deps.sh, install-tools.sh).
+# chromium or node is missing: CI installs both (scripts/install-deps.sh, scripts/install-node-tools.sh).
 #   run.sh <rollgap binary> <screenshot dir>
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
