@@ -9,8 +9,8 @@ set -euo pipefail
 # --- The packages (see /work/shared/BUILD-NOTES.md) ---------------------------------------
 # Add new packages to one of these groups (or a new group) and to PACKAGES below.
 BUILD_PACKAGES=(build-essential cmake pkg-config)
-LIBRARY_PACKAGES=(libeigen3-dev libsundials-dev libcpp-httplib-dev nlohmann-json3-dev libspdlog-dev)
-TEST_PACKAGES=(doctest-dev)
+LIBRARY_PACKAGES=(libeigen3-dev libsundials-dev libcpp-httplib-dev nlohmann-json3-dev libspdlog-dev libsqlite3-dev libpqxx-dev)
+TEST_PACKAGES=(doctest-dev postgresql)
 # Tools for scripts, CI and later issues (e.g. python3 python3-numpy for the paper plots).
 # curl: the test that runs the README's HTTP examples; nginx: the test that runs two service
 # instances behind a load balancer. (wrk and prometheus/promtool are installed by the scripts
