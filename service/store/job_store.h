@@ -1,0 +1,189 @@
+#pragma once
+// The durable job store: jobs, their work items (chunks) with leases, and stored stand
+// scenarios, behind one interface with two backends (SQLite embedded, PostgreSQL shared by
+// replicas). See docs/job-store.md for the design and the lease model.
+//
+// Every operation returns a status value; no exception leaves this interface. `unavailable`
+// means the database could not be reached or did not answer in time (the service answers
+// 503 with Retry-After); a transaction that failed that way left nothing half-written.
+
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace rollgap::service::store {
+
+enum class StoreStatus {
+    ok,
+    not_found,
+    conflict,     // idempotency key reused with another body, version mismatch, lost lease
+    invalid,      // refused by the store's rules (reserved name, malformed chunk result, …)
+    full,         // the size bound is reached even after purging expired jobs
+    unavailable,  // the database cannot be reached now; retry later
+};
+std::string_view status_name(StoreStatus status);
+
+template <class T>
+struct Result {
+    StoreStatus status = StoreStatus::ok;
+    std::optional<T> value;  // set when status is ok
+    std::string detail;      // for logs; never contains request bodies
+
+    bool ok() const { return status == StoreStatus::ok; }
+    static Result failure(StoreStatus s, std::string why = {}) { return {s, std::nullopt, std::move(why)}; }
+};
+
+enum class JobState { queued, running, succeeded, failed, cancelled };
+std::string_view job_state_name(JobState state);
+std::optional<JobState> job_state_from_name(std::string_view name);
+
+// Wall-clock milliseconds since the Unix epoch. Leases are compared with the clocks of the
+// replicas, so they must be long compared with the clock skew between replicas.
+using Millis = std::int64_t;
+using Clock = std::function<Millis()>;
+Millis system_millis();
+
+struct NewJob {
+    std::string analysis;
+    std::string request;  // JSON text of the facade request
+    Millis deadline_ms = 0;
+    std::string instance;  // the replica that accepted it
+    std::optional<std::string> idempotency_key;
+    std::string body_hash;  // compared when the idempotency key is reused
+    // 0: one work item whose result is stored verbatim. N > 0: N points split into chunks of
+    // `chunk_size` points; each chunk's result is a JSON array of exactly its points, and the
+    // job's result is their concatenation in point order.
+    std::int64_t points = 0;
+    std::int64_t chunk_size = 0;
+};
+
+struct JobRecord {
+    std::string id;
+    std::string analysis;
+    std::string request;
+    JobState state = JobState::queued;
+    double progress = 0.0;  // 0..1; for chunked jobs the share of finished points
+    std::optional<std::string> result;   // JSON text, when succeeded
+    std::optional<std::string> problem;  // JSON text, when failed
+    std::string instance;
+    Millis created_ms = 0;
+    std::optional<Millis> started_ms;
+    std::optional<Millis> finished_ms;
+    Millis deadline_ms = 0;
+    bool cancel_requested = false;
+    std::int64_t points = 0;
+    std::int64_t points_done = 0;
+    std::int64_t chunks = 1;
+    std::int64_t chunks_done = 0;
+};
+
+struct Created {
+    JobRecord job;
+    bool created = false;  // false: an earlier job with the same idempotency key and body
+};
+
+struct ListQuery {
+    std::optional<JobState> state;
+    std::size_t limit = 50;
+    std::optional<std::string> cursor;  // next_cursor of the previous page
+};
+
+struct JobPage {
+    std::vector<JobRecord> jobs;  // newest first
+    std::optional<std::string> next_cursor;
+};
+
+// A claimed work item: the whole job (chunks == 1, points == 0) or one chunk of points
+// [begin, end).
+struct Lease {
+    std::string job_id;
+    std::int64_t chunk = 0;
+    std::string token;  // identifies this claim; a later claim of the same chunk gets another
+};
+
+struct WorkItem {
+    Lease lease;
+    std::string analysis;
+    std::string request;
+    std::int64_t chunks = 1;
+    std::int64_t begin = 0, end = 0;
+    Millis lease_until_ms = 0;
+};
+
+struct Renewed {
+    Millis lease_until_ms = 0;
+    bool cancel_requested = false;  // the worker stops and completes with `cancelled`
+};
+
+enum class Outcome { succeeded, failed, cancelled };
+
+enum class CancelResult { cancelled, cancel_requested, deleted };
+
+struct ChunkResult {
+    std::int64_t chunk = 0;
+    std::int64_t begin = 0, end = 0;
+    std::string result;  // JSON array of the chunk's points
+};
+
+struct Scenario {
+    std::string name;
+    std::string body;  // JSON text
+    std::int64_t version = 0;
+    Millis updated_ms = 0;
+};
+
+struct StoreLimits {
+    std::size_t max_jobs = 1000;                  // jobs in any state
+    std::chrono::milliseconds retention{3'600'000};  // a finished job is kept this long
+};
+
+class JobStore {
+public:
+    virtual ~JobStore() = default;
+
+    // Jobs.
+    virtual Result<Created> create(const NewJob& job) = 0;
+    virtual Result<JobRecord> get(const std::string& id) = 0;
+    virtual Result<JobPage> list(const ListQuery& query) = 0;
+    // The finished chunks of a chunked job so far, in point order (partial results).
+    virtual Result<std::vector<ChunkResult>> finished_chunks(const std::string& id) = 0;
+    virtual Result<CancelResult> cancel(const std::string& id) = 0;
+
+    // Work. `owner` names the replica (for the job document and logs).
+    virtual Result<std::optional<WorkItem>> claim(const std::string& owner, std::chrono::milliseconds lease) = 0;
+    virtual Result<Renewed> renew(const Lease& lease, std::chrono::milliseconds extend) = 0;
+    virtual StoreStatus progress(const Lease& lease, double fraction) = 0;
+    // Writes the item's result (or the job's problem) in one transaction, only while `lease`
+    // is held (conflict otherwise). Returns the job's state afterwards.
+    virtual Result<JobState> complete(const Lease& lease, Outcome outcome, const std::string& text) = 0;
+    // Gives the item back (draining replica): it is queued again for any replica.
+    virtual StoreStatus release(const Lease& lease) = 0;
+    // Queues again every item whose lease ran out; returns how many.
+    virtual Result<std::size_t> expire_leases() = 0;
+    // Deletes finished jobs older than the retention; returns how many.
+    virtual Result<std::size_t> purge() = 0;
+
+    // Stored stand scenarios; `default` is reserved (invalid). `if_match`: the version the
+    // caller last saw; a mismatch (or a missing scenario) is a conflict.
+    virtual Result<Scenario> put_scenario(const std::string& name, const std::string& body,
+                                          std::optional<std::int64_t> if_match) = 0;
+    virtual Result<Scenario> get_scenario(const std::string& name) = 0;
+    virtual StoreStatus delete_scenario(const std::string& name, std::optional<std::int64_t> if_match) = 0;
+    virtual Result<std::vector<Scenario>> list_scenarios() = 0;  // by name, bodies omitted
+};
+
+// From the `--store` setting: `sqlite:/path/to/file.db`, a `postgresql://…` (or
+// `postgres://…`) DSN, or `postgresql-file:/path` naming a file that holds the DSN (a
+// Kubernetes Secret). `invalid` for anything else; `unavailable` if the database cannot be
+// opened or migrated now.
+Result<std::shared_ptr<JobStore>> open_store(const std::string& setting, StoreLimits limits = {},
+                                             Clock clock = system_millis);
+
+inline constexpr std::string_view reserved_scenario_name = "default";
+
+}  // namespace rollgap::service::store

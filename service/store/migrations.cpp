@@ -1,0 +1,92 @@
+// The store's schema, created and migrated by the store itself. Each version is applied once,
+// in one transaction, and recorded in schema_migrations; replicas starting together serialize
+// on a lock (PostgreSQL advisory lock, SQLite's write lock), so exactly one applies it.
+
+#include <array>
+#include <string>
+#include <string_view>
+
+#include "service/store/sql_backend.h"
+
+namespace rollgap::service::store::detail {
+namespace {
+
+// `{SEQ}` is the insertion-order key: newest-first listing and the cursor use it.
+constexpr std::array<std::string_view, 6> version_1 = {
+    R"(CREATE TABLE jobs (
+        {SEQ},
+        id TEXT NOT NULL UNIQUE,
+        analysis TEXT NOT NULL,
+        request TEXT NOT NULL,
+        state TEXT NOT NULL,
+        progress DOUBLE PRECISION NOT NULL DEFAULT 0,
+        result TEXT,
+        problem TEXT,
+        instance TEXT NOT NULL,
+        worker TEXT,
+        created_ms BIGINT NOT NULL,
+        started_ms BIGINT,
+        finished_ms BIGINT,
+        deadline_ms BIGINT NOT NULL,
+        cancel_requested INTEGER NOT NULL DEFAULT 0,
+        idempotency_key TEXT UNIQUE,
+        body_hash TEXT NOT NULL,
+        points BIGINT NOT NULL,
+        chunk_size BIGINT NOT NULL,
+        chunks BIGINT NOT NULL))",
+    "CREATE INDEX jobs_state_seq ON jobs (state, seq)",
+    "CREATE INDEX jobs_finished ON jobs (finished_ms)",
+    R"(CREATE TABLE chunks (
+        job_id TEXT NOT NULL REFERENCES jobs (id) ON DELETE CASCADE,
+        idx BIGINT NOT NULL,
+        job_seq BIGINT NOT NULL,
+        begin_point BIGINT NOT NULL,
+        end_point BIGINT NOT NULL,
+        state TEXT NOT NULL,
+        lease_token TEXT,
+        lease_owner TEXT,
+        lease_until_ms BIGINT,
+        result TEXT,
+        PRIMARY KEY (job_id, idx)))",
+    "CREATE INDEX chunks_claim ON chunks (state, job_seq, idx)",
+    R"(CREATE TABLE scenarios (
+        name TEXT PRIMARY KEY,
+        body TEXT NOT NULL,
+        version BIGINT NOT NULL,
+        updated_ms BIGINT NOT NULL))",
+};
+
+std::string dialect_sql(std::string_view sql, Dialect dialect) {
+    std::string text(sql);
+    const std::string_view key = "{SEQ}";
+    if (const auto at = text.find(key); at != std::string::npos) {
+        text.replace(at, key.size(), dialect == Dialect::sqlite ? "seq INTEGER PRIMARY KEY AUTOINCREMENT"
+                                                                : "seq BIGSERIAL PRIMARY KEY");
+    }
+    return text;
+}
+
+}  // namespace
+
+StoreStatus migrate(Backend& backend, std::string& detail) {
+    const Dialect dialect = backend.dialect();
+    return backend.transact(
+        true,
+        [&](Session& s) {
+            if (dialect == Dialect::postgresql) {
+                // Any constant: the key of "the schema is being migrated".
+                s.exec("SELECT pg_advisory_xact_lock(7216541)");
+            }
+            s.exec("CREATE TABLE IF NOT EXISTS schema_migrations (version BIGINT PRIMARY KEY, applied_ms BIGINT NOT NULL)");
+            const Rows rows = s.exec("SELECT COALESCE(MAX(version), 0) FROM schema_migrations");
+            const std::int64_t current = to_int(rows.at(0).at(0));
+            if (current < 1) {
+                for (std::string_view statement : version_1) s.exec(dialect_sql(statement, dialect));
+                s.exec("INSERT INTO schema_migrations (version, applied_ms) VALUES ($1, $2)",
+                       {std::int64_t{1}, system_millis()});
+            }
+        },
+        {}, detail);
+}
+
+}  // namespace rollgap::service::store::detail
