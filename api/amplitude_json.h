@@ -1,5 +1,5 @@
 #pragma once
-// Options and results of the vibration-amplitude analysis (MODEL.md §7.4): the analysis
+// Options and results of the vibration-amplitude analysis (docs/model.md §7.4): the analysis
 // "amplitude", and the "amplitude" member of the options of "sweep" and "evaluate".
 //
 // Options (units in the names; defaults from core::AmplitudeOptions):

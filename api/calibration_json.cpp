@@ -549,7 +549,7 @@ const ResultTable<CalibrationOutput>& calibration_result_table() {
     using O = CalibrationOutput;
     static const ResultTable<O> table{
         "CalibrationResult",
-        "The fit of scenario fields to plant observations by weighted least squares (docs/calibration.md).",
+        "The fit of scenario fields to plant observations by weighted least squares (docs/model.md §11).",
         {
             {"status",
              "`converged`: the tolerances are met. `max_iterations`, `max_evaluations`: a limit stopped the fit. "

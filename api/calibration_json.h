@@ -1,5 +1,5 @@
 #pragma once
-// Options and result of the analysis "calibrate" (docs/calibration.md): fit scenario fields to
+// Options and result of the analysis "calibrate" (docs/model.md §11): fit scenario fields to
 // plant observations by weighted least squares.
 //
 // Options:

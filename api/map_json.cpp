@@ -186,7 +186,7 @@ const ResultTable<MapOutput>& map_result_table() {
     static const ResultTable<MapOutput> table{
         "MapResult",
         "The critical speed, its frequency and chatter type over a grid of two scenario fields "
-        "(docs/model-extensions.md, \"Stability maps\").",
+        "(docs/model.md §10.2).",
         {
             {"parameters", "The two fields: [rows, columns].", array_schema(ref_schema("MapParameter")),
              [](const MapOutput& o) {

@@ -67,7 +67,7 @@ void check_sinusoid_within_limits(const Context& context, const std::string& sid
                         allowed.text(), std::string(units::megapascal.code)});
 }
 
-// The model's roll profile y = y2 + x^2 / a is the small-angle form of the circle (MODEL.md
+// The model's roll profile y = y2 + x^2 / a is the small-angle form of the circle (docs/model.md
 // §1); cold mills bite at ~0.03 rad. 0.35 rad (20°) admits any real mill and rejects geometry
 // where the profile, and with it every result, would be wrong.
 constexpr double largest_bite_angle = 0.35;

@@ -16,7 +16,7 @@ std::optional<std::string> derived_quantity_hint(std::string_view group, std::st
         return "the exit thickness is entry_thickness_mm × (1 − reduction); set 'reduction'";
     }
     if (group == "/mill/stiffness_GN_per_m" && name == "k4") {
-        return "k4 is the strip's stiffness, derived from the roll-bite model (MODEL.md §5), "
+        return "k4 is the strip's stiffness, derived from the roll-bite model (docs/model.md §5), "
                "not an input";
     }
     if (group == "/mill/damping_MN_s_per_m" && name.starts_with("rayleigh")) {

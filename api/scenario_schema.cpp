@@ -211,7 +211,7 @@ std::vector<ScenarioField> build_fields() {
         "/rolls/flattening", roll_flattenings,
         "How the work rolls deform under the roll force. none = rigid rolls, the paper's model. hitchcock = the "
         "rolls flatten elastically in the bite (Hitchcock's formula), which lengthens the contact and raises the "
-        "force; worth switching on for hard, thin strip and heavy reductions (docs/model-extensions.md).",
+        "force; worth switching on for hard, thin strip and heavy reductions (docs/model.md §10).",
         [](core::Scenario& s) -> auto& { return s.rolls.flattening; }));
     // Roll materials from cast iron to cemented carbide.
     fields.push_back(number_field(

@@ -1,6 +1,6 @@
 #pragma once
 // Options and results of the linear stability analysis and the critical-speed search
-// (MODEL.md §7.3): the analysis "stability", and the "critical_speed" member of the options of
+// (docs/model.md §7.3): the analysis "stability", and the "critical_speed" member of the options of
 // "sweep" and "evaluate".
 //
 // Options (units in the names; defaults from core::CriticalSpeedOptions):

@@ -1,5 +1,5 @@
 #pragma once
-// Options and results of a sweep (MODEL.md §7.5): one numeric scenario field over a list or a
+// Options and results of a sweep (docs/model.md §7.5): one numeric scenario field over a list or a
 // range of values, the critical speed or the vibration amplitude at each.
 //
 // Options:

@@ -1,5 +1,5 @@
 #pragma once
-// Options and results of the back-tension cycle analysis (MODEL.md §7.2, the paper's Figs.
+// Options and results of the back-tension cycle analysis (docs/model.md §7.2, the paper's Figs.
 // 14-15): the coupled model runs with the scenario's back tension as a sinusoid (its mean
 // stress_MPa, amplitude_MPa and frequency_Hz, whatever its mode) and the roll bite is resolved
 // at phases T of the last cycle, s_b = mean + amplitude sin(2 pi T).

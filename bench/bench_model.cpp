@@ -1,4 +1,4 @@
-// Timing of rollgap's analyses for the default scenario: the roll-bite solve (MODEL.md §4), the
+// Timing of rollgap's analyses for the default scenario: the roll-bite solve (docs/model.md §4), the
 // critical speed (§7.3), the amplitude (§7.4) and a critical-speed sweep (§7.5).
 //
 // Output, one figure per line on stdout, in a stable format that scripts can parse:

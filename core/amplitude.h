@@ -1,5 +1,5 @@
 #pragma once
-// Vibration amplitude (MODEL.md §7.4): the nonlinear coupled model driven by a back-tension
+// Vibration amplitude (docs/model.md §7.4): the nonlinear coupled model driven by a back-tension
 // excitation, integrated in time; amplitudes are half peak-to-peak over the last 10 % of the
 // window.
 

@@ -1,6 +1,6 @@
 #pragma once
 // Weighted nonlinear least squares with box bounds and Gaussian priors, by Levenberg–Marquardt
-// (docs/calibration.md). Pure: the model is a residual function, failures are status values.
+// (docs/model.md §11). Pure: the model is a residual function, failures are status values.
 //
 //   minimise  Σ_i r_i(x)²  +  Σ_j ((x_j − prior_j) / σ_j)²   subject to lower ≤ x ≤ upper,
 //

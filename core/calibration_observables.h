@@ -1,5 +1,5 @@
 #pragma once
-// Calibration of a scenario (docs/calibration.md): what the model predicts for each plant
+// Calibration of a scenario (docs/model.md §11): what the model predicts for each plant
 // observation, as a function of the fitted scenario fields, handed to calibrate().
 //
 // Each observation was measured under its own conditions (a scenario); the fitted fields are

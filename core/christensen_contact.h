@@ -1,6 +1,6 @@
 #pragma once
 // Christensen's roughness model, eqs. (19)-(26) of the paper with the typo of (25) corrected
-// (MODEL.md §3). Z = h_sep / (3 Rq) is the separation of the mean planes in units of 3 Rq;
+// (docs/model.md §3). Z = h_sep / (3 Rq) is the separation of the mean planes in units of 3 Rq;
 // H_t = h_t / Rq is the mean film thickness; A is the fraction of the area in asperity contact.
 
 #include "core/scenario.h"

@@ -1,6 +1,6 @@
 #pragma once
-// The coupled mill-bite-film model of MODEL.md §6: state z = (q, q', h0[, s_b][, s_f]),
-//   M q'' + C q' + K_s q = b (P(state) - P_ref)      (k4 cancels, MODEL.md §5)
+// The coupled mill-bite-film model of docs/model.md §6: state z = (q, q', h0[, s_b][, s_f]),
+//   M q'' + C q' + K_s q = b (P(state) - P_ref)      (k4 cancels, docs/model.md §5)
 //   h0'  = inlet film model (§2) with theta, theta', dyc/dt, u1bar of the current state
 //   s_b' = (E / L_b) (u1 - u1_ref)                     (span mode)
 //   s_f' = (E / L_f) (u2_ref - u2)                     (span mode)
@@ -35,7 +35,7 @@ Scenario dynamics_scenario(Scenario s);
 ReferenceState reference_state(const Scenario& s, bool with_strip_stiffness = true);
 
 // An extra back-tension term seen by the bite and the inlet (not by the span ODE): the
-// excitation of the amplitude analysis (MODEL.md §7.4).
+// excitation of the amplitude analysis (docs/model.md §7.4).
 struct Excitation {
     double back_tension_amplitude = 0.0;  // Pa
     double frequency_Hz = 0.0;

@@ -36,7 +36,7 @@ double wilson_walowit_film(double viscosity, double pressure_viscosity, double m
            (inlet_angle * reduced_pressure_over_gamma(pressure_viscosity, flow_stress - back_tension));
 }
 
-// With q = e / (a theta^2) = 1 - 2 h0 / (a theta^2), MODEL.md's closed form becomes
+// With q = e / (a theta^2) = 1 - 2 h0 / (a theta^2), the model document's closed form becomes
 //   I2 = [(3 - q) S(q) - 3] / (q^2 theta^3),
 // which is the same expression for e > 0 (log) and e < 0 (atan). Its two terms cancel as
 // q -> 0; there the series I2 = theta^-3 sum_j 4 (j + 1) q^j / ((2j + 3)(2j + 5)) is used

@@ -1,5 +1,5 @@
 #pragma once
-// The inlet film of MODEL.md §2: Reynolds + Barus in the inlet zone, the unsteady film
+// The inlet film of docs/model.md §2: Reynolds + Barus in the inlet zone, the unsteady film
 // equation (11) and its steady state, the Wilson-Walowit film.
 
 #include "core/scenario.h"
@@ -15,7 +15,7 @@ double wilson_walowit_film(double viscosity, double pressure_viscosity, double m
                            double inlet_angle, double flow_stress, double back_tension);
 
 // I2 = int_0^inf x^2 / h1(x)^3 dx on the circular inlet h1 = h0 + theta x + x^2 / (2a),
-// in closed form (MODEL.md §2); dimensionless (m^2 m / m^3).
+// in closed form (docs/model.md §2); dimensionless (m^2 m / m^3).
 double inlet_integral_I2(double roll_radius, double inlet_angle, double inlet_film);
 
 struct InletFilmInputs {

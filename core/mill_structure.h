@@ -1,5 +1,5 @@
 #pragma once
-// The six-mass mill stack of eq. (37) with the mass mapping of MODEL.md §5:
+// The six-mass mill stack of eq. (37) with the mass mapping of docs/model.md §5:
 //   M q'' + C q' + K q = b dP,  b = e3 - e4,  K = K_s + k4 b b^T,
 // where K_s is the structure without the strip spring k4 and the gap is g = x3 - x4.
 

@@ -74,7 +74,7 @@ struct SidePoint {
 // The traction on one side: the asperity part always opposes the slip, the fluid part is
 // Newtonian with Barus viscosity capped by the limiting shear lambda_L p (evaluated in log
 // space: gamma p reaches ~700 and exp(gamma p) would overflow). Without the cap the bite
-// viscosity is eta0 (MODEL.md §4). `direction` is +1 on the exit side (u > v), -1 on the
+// viscosity is eta0 (docs/model.md §4). `direction` is +1 on the exit side (u > v), -1 on the
 // entry side: the slip changes sign at the neutral point and only there.
 struct FrictionLaw {
     const Scenario* s;

@@ -1,5 +1,5 @@
 #pragma once
-// The roll-bite model of MODEL.md §1-4: slab pressure equation with mixed-lubrication friction,
+// The roll-bite model of docs/model.md §1-4: slab pressure equation with mixed-lubrication friction,
 // solved by shooting on the neutral point. A pure function of its inputs; failures are values.
 
 #include <vector>

@@ -1,5 +1,5 @@
 #pragma once
-// A rolling scenario in SI units (m, s, Pa, kg, N). The defaults are MODEL.md §8.
+// A rolling scenario in SI units (m, s, Pa, kg, N). The defaults are docs/model.md §8.
 
 #include <array>
 
@@ -62,7 +62,7 @@ struct Tensions {
 };
 
 // Six masses, x upward: m1 upper crosshead, m2 upper backup roll, m3 upper work roll,
-// m4 lower work roll, m5 lower backup roll, m6 lower crosshead (MODEL.md §5).
+// m4 lower work roll, m5 lower backup roll, m6 lower crosshead (docs/model.md §5).
 struct Mill {
     std::array<double, 6> mass{40e3, 60e3, 11e3, 11e3, 60e3, 40e3};
     // k1, k2, k3, k5, k6, k7; k4 (the strip) is derived from the roll-bite model.

@@ -1,6 +1,6 @@
 #pragma once
 // Linear stability of the coupled model about its steady operating point, and the critical
-// rolling speed (MODEL.md §7.3).
+// rolling speed (docs/model.md §7.3).
 
 #include <complex>
 #include <vector>
@@ -18,7 +18,7 @@ struct Linearisation {
     Eigen::MatrixXd jacobian;
 };
 
-// Central differences of f at (t, z) with MODEL.md's steps: q 1e-7 m, q' 1e-3 m/s,
+// Central differences of f at (t, z) with the model document's steps: q 1e-7 m, q' 1e-3 m/s,
 // h0 1e-5 h0, tensions 1 kPa.
 Linearisation linearise(const CoupledModel& model, const Eigen::VectorXd& z, double t = 0.0);
 

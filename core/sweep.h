@@ -1,5 +1,5 @@
 #pragma once
-// Sweeps (MODEL.md §7.5): one analysis over many scenarios, in parallel. Each scenario is
+// Sweeps (docs/model.md §7.5): one analysis over many scenarios, in parallel. Each scenario is
 // independent and its result lands in its own slot, so the results do not depend on the thread
 // count.
 

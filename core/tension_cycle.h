@@ -1,5 +1,5 @@
 #pragma once
-// Distributions over a sinusoidal back-tension cycle (MODEL.md §7.2, the paper's Figs. 14-15):
+// Distributions over a sinusoidal back-tension cycle (docs/model.md §7.2, the paper's Figs. 14-15):
 // the coupled model is run over whole cycles and the bite is resolved at the requested phases
 // of the last one.
 

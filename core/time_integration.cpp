@@ -103,7 +103,7 @@ IntegrationResult integrate(const CoupledModel& model, Eigen::VectorXd& z, doubl
     double* tol = N_VGetArrayPointer(cv.abstol);
     for (int i = 0; i < n; ++i) {
         y[i] = z(i);
-        // MODEL.md §6: q 1e-10 m, q' 1e-7 m/s, h0 1e-12 m, tensions 1 Pa
+        // docs/model.md §6: q 1e-10 m, q' 1e-7 m/s, h0 1e-12 m, tensions 1 Pa
         tol[i] = i < 6 ? 1e-10 : i < 12 ? 1e-7 : i == CoupledModel::kFilm ? 1e-12 : 1.0;
     }
     CVodeSetErrHandlerFn(cv.memory, silent_errors, nullptr);

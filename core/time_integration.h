@@ -1,6 +1,6 @@
 #pragma once
 // Time integration of the coupled model with SUNDIALS CVODE: BDF with a dense direct linear
-// solver (the film relaxes in microseconds while the mill vibrates at ~100 Hz, MODEL.md §6).
+// solver (the film relaxes in microseconds while the mill vibrates at ~100 Hz, docs/model.md §6).
 
 #include <functional>
 #include <vector>

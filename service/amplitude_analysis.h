@@ -1,6 +1,6 @@
 #pragma once
 // Analysis "amplitude": the vibration amplitude of the nonlinear coupled model under a
-// back-tension excitation, at one or more speeds (MODEL.md §7.4).
+// back-tension excitation, at one or more speeds (docs/model.md §7.4).
 
 #include "service/analysis.h"
 

@@ -21,22 +21,22 @@ namespace rollgap::service {
 namespace {
 
 constexpr std::array table{
-    Analysis{"roll_gap", "steady roll-bite pressure, friction and film distributions (MODEL.md §7.1)",
+    Analysis{"roll_gap", "steady roll-bite pressure, friction and film distributions (docs/model.md §7.1)",
              &prepare_roll_gap},
-    Analysis{"tension_cycle", "distributions at phases of a sinusoidal back-tension cycle (MODEL.md §7.2)",
+    Analysis{"tension_cycle", "distributions at phases of a sinusoidal back-tension cycle (docs/model.md §7.2)",
              &prepare_tension_cycle},
-    Analysis{"stability", "eigenvalues and modes at the scenario's speed, critical chatter speed (MODEL.md §7.3)",
+    Analysis{"stability", "eigenvalues and modes at the scenario's speed, critical chatter speed (docs/model.md §7.3)",
              &prepare_stability},
-    Analysis{"amplitude", "vibration amplitude under a back-tension excitation, per speed (MODEL.md §7.4)",
+    Analysis{"amplitude", "vibration amplitude under a back-tension excitation, per speed (docs/model.md §7.4)",
              &prepare_amplitude},
-    Analysis{"sweep", "critical speed or amplitude over the values of one scenario field (MODEL.md §7.5)",
+    Analysis{"sweep", "critical speed or amplitude over the values of one scenario field (docs/model.md §7.5)",
              &prepare_sweep},
     Analysis{"map", "critical speed, frequency and chatter type over a grid of two scenario fields "
                     "(docs/model.md, \"Stability maps\")",
              &prepare_map},
     Analysis{"evaluate", "roll gap, stability, critical speed and amplitude of the scenario at once",
              &prepare_evaluation},
-    Analysis{"calibrate", "fit scenario fields to plant observations, weighted least squares (docs/calibration.md)",
+    Analysis{"calibrate", "fit scenario fields to plant observations, weighted least squares (docs/model.md §11)",
              &prepare_calibration},
 };
 

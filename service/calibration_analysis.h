@@ -1,6 +1,6 @@
 #pragma once
 // Analysis "calibrate": fit scenario fields to plant observations by weighted nonlinear least
-// squares (docs/calibration.md).
+// squares (docs/model.md §11).
 
 #include "service/analysis.h"
 

@@ -1,5 +1,5 @@
 #pragma once
-// Analysis "roll_gap": the steady roll bite of the scenario (MODEL.md §7.1).
+// Analysis "roll_gap": the steady roll bite of the scenario (docs/model.md §7.1).
 
 #include "service/analysis.h"
 

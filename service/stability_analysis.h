@@ -1,6 +1,6 @@
 #pragma once
 // Analysis "stability": the eigenvalues of the coupled model linearised at the scenario's speed,
-// the modes of the stack, and the critical speed over a speed range (MODEL.md §7.3).
+// the modes of the stack, and the critical speed over a speed range (docs/model.md §7.3).
 
 #include "service/analysis.h"
 

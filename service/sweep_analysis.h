@@ -1,6 +1,6 @@
 #pragma once
 // Analysis "sweep": the critical speed or the vibration amplitude over the values of one
-// numeric scenario field, in parallel (MODEL.md §7.5).
+// numeric scenario field, in parallel (docs/model.md §7.5).
 
 #include "service/analysis.h"
 

@@ -1,6 +1,6 @@
 #pragma once
 // Analysis "tension_cycle": roll-bite distributions at phases of a sinusoidal back-tension
-// cycle, from the coupled model run over whole cycles (MODEL.md §7.2, the paper's Figs. 14-15).
+// cycle, from the coupled model run over whole cycles (docs/model.md §7.2, the paper's Figs. 14-15).
 
 #include "service/analysis.h"
 

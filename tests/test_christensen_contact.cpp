@@ -1,4 +1,4 @@
-// Christensen's roughness model (paper eqs. 19-26, MODEL.md §3), checked against independent
+// Christensen's roughness model (paper eqs. 19-26, docs/model.md §3), checked against independent
 // references: adaptive quadrature of the definitions (19), (20), (24) and a bisection inverse
 // built on that quadrature, never against the implementation's own output.
 #include <doctest/doctest.h>

@@ -18,6 +18,7 @@
 #include "api/scenario_json.h"
 #include "service/cli.h"
 #include "service/evaluate.h"
+#include "service/serve_main.h"
 #include "service/version.h"
 
 using nlohmann::json;
@@ -37,7 +38,8 @@ struct CliRun {
 CliRun run(std::vector<std::string_view> arguments, const std::string& input = "") {
     std::istringstream in(input);
     std::ostringstream out, err;
-    const int status = run_cli(arguments, in, out, err);
+    // As the executable does (cli_main.cpp): the HTTP layer's commands handed in.
+    const int status = run_cli(arguments, in, out, err, {serve, healthcheck});
     return {status, out.str(), err.str()};
 }
 
@@ -291,6 +293,12 @@ TEST_CASE("cli: every command is parsed by one command line, and misuse names th
     SUBCASE("healthcheck takes only http URLs") {
         const CliRun bad = run({"healthcheck", "--url", "ftp://127.0.0.1/readyz"});
         CHECK(bad.exit_status == exit_bad_input);
+    }
+    SUBCASE("without the HTTP layer, serve and healthcheck say so") {
+        std::istringstream in;
+        std::ostringstream out, err;
+        CHECK(run_cli(std::vector<std::string_view>{"healthcheck"}, in, out, err) == exit_internal_error);
+        CHECK(err.str().find("no HTTP layer") != std::string::npos);
     }
     SUBCASE("openapi prints the document") {
         const CliRun document = run({"openapi"});

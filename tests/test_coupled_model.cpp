@@ -1,4 +1,4 @@
-// The coupled mill-bite-film model (MODEL.md §5-6), checked against independent references:
+// The coupled mill-bite-film model (docs/model.md §5-6), checked against independent references:
 // the steady state recomputed from the bite solver and the Wilson-Walowit film, k4 by a separate
 // central difference, the total-force identity of §5 written out with K_s + k4 b b^T, the closed
 // forms of the squeeze / theta-dot terms of the two film models, and the exponential relaxation
@@ -177,7 +177,7 @@ TEST_CASE("coupled model: M q'' + C q' + (K_s + k4 b b^T) q = b (P - P_ref + k4 
         Eigen::VectorXd f(model.size());
         REQUIRE(model.rhs(0.0, z.data(), f.data()) == DynamicsStatus::ok);
 
-        // the bite for this state, built by hand (MODEL.md §5: y2 = y2_ref + g, dyc/dt = g')
+        // the bite for this state, built by hand (docs/model.md §5: y2 = y2_ref + g, dyc/dt = g')
         BiteState state;
         state.exit_thickness = ref.exit_thickness + (z(2) - z(3));
         state.gap_rate = z(8) - z(9);
@@ -342,7 +342,7 @@ TEST_CASE("coupled model: the film models differ only in the squeeze / theta-dot
     const double I2 = inlet_integral_I2(a, theta, h0);
     const double paper_term = theta * h0 * I2 / (2.0 * a);
     MESSAGE("I2 = " << I2 << ", theta h0 I2 / (2a) = " << paper_term);
-    CHECK(I2 > 8.0e4);  // MODEL.md: I2 ~ 8.77e4 at the defaults
+    CHECK(I2 > 8.0e4);  // docs/model.md §2: I2 ~ 8.77e4 at the defaults
     CHECK(I2 < 9.5e4);
 
     // the common part from independent bite solves at another step
@@ -365,7 +365,7 @@ TEST_CASE("coupled model: the film models differ only in the squeeze / theta-dot
     // the difference alone: the same bites enter both, so only the closed-form terms remain
     CHECK(std::abs((je.jacobian(12, q3dot) - jp.jacobian(12, q3dot)) - (-0.5 - paper_term)) < 1e-9);
 
-    // MODEL.md §2: the eulerian squeeze term is a negative damping of order
+    // docs/model.md §2: the eulerian squeeze term is a negative damping of order
     // |dP/dh0| h0 / (2 theta u1bar) ~ 1.8 MN s/m at the defaults (dP/dh0 by an independent difference)
     BiteState flo = mp.bite_state(0.0, mp.equilibrium().data()), fhi = flo;
     flo.inlet_film *= 1.0 - 3e-6;
@@ -395,7 +395,7 @@ TEST_CASE("coupled model: the film models differ only in the squeeze / theta-dot
 
 TEST_CASE("coupled model: with the structure still, h0 relaxes to Wilson-Walowit at the rate of eq. (11)") {
     // Structure held still by huge masses, constant tension, h0(0) = 2 h00, CVODE. CVODE's error
-    // on h0 is set by MODEL.md's absolute tolerance 1e-12 m (h0 ~ 3.4e-6 m, so the relative
+    // on h0 is set by the model document's absolute tolerance 1e-12 m (h0 ~ 3.4e-6 m, so the relative
     // tolerance does not bind): the trajectories are compared to 30 x that tolerance, a global
     // error budget for ~50-200 steps. (Observed: 1.5e-11 m, the same for rtol 1e-8 ... 1e-11.)
     const double huge = 1e30;

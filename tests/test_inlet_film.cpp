@@ -1,4 +1,4 @@
-// The inlet film (paper eqs. 2-11, MODEL.md §2), checked against independent references:
+// The inlet film (paper eqs. 2-11, docs/model.md §2), checked against independent references:
 // adaptive quadrature of I2's defining integral, the steady Reynolds-Barus inlet solved by
 // quadrature + bisection, and finite differences for the linear structure of eq. (11).
 #include <doctest/doctest.h>
@@ -21,7 +21,7 @@ using rollgap::test::QuadratureOptions;
 
 constexpr double kU = std::numeric_limits<double>::epsilon() / 2;  // unit roundoff
 
-// MODEL.md §8 defaults, SI.
+// docs/model.md §8 defaults, SI.
 constexpr double kA = 0.280;        // roll radius a, m
 constexpr double kY1 = 1.6e-3;      // entry thickness, m
 constexpr double kR = 0.15;         // reduction
@@ -153,7 +153,7 @@ TEST_CASE("reference I2: log-map quadrature, direct quadrature and the e = 0 clo
 TEST_CASE("I2 closed form at the default scenario: ~8.77e4, and equal to quadrature") {
     const double h0 = 3.4e-6;
     const double ref = ref_I2(kA, kTheta, h0);
-    CHECK(std::abs(ref / 8.77e4 - 1.0) <= 6e-4);  // MODEL.md §2 quotes 3 digits (87709 here)
+    CHECK(std::abs(ref / 8.77e4 - 1.0) <= 6e-4);  // docs/model.md §2 quotes 3 digits (87709 here)
     const double got = inlet_integral_I2(kA, kTheta, h0);
     CAPTURE(ref);
     CAPTURE(got);
@@ -374,7 +374,7 @@ TEST_CASE("both models: d(dh0/dt)/d(u1bar) = theta, and they coincide without mo
     }
 }
 
-TEST_CASE("default-scenario anchor: h00 ~ 3.4 um at u1bar ~ 17.6 m/s (MODEL.md §8)") {
+TEST_CASE("default-scenario anchor: h00 ~ 3.4 um at u1bar ~ 17.6 m/s (docs/model.md §8)") {
     const double h00 = wilson_walowit_film(kEta0, kGamma, kU1bar, kTheta, kSigma, kSb);
     CAPTURE(h00);
     CHECK(h00 == doctest::Approx(3.4e-6).epsilon(0.03));  // 3.372e-6 from the quadrature route

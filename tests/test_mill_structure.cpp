@@ -1,4 +1,4 @@
-// The six-mass mill stack (paper eq. 37, MODEL.md §5), checked against independent references:
+// The six-mass mill stack (paper eq. 37, docs/model.md §5), checked against independent references:
 // closed-form natural frequencies of uniform spring-mass chains, the defining identity of
 // Rayleigh damping, the classical-damping identity for proportional damping, and the matrices
 // written out by hand, row by row, from eq. (37).
@@ -126,7 +126,7 @@ TEST_CASE("mill structure: proportional damping gives zeta_n = alpha/(2 w_n) + b
     // With c1 = c2 = 0 and no strip spring, C = alpha M + beta K_s is proportional to the stiffness
     // of the modal problem, so the modes decouple (classical damping) and each damped eigenvalue
     // is lambda = -zeta_n w_n + i w_n sqrt(1 - zeta_n^2), |lambda| = w_n.
-    Mill symmetric;  // MODEL.md defaults (a symmetric stack: modes in degenerate pairs)
+    Mill symmetric;  // docs/model.md §8 defaults (a symmetric stack: modes in degenerate pairs)
     Mill irregular = irregular_mill();
     for (Mill mill : {symmetric, irregular}) {
         mill.c1 = mill.c2 = 0.0;

@@ -1,4 +1,4 @@
-// The roll-bite solver (MODEL.md §1, §4): conservation, boundary and continuity conditions,
+// The roll-bite solver (docs/model.md §1, §4): conservation, boundary and continuity conditions,
 // the slab equation itself, convergence, smoothness and the failure states.
 
 #include <doctest/doctest.h>
@@ -138,7 +138,7 @@ TEST_CASE("the friction is the mixed law of eqs. (16)-(18) with the limiting-she
     }
 }
 
-TEST_CASE("without the cap the bite fluid is Newtonian at eta0 (MODEL.md §4)") {
+TEST_CASE("without the cap the bite fluid is Newtonian at eta0 (docs/model.md §4)") {
     Scenario s;
     s.lubricant.limiting_shear = false;
     s.rolls.speed = 10.0;
@@ -169,7 +169,7 @@ TEST_CASE("the steady inlet film is the stationary point of the unsteady film eq
     for (InletFilmModel model : {InletFilmModel::paper, InletFilmModel::eulerian}) {
         CHECK(std::abs(inlet_film_rate(model, in)) < 1e-12 * r.inlet_angle * in.mean_inlet_speed);
     }
-    // MODEL.md §8: about 3.4 um at the defaults
+    // docs/model.md §8: about 3.4 um at the defaults
     CHECK(r.inlet_film == doctest::Approx(3.4e-6).epsilon(0.02));
 }
 
@@ -189,7 +189,7 @@ TEST_CASE("force, torque and mean friction are the integrals of the distribution
     CHECK(r.torque == doctest::Approx(-s.strip.width * s.rolls.radius * integral_tau).epsilon(1e-6));
     CHECK(r.mean_friction_coefficient == doctest::Approx(integral_abs_tau / integral_p).epsilon(1e-7));
     CHECK(r.torque > 0.0);  // the rolls drive the strip
-    // MODEL.md §4: about 6.5 MN at 19 m/s
+    // docs/model.md §4: about 6.5 MN at 19 m/s
     CHECK(r.force == doctest::Approx(6.5e6).epsilon(0.02));
 }
 
@@ -299,7 +299,7 @@ TEST_CASE("failure states are values: contact lost, skidding, solver failure") {
         CHECK(r.force == 0.0);
         CHECK(r.distribution.empty());
     }
-    SUBCASE("too little friction to drive the strip: the rolls skid (MODEL.md §4, cap off, 30 m/s)") {
+    SUBCASE("too little friction to drive the strip: the rolls skid (docs/model.md §4, cap off, 30 m/s)") {
         Scenario fast = s;
         fast.lubricant.limiting_shear = false;
         fast.rolls.speed = 30.0;

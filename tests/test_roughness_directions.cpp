@@ -1,4 +1,4 @@
-// The paper's Section 6.2 claims, checked as directions on the steady bite (MODEL.md §9):
+// The paper's Section 6.2 claims, checked as directions on the steady bite (docs/model.md §9):
 // compressive stress rises with roughness, more so at high back tension; friction stress is very
 // sensitive to roughness. Rq = 1 and 6 um as in Figs. 14-15; back tension 18 +- 9 MPa.
 

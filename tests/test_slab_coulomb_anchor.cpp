@@ -1,4 +1,4 @@
-// The slab equation under the Coulomb verification law against published numbers (MODEL.md §4):
+// The slab equation under the Coulomb verification law against published numbers (docs/model.md §4):
 // a textbook problem (FOSSEE Scilab port 3250/CH3/EX3.2, Bland-Ford numerics) and Hill's formula.
 
 #include <doctest/doctest.h>

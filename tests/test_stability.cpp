@@ -1,7 +1,7 @@
-// Linear stability and the critical speed (MODEL.md §7.3), checked against independent
+// Linear stability and the critical speed (docs/model.md §7.3), checked against independent
 // references: the analytic structural block of the Jacobian and bite derivatives by separate
 // finite differences, eigenvalues of a hand-scaled Jacobian, independent stability_at calls on
-// both sides of the critical speed, MODEL.md's claims on the film / tension variants, and the
+// both sides of the critical speed, the model document's claims on the film / tension variants, and the
 // continuity of the damping branches.
 #include <doctest/doctest.h>
 
@@ -120,7 +120,7 @@ TEST_CASE("stability: the Jacobian's structural block is the analytic one") {
     CHECK(rel(-dP_dg, ref.strip_stiffness) > 1e-3);
 }
 
-TEST_CASE("stability: MODEL.md's claims on the variants over 1-60 m/s") {
+TEST_CASE("stability: the model document's claims on the variants over 1-60 m/s") {
     SUBCASE("paper film, constant back tension: stable at every speed") {
         Scenario s;
         s.tensions.back.mode = TensionMode::constant;
@@ -202,7 +202,7 @@ TEST_CASE("stability: MODEL.md's claims on the variants over 1-60 m/s") {
 }
 
 TEST_CASE("stability: the paper film's theta-dot term barely moves the least-damped eigenvalue") {
-    // MODEL.md §2: "The theta-dot I2 term is negligible (it moves the least-damped eigenvalue by
+    // docs/model.md §2: "The theta-dot I2 term is negligible (it moves the least-damped eigenvalue by
     // ~3 %)". Remove the term from the Jacobian by its closed form (d(h0')/dg' = theta h0 I2 / (2a))
     // and compare the rightmost oscillatory eigenvalue at the default speed.
     const Scenario s;
@@ -286,7 +286,7 @@ TEST_CASE("stability: eigenvalues do not depend on the balancing") {
 
 TEST_CASE("stability: a speed without a steady state is a status, never a crash or a bracket") {
     Scenario s;
-    s.lubricant.limiting_shear = false;  // MODEL.md §4: only A tau_a drives the strip, it skids at speed
+    s.lubricant.limiting_shear = false;  // docs/model.md §4: only A tau_a drives the strip, it skids at speed
 
     const SpeedStability skid = stability_at(at_speed(s, 30.0));
     CHECK(skid.steady_status == BiteStatus::skidding);
@@ -410,7 +410,7 @@ TEST_CASE("stability: damping branches are continuous and one per oscillatory mo
         }
     }
 
-    // MODEL.md §7.3: the ~104 Hz and ~400 Hz branches swap the lead (lowest zeta) near 35 m/s
+    // docs/model.md §7.3: the ~104 Hz and ~400 Hz branches swap the lead (lowest zeta) near 35 m/s
     const DampingBranch* low = nullptr;
     const DampingBranch* high = nullptr;
     for (const auto& b : r.branches) {

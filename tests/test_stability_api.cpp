@@ -75,7 +75,7 @@ TEST_CASE("stability at the scenario's speed: eigenvalues, least-damped mode and
     CHECK(result["speed_m_per_s"] == 19.0);
     CHECK(result["stable"] == true);
     CHECK(result["critical_speed"].is_null());
-    // k4 from the bite model: ~20 GN/m at the defaults (MODEL.md §5).
+    // k4 from the bite model: ~20 GN/m at the defaults (docs/model.md §5).
     CHECK(result["strip_stiffness_GN_per_m"].get<double>() > 5.0);
     CHECK(result["strip_stiffness_GN_per_m"].get<double>() < 50.0);
 
@@ -88,7 +88,7 @@ TEST_CASE("stability at the scenario's speed: eigenvalues, least-damped mode and
     CHECK(eigenvalues[0]["real_per_s"].get<double>() < 0.0);
     CHECK(eigenvalues[0]["real_per_s"] == result["max_growth_rate_per_s"]);
 
-    // The ~104 Hz mode leads at 19 m/s (MODEL.md §7.3), lightly damped.
+    // The ~104 Hz mode leads at 19 m/s (docs/model.md §7.3), lightly damped.
     const json& mode = result["least_damped_mode"];
     CHECK(mode["frequency_Hz"].get<double>() > 80.0);
     CHECK(mode["frequency_Hz"].get<double>() < 130.0);
@@ -160,7 +160,7 @@ TEST_CASE("stability: a range that starts unstable is a status, not a critical s
 }
 
 TEST_CASE("stability: no steady state at the scenario's speed is a 200 result with a status") {
-    // Without the limiting shear stress the default stand skids at high speed (MODEL.md §4).
+    // Without the limiting shear stress the default stand skids at high speed (docs/model.md §4).
     const json body = run_stability({{"lubricant", {{"limiting_shear", false}}}, {"rolls", {{"speed_m_per_s", 60}}}},
                                     {{"critical_speed", false}});
     const json& result = body["result"];

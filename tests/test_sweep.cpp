@@ -1,4 +1,4 @@
-// Sweeps (MODEL.md §7.5): the parallel results equal the serial ones bit for bit, and each point
+// Sweeps (docs/model.md §7.5): the parallel results equal the serial ones bit for bit, and each point
 // equals the analysis run on its own.
 
 #include <doctest/doctest.h>

@@ -1,4 +1,4 @@
-// Distributions over a sinusoidal back-tension cycle (MODEL.md §7.2, Figs. 14-15). At 10 Hz the
+// Distributions over a sinusoidal back-tension cycle (docs/model.md §7.2, Figs. 14-15). At 10 Hz the
 // cycle is far below the stack's lowest mode (~64 Hz), so the gap follows the force almost
 // quasi-statically: g = b^T K_s^-1 b (P - P_ref), within the dynamic amplification
 // 1 / (1 - (10/64)^2) ~ 1.025.

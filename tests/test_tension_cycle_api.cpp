@@ -86,7 +86,7 @@ TEST_CASE("tension_cycle on the default scenario: s_b = mean + amplitude sin(2 p
     CHECK(result["frequency_Hz"] == 10.0);
     const json& phases = result["phases"];
     REQUIRE(phases.size() == 3);
-    // Mean 18 MPa, amplitude 9 MPa (MODEL.md §6).
+    // Mean 18 MPa, amplitude 9 MPa (docs/model.md §6).
     CHECK(phases[0]["phase"] == 0.25);
     CHECK(phases[0]["back_tension_MPa"].get<double>() == doctest::Approx(27.0).epsilon(1e-9));
     CHECK(phases[1]["back_tension_MPa"].get<double>() == doctest::Approx(18.0).epsilon(1e-9));

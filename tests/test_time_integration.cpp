@@ -1,4 +1,4 @@
-// CVODE time integration of the nonlinear coupled model against its linearisation (MODEL.md §6,
+// CVODE time integration of the nonlinear coupled model against its linearisation (docs/model.md §6,
 // §7.3): started along the least-damped eigenvector, the gap oscillates at the eigenfrequency
 // and its envelope grows or decays at the eigenvalue's real part, below and above the critical
 // speed.

@@ -1,4 +1,4 @@
-// The amplitude analysis (MODEL.md §7.4) against the linear frequency response of the
+// The amplitude analysis (docs/model.md §7.4) against the linear frequency response of the
 // linearised model: with a small excitation, the settled response of the nonlinear model is
 // |e3^T (i w I - J)^-1 B| ds, where B = df/ds_b is how the back tension the bite sees drives the
 // state (in span mode, the Jacobian column of the tension state).
@@ -86,7 +86,7 @@ TEST_CASE("above the critical speed the response grows until a physical limit en
 TEST_CASE("a speed without a steady state is reported, not simulated") {
     Scenario s;
     s.lubricant.limiting_shear = false;
-    s.rolls.speed = 30.0;  // skids (MODEL.md §4)
+    s.rolls.speed = 30.0;  // skids (docs/model.md §4)
     const AmplitudeResult r = vibration_amplitude(s);
     CHECK(r.status == AmplitudeStatus::no_steady_state);
     CHECK(r.steady_status == BiteStatus::skidding);

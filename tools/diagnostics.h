@@ -49,7 +49,7 @@ struct ModeDiagnostics {
     double direct_damping = nan;   // -dP/d(gdot)
     double film_damping = nan;     // through the inlet film state h0
     double loop_damping = nan;     // through the entry-span tension state s_b
-    double squeeze_estimate = nan; // MODEL.md §2's eulerian squeeze term |dP/dh0| h0 / (2 theta u1bar)
+    double squeeze_estimate = nan; // docs/model.md §2's eulerian squeeze term |dP/dh0| h0 / (2 theta u1bar)
 };
 
 // Diagnoses the coupled model of scenario `s` at its own speed, following the oscillatory

@@ -16,7 +16,7 @@ Scenario cycle_scenario(InletFilmModel film, double rq_um) {
     s.inlet_film = film;
     s.roughness.roll_rq = rq_um * 1e-6;
     s.roughness.strip_rq = 0.0;
-    s.tensions.back.stress = 18e6;  // 18 +- 9 MPa at 10 Hz (Section 6.2; MODEL.md §6 defaults)
+    s.tensions.back.stress = 18e6;  // 18 +- 9 MPa at 10 Hz (Section 6.2; docs/model.md §6 defaults)
     s.tensions.back.amplitude = 9e6;
     s.tensions.back.frequency = 10.0;
     return s;

@@ -9,7 +9,7 @@
 // Defaults: --out docs/paper-reproduction, --doc docs/paper-reproduction.md, all hardware
 // threads. Deterministic: every analysis is a pure function of its scenario and the sweeps put
 // each result in its own slot, so only the runtime figures change from run to run.
-// Nothing here tunes the model: every scenario is MODEL.md §8's default with the one field the
+// Nothing here tunes the model: every scenario is docs/model.md §8's default with the one field the
 // figure varies (and the stated diagnostics variants, which are labelled as such).
 
 #include <algorithm>

@@ -18,14 +18,14 @@ void md_introduction(std::ostringstream& md, const Results& R, const Output& out
           "edit by hand — rerun the script. Runtime of this run: "
        << fmt(R.seconds, 1) << " s on " << R.threads << " threads.*\n\n";
     md << "This document runs rollgap's model — the paper (Wang, Jiang, Zhao & Fang, *Tribology International* 67 (2013) "
-          "174–181) as specified by MODEL.md — over the parameter ranges of the paper's Figs. 8–15, and compares the "
+          "174–181) as specified in docs/model.md — over the parameter ranges of the paper's Figs. 8–15, and compares the "
           "**direction** of each curve with what the paper says about it. The paper's figures are images without "
           "published data, so magnitudes cannot be compared; the paper's claims (Section 6 and the Conclusions) are "
           "statements of direction, and those are what is checked. Nothing was tuned towards the paper: every scenario is "
-          "MODEL.md §8's default with the one field the figure varies. Where the model disagrees, the mechanism was "
+          "docs/model.md §8's default with the one field the figure varies. Where the model disagrees, the mechanism was "
           "traced in the linearised coupled model (`core::linearise`): which coupling destabilises the mode, how much "
           "damping it has to overcome, and what state the lubrication is in.\n\n";
-    md << "Every figure is run with both inlet film models of MODEL.md §2: `paper` (eq. 11 as printed, the default) and "
+    md << "Every figure is run with both inlet film models of docs/model.md §2: `paper` (eq. 11 as printed, the default) and "
           "`eulerian` (the frame-corrected squeeze term). What was run:\n\n"
        << "- Figs. 8–12: `core::sweep_critical_speed` (search 1–60 m/s, 0.5 m/s scan, refined to 1e-4) over η0 (0.1–2.0 "
           "mPa·s), exit thickness y2 (1.10–1.55 mm at y1 = 1.6 mm), entry thickness y1 (1.42–2.00 mm at y2 = 1.36 mm), "
@@ -38,7 +38,7 @@ void md_introduction(std::ostringstream& md, const Results& R, const Output& out
        << "- Figs. 14–15: `core::tension_cycle` at the defaults (v = 19 m/s, R = 0.15) with back tension 18 ± 9 MPa at "
           "10 Hz, Rq = 1 and 6 µm, distributions at T = 0.25, 0.5, 0.75 of the second cycle.\n"
        << "- Diagnostics (labelled as such; none of them is a model change): the Jacobian at selected points with single "
-          "states removed, equivalent dampers of each coupling path, and variants of the assumptions MODEL.md added to "
+          "states removed, equivalent dampers of each coupling path, and variants of the assumptions docs/model.md adds to "
           "the paper.\n\n";
     md << "Command: `bash scripts/reproduce-paper.sh` (builds the `reproduce_paper` target in `build/` and runs "
           "`build/tools/reproduce_paper --out docs/paper-reproduction --doc docs/paper-reproduction.md`). The CSV and "
@@ -126,10 +126,10 @@ void md_notes_and_files(std::ostringstream& md, const Output& out) {
     md << "- **Film collapse.** When the eulerian film is driven to h0 ≤ 0, `CoupledModel::rhs` has no state and "
           "the run ends as `solver_failure` with the message \"the model has no state here: the inlet film collapsed or "
           "the roll bite did not solve\" (Fig. 13 eulerian at low speed, Figs. 14–15 eulerian at Rq = 6 µm).\n";
-    md << "- **Amplitude excitation at low speed.** MODEL.md §7.4 excites at the least-damped eigenfrequency; below ≈ 8 m/s "
+    md << "- **Amplitude excitation at low speed.** docs/model.md §7.4 excites at the least-damped eigenfrequency; below ≈ 8 m/s "
           "that is the 64 Hz mode, which has no gap motion and cannot be excited through the bite (the step in Fig. 13). "
           "Choosing the least-damped mode *with gap participation* would give a continuous curve; rollgap follows "
-          "MODEL.md as written, and `excitation_frequency_Hz` lets a user excite the gap mode explicitly.\n\n";
+          "docs/model.md §7.4 as written, and `excitation_frequency_Hz` lets a user excite the gap mode explicitly.\n\n";
 
     md << "## Files\n\n";
     md << "All in `" << out.link << "/`: ";

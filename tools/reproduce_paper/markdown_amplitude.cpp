@@ -22,7 +22,7 @@ void md_amplitude_figure(std::ostringstream& md, const Results& R, const Output&
         md << "**The paper:** \"It can be seen that the vibration amplitude increases with increasing rolling speed.\"\n\n";
         md << "**Setup:** defaults, v = 2–24 m/s; `core::vibration_amplitude` excites the bite with a 1 MPa back-tension "
               "ripple at the least-damped eigenfrequency of each speed and integrates the nonlinear coupled model for 2 s "
-              "(MODEL.md §7.4). Amplitude: half peak-to-peak over the last 10 % of the window, or of the run when a "
+              "(docs/model.md §7.4). Amplitude: half peak-to-peak over the last 10 % of the window, or of the run when a "
               "physical limit ended it.\n\n";
         md << out.image("fig13_paper.svg", "Fig. 13, paper film") << "\n"
            << out.image("fig13_eulerian.svg", "Fig. 13, eulerian film") << "\n\n";
@@ -112,7 +112,7 @@ void md_amplitude_figure(std::ostringstream& md, const Results& R, const Output&
                    << " Hz gap mode becomes the least damped, the excitation moves "
                       "onto it and the amplitude jumps to "
                    << fmtg(after->upper_roll * 1e6, 3)
-                   << " µm. The step is a property of MODEL.md §7.4's choice of excitation frequency, not of the mill; it "
+                   << " µm. The step is a property of docs/model.md §7.4's choice of excitation frequency, not of the mill; it "
                       "does not change the direction.\n\n";
             }
         }

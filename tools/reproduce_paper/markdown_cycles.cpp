@@ -120,7 +120,7 @@ void md_cycle_figures(std::ostringstream& md, const Results& R, const Output& ou
                    << " µm for Rq = 1 µm), which does not alter the regime either.\n\n";
                 md << "For the paper's curves to coincide at low back tension, the lubrication regime would have to depend on "
                       "the back tension — e.g. an inlet film that thickens strongly as s_b falls, which needs "
-                      "γ(σ − s_b) of order 1 (an oil-typical γ ≈ 0.017 MPa⁻¹ gives ≈ 6; MODEL.md §8 explains why the printed "
+                      "γ(σ − s_b) of order 1 (an oil-typical γ ≈ 0.017 MPa⁻¹ gives ≈ 6; docs/model.md §8 explains why the printed "
                       "value is kept). The model is not tuned towards this.\n\n";
             }
         }

@@ -50,7 +50,7 @@ void md_film_comparison(std::ostringstream& md, const Results& R, const Output& 
                 }
             }
         }
-        md << "\nMODEL.md §2 predicts that the eulerian film makes a ~450 Hz mode unstable at every speed at the defaults. "
+        md << "\ndocs/model.md §2 predicts that the eulerian film makes a ~450 Hz mode unstable at every speed at the defaults. "
               "**Confirmed, with a qualification:** with the default entry-span tension no speed in 1–60 m/s is stable "
               "(in the table above, even the smallest of the largest growth rates is positive). The unstable mode is the two work rolls moving "
               "against each other between the backup rolls ";
@@ -90,7 +90,7 @@ void md_film_comparison(std::ostringstream& md, const Results& R, const Output& 
         }
         md << "\n**Mechanism.** The eulerian film equation has the squeeze term −ẏc/2: an opening gap thins the inlet film, a "
               "thinner film raises asperity contact and friction, and the force rises while the gap opens — a negative "
-              "damper across the gap of about abs(∂P/∂h0)·h0/(2θū1) (MODEL.md §2; the *squeeze estimate* column, which the "
+              "damper across the gap of about abs(∂P/∂h0)·h0/(2θū1) (docs/model.md §2; the *squeeze estimate* column, which the "
               "full film-path calculation reproduces). The paper film's path damps instead (its θ̇ term is tiny). ";
         const ModeDiagnostics* e19 = nullptr;
         const ModeDiagnostics* p19 = nullptr;
@@ -128,7 +128,7 @@ void md_film_comparison(std::ostringstream& md, const Results& R, const Output& 
         md << "): its squeeze damper removes damping from that mode as well.\n";
         md << "- Fig. 13: no eulerian run lasts longer than a few tens of milliseconds.\n";
         md << "- Figs. 14–15: identical where the bite is in full film (Rq = 1 µm); no result where it is mixed (Rq = 6 µm).\n\n";
-        md << "Real mills roll at these conditions without a 450–550 Hz instability, so the eulerian variant — as MODEL.md "
+        md << "Real mills roll at these conditions without a 450–550 Hz instability, so the eulerian variant — as docs/model.md §2 "
               "says — needs calibration (e.g. of how quickly the inlet film can follow the gap) before it can be used for "
               "critical speeds.\n\n";
     }
