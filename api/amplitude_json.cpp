@@ -23,7 +23,7 @@ constexpr std::string_view time_series_name = "time_series";
 constexpr std::string_view time_series_points_name = "time_series_points";
 
 constexpr std::array<std::string_view, 7> analysis_members{
-    speeds_name, window_name, excitation_amplitude_name, excitation_frequency_name,
+    speeds_name,    window_name,      excitation_amplitude_name, excitation_frequency_name,
     tolerance_name, time_series_name, time_series_points_name};
 
 std::span<const std::string_view> known_members(AmplitudeMembers members) {
@@ -41,15 +41,17 @@ void read_speeds(const OptionsReader& reader, std::vector<double>& speeds) {
     if (value == nullptr) return;
     const std::string pointer = reader.at(speeds_name);
     if (!value->is_array()) {
-        reader.errors().add({pointer, concat("must be an array of speeds, got ", json_type_name(*value)),
+        reader.errors().add({pointer,
+                             concat("must be an array of speeds, got ", json_type_name(*value)),
                              std::nullopt, std::nullopt});
         return;
     }
-    const std::string count_bound = concat("1 to ", std::to_string(max_amplitude_speeds), " speeds");
+    const std::string count_bound =
+        concat("1 to ", std::to_string(max_amplitude_speeds), " speeds");
     if (value->empty() || value->size() > static_cast<std::size_t>(max_amplitude_speeds)) {
         reader.errors().add({pointer,
-                             concat("has ", std::to_string(value->size()), " speeds; give ", count_bound,
-                                    " (each is a run of window_s simulated seconds)"),
+                             concat("has ", std::to_string(value->size()), " speeds; give ",
+                                    count_bound, " (each is a run of window_s simulated seconds)"),
                              count_bound, std::nullopt});
         return;
     }
@@ -58,8 +60,8 @@ void read_speeds(const OptionsReader& reader, std::vector<double>& speeds) {
     std::vector<double> parsed;
     bool valid = true;
     for (std::size_t i = 0; i < value->size(); ++i) {
-        const auto speed = read_number((*value)[i], append_pointer(pointer, std::to_string(i)), speed_field.range,
-                                       speed_field.unit, reader.errors());
+        const auto speed = read_number((*value)[i], append_pointer(pointer, std::to_string(i)),
+                                       speed_field.range, speed_field.unit, reader.errors());
         if (speed) {
             parsed.push_back(to_si(*speed, speed_field.unit));
         } else {
@@ -70,7 +72,8 @@ void read_speeds(const OptionsReader& reader, std::vector<double>& speeds) {
 }
 
 bool figures_known(const core::AmplitudeResult& result) {
-    if (result.status == core::AmplitudeStatus::no_steady_state || result.windows.empty()) return false;
+    if (result.status == core::AmplitudeStatus::no_steady_state || result.windows.empty())
+        return false;
     // As core: the amplitudes come from the last two complete 10 % windows.
     int complete = 0;
     for (const core::AmplitudeWindow& window : result.windows) {
@@ -79,24 +82,30 @@ bool figures_known(const core::AmplitudeResult& result) {
     return complete >= 2;
 }
 
-bool ran(const core::AmplitudeResult& result) { return result.status != core::AmplitudeStatus::no_steady_state; }
+bool ran(const core::AmplitudeResult& result) {
+    return result.status != core::AmplitudeStatus::no_steady_state;
+}
 
 }  // namespace
 
-AmplitudeOptions amplitude_options_from_json(const nlohmann::json& options, const std::string& pointer,
-                                             AmplitudeMembers members, double scenario_speed, FieldErrors& errors) {
+AmplitudeOptions amplitude_options_from_json(const nlohmann::json& options,
+                                             const std::string& pointer, AmplitudeMembers members,
+                                             double scenario_speed, FieldErrors& errors) {
     AmplitudeOptions parsed;
     parsed.speeds = {scenario_speed};
     const OptionsReader reader(options, pointer, known_members(members), errors);
     if (members == AmplitudeMembers::analysis) read_speeds(reader, parsed.speeds);
     core::AmplitudeOptions& run = parsed.run;
     reader.number(window_name, units::second, open_closed(0.0, 20.0), run.window);
-    reader.number(excitation_amplitude_name, units::megapascal, closed(0.0, 100.0), run.excitation_amplitude);
-    reader.number(excitation_frequency_name, units::hertz, closed(0.0, 2000.0), run.excitation_frequency_Hz);
+    reader.number(excitation_amplitude_name, units::megapascal, closed(0.0, 100.0),
+                  run.excitation_amplitude);
+    reader.number(excitation_frequency_name, units::hertz, closed(0.0, 2000.0),
+                  run.excitation_frequency_Hz);
     reader.number(tolerance_name, units::one, closed(1e-9, 1e-3), run.relative_tolerance);
     if (members != AmplitudeMembers::sweep_point) {
         reader.boolean(time_series_name, run.time_series);
-        reader.integer(time_series_points_name, closed(2.0, max_time_series_points), run.time_series_points);
+        reader.integer(time_series_points_name, closed(2.0, max_time_series_points),
+                       run.time_series_points);
     }
     return parsed;
 }
@@ -104,7 +113,8 @@ AmplitudeOptions amplitude_options_from_json(const nlohmann::json& options, cons
 nlohmann::json amplitude_options_json(const AmplitudeOptions& options, AmplitudeMembers members) {
     const core::AmplitudeOptions& run = options.run;
     nlohmann::json document = nlohmann::json::object();
-    if (members == AmplitudeMembers::analysis) document[speeds_name] = quantities_json(options.speeds, units::metre_per_second);
+    if (members == AmplitudeMembers::analysis)
+        document[speeds_name] = quantities_json(options.speeds, units::metre_per_second);
     document[window_name] = from_si(run.window, units::second);
     document[excitation_amplitude_name] = from_si(run.excitation_amplitude, units::megapascal);
     document[excitation_frequency_name] = from_si(run.excitation_frequency_Hz, units::hertz);
@@ -124,12 +134,14 @@ using core::AmplitudeResult;
 Member<AmplitudeResult> figure_member(std::string_view name, std::string_view description,
                                       double AmplitudeResult::*member, Unit unit) {
     return {name, description, number_schema(unit), [member, unit](const AmplitudeResult& result) {
-                return figures_known(result) ? quantity_json(result.*member, unit) : nlohmann::json(nullptr);
+                return figures_known(result) ? quantity_json(result.*member, unit)
+                                             : nlohmann::json(nullptr);
             }};
 }
 
 nlohmann::json dynamics_status_schema(bool nullable) {
-    return enum_schema({"ok", "contact_lost", "skidding", "slack_strip", "solver_failure"}, nullable);
+    return enum_schema({"ok", "contact_lost", "skidding", "slack_strip", "solver_failure"},
+                       nullable);
 }
 
 }  // namespace
@@ -150,8 +162,9 @@ const ResultTable<AmplitudeWindowView>& amplitude_window_table() {
              number_schema(units::micrometre),
              [](const Window& w) {
                  // A limit may end the run before the window.
-                 return w.window.start < w.end_time ? quantity_json(w.window.upper_roll, units::micrometre)
-                                                    : nlohmann::json(nullptr);
+                 return w.window.start < w.end_time
+                            ? quantity_json(w.window.upper_roll, units::micrometre)
+                            : nlohmann::json(nullptr);
              }},
         }};
     return table;
@@ -162,39 +175,54 @@ namespace {
 Member<AmplitudeResult> series_member(std::string_view name, std::string_view description,
                                       std::vector<double> AmplitudeResult::*member, Unit unit) {
     return {name, description, array_schema(number_schema(unit)),
-            [member, unit](const AmplitudeResult& result) { return quantities_json(result.*member, unit); }};
+            [member, unit](const AmplitudeResult& result) {
+                return quantities_json(result.*member, unit);
+            }};
 }
 
 }  // namespace
 
-std::vector<Member<core::AmplitudeResult>> amplitude_figure_members(std::string_view frequency_name) {
+std::vector<Member<core::AmplitudeResult>> amplitude_figure_members(
+    std::string_view frequency_name) {
     return {
         {"status",
          "`settled`: the last two 10 % windows agree within 1 %. `growing` / `decaying`: they do not. "
          "`limit_reached`: the vibration slackened the strip, opened the gap or made the rolls skid (the figures "
          "are those of the window it happened in). `no_steady_state`: no steady bite to vibrate about. "
          "`solver_failure`: the integration failed.",
-         enum_schema({"settled", "growing", "decaying", "limit_reached", "no_steady_state", "solver_failure"}),
+         enum_schema({"settled", "growing", "decaying", "limit_reached", "no_steady_state",
+                      "solver_failure"}),
          [](const AmplitudeResult& r) { return nlohmann::json(core::to_string(r.status)); }},
         {"message", "Why, for humans; empty when settled.", string_schema(),
-         [](const AmplitudeResult& r) { return nlohmann::json(r.message != nullptr ? r.message : ""); }},
+         [](const AmplitudeResult& r) {
+             return nlohmann::json(r.message != nullptr ? r.message : "");
+         }},
         {frequency_name, "The excitation frequency (the least-damped mode's unless given).",
          number_schema(units::hertz),
          [](const AmplitudeResult& r) {
-             return ran(r) ? quantity_json(r.excitation_frequency_Hz, units::hertz) : nlohmann::json(nullptr);
+             return ran(r) ? quantity_json(r.excitation_frequency_Hz, units::hertz)
+                           : nlohmann::json(nullptr);
          }},
-        figure_member("upper_roll_amplitude_um", "Half peak-to-peak displacement of the upper work roll (m3).",
+        figure_member("upper_roll_amplitude_um",
+                      "Half peak-to-peak displacement of the upper work roll (m3).",
                       &AmplitudeResult::upper_roll, units::micrometre),
-        figure_member("gap_amplitude_um", "Half peak-to-peak change of the work-roll gap (m3 − m4).",
+        figure_member("gap_amplitude_um",
+                      "Half peak-to-peak change of the work-roll gap (m3 − m4).",
                       &AmplitudeResult::gap, units::micrometre),
-        figure_member("force_amplitude_kN", "Half peak-to-peak change of the roll force.", &AmplitudeResult::force,
-                      units::kilonewton),
+        figure_member("force_amplitude_kN", "Half peak-to-peak change of the roll force.",
+                      &AmplitudeResult::force, units::kilonewton),
         {"settled", "Whether the last two 10 % windows agree within 1 %.", boolean_schema(true),
-         [](const AmplitudeResult& r) { return figures_known(r) ? nlohmann::json(r.settled) : nlohmann::json(nullptr); }},
-        figure_member("growth_rate_per_s", "Growth rate of the amplitude from the last two 10 % windows.",
+         [](const AmplitudeResult& r) {
+             return figures_known(r) ? nlohmann::json(r.settled) : nlohmann::json(nullptr);
+         }},
+        figure_member("growth_rate_per_s",
+                      "Growth rate of the amplitude from the last two 10 % windows.",
                       &AmplitudeResult::growth_rate, units::per_second),
-        {"end_time_s", "Simulated time: the window unless a limit ended the run.", number_schema(units::second),
-         [](const AmplitudeResult& r) { return ran(r) ? quantity_json(r.end_time, units::second) : nlohmann::json(nullptr); }},
+        {"end_time_s", "Simulated time: the window unless a limit ended the run.",
+         number_schema(units::second),
+         [](const AmplitudeResult& r) {
+             return ran(r) ? quantity_json(r.end_time, units::second) : nlohmann::json(nullptr);
+         }},
     };
 }
 
@@ -204,12 +232,14 @@ const ResultTable<core::AmplitudeResult>& time_series_table() {
         "The run, decimated to options.time_series_points samples, columnar (arrays of equal length).",
         {
             series_member("time_s", "Simulated time.", &AmplitudeResult::t, units::second),
-            series_member("upper_work_roll_displacement_um",
-                          "Displacement of the upper work roll (m3, x3) from its steady position, upward positive.",
-                          &AmplitudeResult::x3, units::micrometre),
-            series_member("work_roll_gap_change_um",
-                          "Change of the gap between the work rolls (x3 − x4) from its steady value.",
-                          &AmplitudeResult::g, units::micrometre),
+            series_member(
+                "upper_work_roll_displacement_um",
+                "Displacement of the upper work roll (m3, x3) from its steady position, upward positive.",
+                &AmplitudeResult::x3, units::micrometre),
+            series_member(
+                "work_roll_gap_change_um",
+                "Change of the gap between the work rolls (x3 − x4) from its steady value.",
+                &AmplitudeResult::g, units::micrometre),
             series_member("roll_force_change_kN", "Change of the roll force from its steady value.",
                           &AmplitudeResult::dP, units::kilonewton),
         }};
@@ -228,19 +258,27 @@ const ResultTable<AmplitudeView>& amplitude_point_table() {
                 [](const AmplitudeView& v) -> const AmplitudeResult& { return v.result; });
             const std::vector<Member<AmplitudeView>> more{
                 {"speed_m_per_s", "The roll speed.", number_schema(units::metre_per_second),
-                 [](const AmplitudeView& v) { return quantity_json(v.result.speed, units::metre_per_second); }},
+                 [](const AmplitudeView& v) {
+                     return quantity_json(v.result.speed, units::metre_per_second);
+                 }},
                 {"steady_status", "The status of the steady bite at this speed.",
                  enum_schema({"ok", "skidding", "contact_lost", "solver_failure"}),
-                 [](const AmplitudeView& v) { return nlohmann::json(core::to_string(v.result.steady_status)); }},
-                {"end_status", "What ended the run (`ok`: the window did); null without a steady state.",
+                 [](const AmplitudeView& v) {
+                     return nlohmann::json(core::to_string(v.result.steady_status));
+                 }},
+                {"end_status",
+                 "What ended the run (`ok`: the window did); null without a steady state.",
                  dynamics_status_schema(true),
                  [](const AmplitudeView& v) {
-                     return ran(v.result) ? nlohmann::json(core::to_string(v.result.end_status)) : nlohmann::json(nullptr);
+                     return ran(v.result) ? nlohmann::json(core::to_string(v.result.end_status))
+                                          : nlohmann::json(nullptr);
                  }},
-                {"least_damped_growth_rate_per_s", "Real part of the least-damped eigenvalue at this speed.",
+                {"least_damped_growth_rate_per_s",
+                 "Real part of the least-damped eigenvalue at this speed.",
                  number_schema(units::per_second),
                  [](const AmplitudeView& v) {
-                     return ran(v.result) ? quantity_json(v.result.least_damped_growth_rate, units::per_second)
+                     return ran(v.result) ? quantity_json(v.result.least_damped_growth_rate,
+                                                          units::per_second)
                                           : nlohmann::json(nullptr);
                  }},
                 {"windows", "The ten 10 % windows (options.detail \"full\" only).",
@@ -249,15 +287,19 @@ const ResultTable<AmplitudeView>& amplitude_point_table() {
                      if (v.detail == Detail::summary) return absent();
                      nlohmann::json windows = nlohmann::json::array();
                      for (const core::AmplitudeWindow& window : v.result.windows) {
-                         windows.push_back(amplitude_window_table().write({window, v.result.end_time}));
+                         windows.push_back(
+                             amplitude_window_table().write({window, v.result.end_time}));
                      }
                      return windows;
                  },
                  true},
-                {"time_series", "Present when options.time_series is true (and detail is \"full\").",
+                {"time_series",
+                 "Present when options.time_series is true (and detail is \"full\").",
                  ref_schema("AmplitudeTimeSeries"),
                  [](const AmplitudeView& v) {
-                     return v.time_series && v.detail == Detail::full ? time_series_table().write(v.result) : absent();
+                     return v.time_series && v.detail == Detail::full
+                                ? time_series_table().write(v.result)
+                                : absent();
                  },
                  true},
             };
@@ -277,7 +319,8 @@ const ResultTable<AmplitudeRuns>& amplitude_result_table() {
              [](const AmplitudeRuns& runs) {
                  nlohmann::json points = nlohmann::json::array();
                  for (const AmplitudeResult& result : runs.results) {
-                     points.push_back(amplitude_point_table().write({result, runs.time_series, Detail::full}));
+                     points.push_back(
+                         amplitude_point_table().write({result, runs.time_series, Detail::full}));
                  }
                  return points;
              }},
@@ -286,11 +329,12 @@ const ResultTable<AmplitudeRuns>& amplitude_result_table() {
 }
 
 std::vector<ResultSchema> amplitude_result_schemas() {
-    return {result_schema(amplitude_window_table()), result_schema(time_series_table()), result_schema(amplitude_point_table()),
-            result_schema(amplitude_result_table())};
+    return {result_schema(amplitude_window_table()), result_schema(time_series_table()),
+            result_schema(amplitude_point_table()), result_schema(amplitude_result_table())};
 }
 
-nlohmann::json amplitude_result_json(const core::AmplitudeResult& result, bool with_time_series, Detail detail) {
+nlohmann::json amplitude_result_json(const core::AmplitudeResult& result, bool with_time_series,
+                                     Detail detail) {
     return amplitude_point_table().write({result, with_time_series, detail});
 }
 

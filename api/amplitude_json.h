@@ -41,8 +41,9 @@ struct AmplitudeOptions {
 };
 
 // `scenario_speed` (m/s) is the default of speeds_m_per_s.
-AmplitudeOptions amplitude_options_from_json(const nlohmann::json& options, const std::string& pointer,
-                                             AmplitudeMembers members, double scenario_speed, FieldErrors& errors);
+AmplitudeOptions amplitude_options_from_json(const nlohmann::json& options,
+                                             const std::string& pointer, AmplitudeMembers members,
+                                             double scenario_speed, FieldErrors& errors);
 nlohmann::json amplitude_options_json(const AmplitudeOptions& options, AmplitudeMembers members);
 
 // One speed: {"speed_m_per_s", "status", "message", "steady_status", "end_status",
@@ -72,7 +73,8 @@ struct AmplitudeRuns {
 // The figures alone (the head of a point; a sweep point, with the excitation frequency under
 // `frequency_name`): status, message, the frequency, the three amplitudes, settled,
 // growth_rate_per_s, end_time_s.
-std::vector<Member<core::AmplitudeResult>> amplitude_figure_members(std::string_view frequency_name);
+std::vector<Member<core::AmplitudeResult>> amplitude_figure_members(
+    std::string_view frequency_name);
 
 struct AmplitudeWindowView {
     const core::AmplitudeWindow& window;

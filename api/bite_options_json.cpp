@@ -15,7 +15,8 @@ core::BiteOptions bite_options_from_json(const nlohmann::json& options, const st
     static constexpr std::array<std::string_view, 1> known{"distributions"};
     reject_unknown_fields(options, pointer, known, errors);
     if (const auto value = options.find("distributions"); value != options.end()) {
-        if (const auto flag = read_boolean(*value, append_pointer(pointer, "distributions"), errors)) {
+        if (const auto flag =
+                read_boolean(*value, append_pointer(pointer, "distributions"), errors)) {
             parsed.distributions = *flag;
         }
     }

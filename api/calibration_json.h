@@ -53,24 +53,27 @@ struct CalibrationQuantity {
 const std::vector<CalibrationQuantity>& calibration_quantities();
 
 struct CalibrationPlan {
-    std::vector<const ScenarioField*> fields;   // one per parameter
-    std::vector<std::string> quantity_names;    // one per observation
+    std::vector<const ScenarioField*> fields;  // one per parameter
+    std::vector<std::string> quantity_names;   // one per observation
     std::vector<Unit> quantity_units;
-    core::ScenarioCalibration setup;            // complete only for a valid request
-    core::Scenario scenario;                    // the request's (start values)
+    core::ScenarioCalibration setup;  // complete only for a valid request
+    core::Scenario scenario;          // the request's (start values)
     long estimated_stability_evaluations = 0;
     nlohmann::json resolved_options;
 };
 
 // `valid_scenario` is the request's scenario if it passed validation, else nullptr (then the
 // observation conditions and the start values are not checked).
-CalibrationPlan calibration_plan_from_json(const nlohmann::json& options, const std::string& pointer,
-                                           const core::Scenario* valid_scenario, FieldErrors& errors);
+CalibrationPlan calibration_plan_from_json(const nlohmann::json& options,
+                                           const std::string& pointer,
+                                           const core::Scenario* valid_scenario,
+                                           FieldErrors& errors);
 
 // The result document: status, iterations, parameters (value, standard error, bounds, prior),
 // correlation, observations (predicted, normalised residual), chi-squared, degrees of freedom,
 // warnings and the calibrated scenario as a merge patch onto the defaults.
-nlohmann::json calibration_result_json(const CalibrationPlan& plan, const core::ScenarioCalibrationResult& result);
+nlohmann::json calibration_result_json(const CalibrationPlan& plan,
+                                       const core::ScenarioCalibrationResult& result);
 
 // The tables that write it (api/result_table.h): their OpenAPI components, and the scalar
 // members of a parameter and of an observation (the CSV columns).

@@ -15,10 +15,13 @@ nlohmann::json chatter_type_changes_schema(const nlohmann::json& point_schema) {
     nlohmann::json from_type = chatter_type_schema(), to_type = chatter_type_schema();
     from_type["description"] = "The chatter type of the crossing mode at `from`.";
     to_type["description"] = "The chatter type of the crossing mode at `to`.";
-    return array_schema(object_schema(
-        "A pair of neighbouring points whose crossing modes differ in chatter type.",
-        {{"from", from}, {"to", to}, {"from_chatter_type", from_type}, {"to_chatter_type", to_type}},
-        {"from", "to", "from_chatter_type", "to_chatter_type"}));
+    return array_schema(
+        object_schema("A pair of neighbouring points whose crossing modes differ in chatter type.",
+                      {{"from", from},
+                       {"to", to},
+                       {"from_chatter_type", from_type},
+                       {"to_chatter_type", to_type}},
+                      {"from", "to", "from_chatter_type", "to_chatter_type"}));
 }
 
 nlohmann::json chatter_type_changes_json(const std::vector<core::ChatterTypeChange>& changes,

@@ -49,7 +49,8 @@ json map_rows(const json& result) {
         json row = cell;
         const json values = row.value("values", json::array());
         row.erase("values");
-        for (std::size_t k = 0; k < names.size() && k < values.size(); ++k) row[names[k]] = values[k];
+        for (std::size_t k = 0; k < names.size() && k < values.size(); ++k)
+            row[names[k]] = values[k];
         rows.push_back(std::move(row));
     }
     return rows;
@@ -58,50 +59,98 @@ json map_rows(const json& result) {
 const std::map<std::string_view, std::vector<CsvTable>>& tables() {
     static const std::map<std::string_view, std::vector<CsvTable>> by_analysis{
         {"roll_gap",
-         {{"distribution", "Quantities along the bite, one row per integration point.", "", {}, "/distribution",
+         {{"distribution",
+           "Quantities along the bite, one row per integration point.",
+           "",
+           {},
+           "/distribution",
            all_columns(&bite_distribution_table)}}},
         {"tension_cycle",
-         {{"distributions", "The bite's distributions at each phase, one row per phase and integration point.",
+         {{"distributions",
+           "The bite's distributions at each phase, one row per phase and integration point.",
            "/phases",
            {{"phase", "phase"}, {"time_s", "time_s"}, {"back_tension_MPa", "back_tension_MPa"}},
            "/roll_gap/distribution",
            all_columns(&bite_distribution_table)},
-          {"phases", "One row per phase.", "", {}, "/phases", scalar_columns(&tension_phase_table)}}},
+          {"phases",
+           "One row per phase.",
+           "",
+           {},
+           "/phases",
+           scalar_columns(&tension_phase_table)}}},
         {"stability",
-         {{"scan", "The critical-speed scan, one row per speed.", "", {}, "/critical_speed/scan",
+         {{"scan",
+           "The critical-speed scan, one row per speed.",
+           "",
+           {},
+           "/critical_speed/scan",
            scalar_columns(&scan_point_table)},
-          {"damping_branches", "The damping ratio of each oscillatory mode over the scan, one row per mode and speed.",
+          {"damping_branches",
+           "The damping ratio of each oscillatory mode over the scan, one row per mode and speed.",
            "/critical_speed/damping_branches",
            {{"branch", ""}},
            "",
            all_columns(&damping_branch_table)},
-          {"eigenvalues", "The eigenvalues at the scenario's speed.", "", {}, "/eigenvalues",
+          {"eigenvalues",
+           "The eigenvalues at the scenario's speed.",
+           "",
+           {},
+           "/eigenvalues",
            all_columns(&eigenvalue_table)}}},
         {"amplitude",
-         {{"points", "One row per speed.", "", {}, "/points", scalar_columns(&amplitude_point_table)},
-          {"time_series", "The decimated time series of each speed (options.time_series), one row per sample.",
+         {{"points",
+           "One row per speed.",
+           "",
+           {},
+           "/points",
+           scalar_columns(&amplitude_point_table)},
+          {"time_series",
+           "The decimated time series of each speed (options.time_series), one row per sample.",
            "/points",
            {{"speed_m_per_s", "speed_m_per_s"}},
            "/time_series",
            all_columns(&time_series_table)},
-          {"windows", "The ten 10 % windows of each speed.", "/points", {{"speed_m_per_s", "speed_m_per_s"}}, "/windows",
+          {"windows",
+           "The ten 10 % windows of each speed.",
+           "/points",
+           {{"speed_m_per_s", "speed_m_per_s"}},
+           "/windows",
            all_columns(&amplitude_window_table)}}},
         {"sweep",
-         {{"points", "One row per swept value, the value first.", "", {}, "/points", [](const json& result) {
+         {{"points",
+           "One row per swept value, the value first.",
+           "",
+           {},
+           "/points",
+           [](const json& result) {
                std::vector<std::string> columns{result.value("value_name", std::string("value"))};
-               for (std::string& name : sweep_point_columns(result.value("quantity", std::string()) == "amplitude")) {
+               for (std::string& name :
+                    sweep_point_columns(result.value("quantity", std::string()) == "amplitude")) {
                    columns.push_back(std::move(name));
                }
                return columns;
            }}}},
         {"calibrate",
-         {{"parameters", "One row per fitted field.", "", {}, "/parameters",
+         {{"parameters",
+           "One row per fitted field.",
+           "",
+           {},
+           "/parameters",
            [](const json&) { return calibration_parameter_columns(); }},
-          {"observations", "One row per observation.", "", {}, "/observations",
+          {"observations",
+           "One row per observation.",
+           "",
+           {},
+           "/observations",
            [](const json&) { return calibration_observation_columns(); }}}},
         {"map",
-         {{"cells", "One row per cell, the two fields' values first (columns named by their scenario pointers).", "",
-           {}, "", map_columns, map_rows}}},
+         {{"cells",
+           "One row per cell, the two fields' values first (columns named by their scenario pointers).",
+           "",
+           {},
+           "",
+           map_columns,
+           map_rows}}},
     };
     return by_analysis;
 }
@@ -113,8 +162,8 @@ const json* at(const json& document, std::string_view pointer) {
 }
 
 // Appends the records of one block of rows, each led by `lead`.
-bool append_rows(const json& rows, const std::vector<std::string>& columns, const std::vector<json>& lead,
-                 std::string& text) {
+bool append_rows(const json& rows, const std::vector<std::string>& columns,
+                 const std::vector<json>& lead, std::string& text) {
     if (rows.is_array()) {
         for (const json& row : rows) {
             if (!row.is_object()) return false;
@@ -127,13 +176,16 @@ bool append_rows(const json& rows, const std::vector<std::string>& columns, cons
     if (!rows.is_object()) return false;
     std::size_t length = 0;
     for (const std::string& column : columns) {
-        if (rows.contains(column) && rows[column].is_array()) length = std::max(length, rows[column].size());
+        if (rows.contains(column) && rows[column].is_array())
+            length = std::max(length, rows[column].size());
     }
     for (std::size_t i = 0; i < length; ++i) {
         std::vector<json> fields = lead;
         for (const std::string& column : columns) {
             const json* values = rows.contains(column) ? &rows[column] : nullptr;
-            fields.push_back(values != nullptr && values->is_array() && i < values->size() ? (*values)[i] : json());
+            fields.push_back(values != nullptr && values->is_array() && i < values->size()
+                                 ? (*values)[i]
+                                 : json());
         }
         text += csv_record(fields);
     }
@@ -178,16 +230,23 @@ std::string csv_record(const std::vector<json>& fields) {
 CsvOutcome result_csv(std::string_view analysis, const json& result, std::string_view table) {
     const std::span<const CsvTable> offered = csv_tables(analysis);
     if (offered.empty()) {
-        return {false, {},
-                concat("the ", analysis, " result has no table to give as CSV: ask for application/json, or run the "
-                       "analysis whose table you want (roll_gap, stability, amplitude, tension_cycle, sweep, map, calibrate)")};
+        return {
+            false,
+            {},
+            concat(
+                "the ", analysis,
+                " result has no table to give as CSV: ask for application/json, or run the "
+                "analysis whose table you want (roll_gap, stability, amplitude, tension_cycle, sweep, map, calibrate)")};
     }
-    const auto chosen = table.empty() ? offered.begin()
-                                      : std::find_if(offered.begin(), offered.end(),
-                                                     [table](const CsvTable& t) { return t.name == table; });
+    const auto chosen = table.empty()
+                            ? offered.begin()
+                            : std::find_if(offered.begin(), offered.end(),
+                                           [table](const CsvTable& t) { return t.name == table; });
     if (chosen == offered.end()) {
-        return {false, {}, concat("the ", analysis, " result has no table '", table, "'; its tables are ",
-                                  table_names(offered))};
+        return {false,
+                {},
+                concat("the ", analysis, " result has no table '", table, "'; its tables are ",
+                       table_names(offered))};
     }
     const std::vector<std::string> columns = chosen->columns(result);
     std::vector<json> header;
@@ -195,17 +254,18 @@ CsvOutcome result_csv(std::string_view analysis, const json& result, std::string
     for (const std::string& column : columns) header.emplace_back(column);
     std::string text = csv_record(header);
 
-    const std::string missing =
-        concat("this ", analysis, " result has no '", chosen->name, "' table (", chosen->description,
-               " It is left out by options such as critical_speed false, detail \"summary\", time_series false, "
-               "distributions false, or when the outcome produced none)");
+    const std::string missing = concat(
+        "this ", analysis, " result has no '", chosen->name, "' table (", chosen->description,
+        " It is left out by options such as critical_speed false, detail \"summary\", time_series false, "
+        "distributions false, or when the outcome produced none)");
     if (chosen->rows_of) {
         if (!append_rows(chosen->rows_of(result), columns, {}, text)) return {false, {}, missing};
         return {true, std::move(text), {}};
     }
     if (chosen->outer.empty()) {
         const json* rows = at(result, chosen->rows);
-        if (rows == nullptr || rows->is_null() || !append_rows(*rows, columns, {}, text)) return {false, {}, missing};
+        if (rows == nullptr || rows->is_null() || !append_rows(*rows, columns, {}, text))
+            return {false, {}, missing};
         return {true, std::move(text), {}};
     }
     const json* outer = at(result, chosen->outer);
@@ -217,7 +277,8 @@ CsvOutcome result_csv(std::string_view analysis, const json& result, std::string
         if (rows == nullptr || rows->is_null()) continue;
         std::vector<json> lead;
         for (const CsvKey& key : chosen->keys) {
-            lead.push_back(key.member.empty() ? json(i) : element.value(std::string(key.member), json()));
+            lead.push_back(key.member.empty() ? json(i)
+                                              : element.value(std::string(key.member), json()));
         }
         if (!append_rows(*rows, columns, lead, text)) return {false, {}, missing};
         any = true;

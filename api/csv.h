@@ -36,10 +36,11 @@ struct CsvKey {
 struct CsvTable {
     std::string_view name;         // what ?table= / --table call it
     std::string_view description;  // for the documentation
-    std::string_view outer;        // JSON pointer (in the result) of an array whose elements hold the rows; "" if none
-    std::vector<CsvKey> keys;      // leading columns from each outer element
-    std::string_view rows;         // JSON pointer (in the result, or in an outer element) of the rows: an array
-                                   // of objects, or an object of equal-length arrays (columnar)
+    std::string_view
+        outer;  // JSON pointer (in the result) of an array whose elements hold the rows; "" if none
+    std::vector<CsvKey> keys;  // leading columns from each outer element
+    std::string_view rows;  // JSON pointer (in the result, or in an outer element) of the rows: an
+                            // array of objects, or an object of equal-length arrays (columnar)
     std::function<std::vector<std::string>(const nlohmann::json& result)> columns;  // in order
     // The rows computed from the result, instead of `rows`, when the JSON holds them in a form a
     // sheet cannot take (a map cell's pair of values becomes two columns); outer must be "".
@@ -56,7 +57,8 @@ struct CsvOutcome {
 };
 
 // The CSV of one table of an analysis' result; `table` "" is the first.
-CsvOutcome result_csv(std::string_view analysis, const nlohmann::json& result, std::string_view table);
+CsvOutcome result_csv(std::string_view analysis, const nlohmann::json& result,
+                      std::string_view table);
 
 // One RFC 4180 field / record (CRLF included), for the writers and their tests.
 std::string csv_field(const nlohmann::json& value);

@@ -33,13 +33,19 @@ const ResultTable<EvaluationView>& evaluation_table() {
                  if (v.options.detail == Detail::summary) bite.erase("distribution");
                  return bite;
              }},
-            {"stability", "The linearisation at the scenario's speed.", ref_schema("StabilitySummary"),
-             [](const EvaluationView& v) { return speed_stability_summary_json(v.evaluation.stability); }},
+            {"stability", "The linearisation at the scenario's speed.",
+             ref_schema("StabilitySummary"),
+             [](const EvaluationView& v) {
+                 return speed_stability_summary_json(v.evaluation.stability);
+             }},
             {"critical_speed", "The critical-speed search.", ref_schema("CriticalSpeedSummary"),
-             [](const EvaluationView& v) { return critical_speed_summary_json(v.evaluation.critical); }},
+             [](const EvaluationView& v) {
+                 return critical_speed_summary_json(v.evaluation.critical);
+             }},
             {"amplitude", "The vibration at the scenario's speed.", ref_schema("AmplitudePoint"),
              [](const EvaluationView& v) {
-                 return amplitude_result_json(v.evaluation.amplitude, v.options.amplitude.time_series, v.options.detail);
+                 return amplitude_result_json(v.evaluation.amplitude,
+                                              v.options.amplitude.time_series, v.options.detail);
              }},
         }};
     return table;
@@ -47,17 +53,19 @@ const ResultTable<EvaluationView>& evaluation_table() {
 
 }  // namespace
 
-EvaluationOptions evaluation_options_from_json(const nlohmann::json& options, const std::string& pointer,
-                                               FieldErrors& errors) {
+EvaluationOptions evaluation_options_from_json(const nlohmann::json& options,
+                                               const std::string& pointer, FieldErrors& errors) {
     EvaluationOptions parsed;
     const OptionsReader reader(options, pointer, members, errors);
     if (!reader.is_object()) return parsed;
     if (const nlohmann::json* search = reader.find(critical_speed_name)) {
-        parsed.critical_speed = critical_speed_options_from_json(*search, reader.at(critical_speed_name), errors);
+        parsed.critical_speed =
+            critical_speed_options_from_json(*search, reader.at(critical_speed_name), errors);
     }
     if (const nlohmann::json* run = reader.find(amplitude_name)) {
-        parsed.amplitude =
-            amplitude_options_from_json(*run, reader.at(amplitude_name), AmplitudeMembers::single_run, 0.0, errors).run;
+        parsed.amplitude = amplitude_options_from_json(*run, reader.at(amplitude_name),
+                                                       AmplitudeMembers::single_run, 0.0, errors)
+                               .run;
     }
     read_detail(reader, parsed.detail);
     return parsed;
@@ -66,13 +74,14 @@ EvaluationOptions evaluation_options_from_json(const nlohmann::json& options, co
 nlohmann::json evaluation_options_json(const EvaluationOptions& options) {
     return {
         {critical_speed_name, critical_speed_options_json(options.critical_speed)},
-        {amplitude_name, amplitude_options_json({{}, options.amplitude}, AmplitudeMembers::single_run)},
+        {amplitude_name,
+         amplitude_options_json({{}, options.amplitude}, AmplitudeMembers::single_run)},
         {"detail", detail_json(options.detail)},
     };
 }
 
-nlohmann::json evaluation_result_json(const core::Evaluation& evaluation, const EvaluationOptions& options,
-                                      double scenario_speed) {
+nlohmann::json evaluation_result_json(const core::Evaluation& evaluation,
+                                      const EvaluationOptions& options, double scenario_speed) {
     core::SpeedStability stability = evaluation.stability;
     core::AmplitudeResult amplitude = evaluation.amplitude;
     core::CriticalSpeedResult critical = evaluation.critical;
@@ -83,7 +92,8 @@ nlohmann::json evaluation_result_json(const core::Evaluation& evaluation, const 
         amplitude.speed = scenario_speed;
         amplitude.steady_status = evaluation.roll_gap.status;
         amplitude.status = core::AmplitudeStatus::no_steady_state;
-        amplitude.message = "no steady state at the scenario's speed: the bite skids or loses contact";
+        amplitude.message =
+            "no steady state at the scenario's speed: the bite skids or loses contact";
     }
     core::Evaluation completed = evaluation;
     completed.stability = stability;
@@ -92,6 +102,8 @@ nlohmann::json evaluation_result_json(const core::Evaluation& evaluation, const 
     return evaluation_table().write({completed, options});
 }
 
-std::vector<ResultSchema> evaluation_result_schemas() { return {result_schema(evaluation_table())}; }
+std::vector<ResultSchema> evaluation_result_schemas() {
+    return {result_schema(evaluation_table())};
+}
 
 }  // namespace rollgap::api

@@ -25,8 +25,8 @@ struct EvaluationOptions {
     Detail detail = Detail::full;
 };
 
-EvaluationOptions evaluation_options_from_json(const nlohmann::json& options, const std::string& pointer,
-                                               FieldErrors& errors);
+EvaluationOptions evaluation_options_from_json(const nlohmann::json& options,
+                                               const std::string& pointer, FieldErrors& errors);
 nlohmann::json evaluation_options_json(const EvaluationOptions& options);
 
 // {"roll_gap": <the roll_gap result>, "stability": <speed_stability_summary_json>,
@@ -34,8 +34,8 @@ nlohmann::json evaluation_options_json(const EvaluationOptions& options);
 // Without a steady bite at the scenario's speed (roll_gap status not "ok") nothing vibrates
 // about it: the other three then have status "no_steady_state" and null figures (core stops at
 // the roll gap then; `scenario_speed`, m/s, fills in the speed it did not record).
-nlohmann::json evaluation_result_json(const core::Evaluation& evaluation, const EvaluationOptions& options,
-                                      double scenario_speed);
+nlohmann::json evaluation_result_json(const core::Evaluation& evaluation,
+                                      const EvaluationOptions& options, double scenario_speed);
 
 // Its OpenAPI component (EvaluateResult), from the table that writes it.
 std::vector<ResultSchema> evaluation_result_schemas();

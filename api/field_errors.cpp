@@ -58,8 +58,7 @@ namespace {
 
 void add_type_error(const nlohmann::json& value, const std::string& pointer,
                     std::string_view expected, FieldErrors& errors) {
-    errors.add({pointer,
-                concat("must be ", expected, ", got ", json_type_name(value)),
+    errors.add({pointer, concat("must be ", expected, ", got ", json_type_name(value)),
                 std::nullopt, std::nullopt});
 }
 
@@ -77,12 +76,14 @@ void reject_unknown_fields(const nlohmann::json& object, const std::string& poin
     for (const auto& [name, value] : object.items()) {
         if (std::find(known.begin(), known.end(), name) != known.end()) continue;
         if (errors.reporting_full()) {  // only counted: skip the suggestion search
-            errors.add({append_pointer(pointer, name), "unknown field", std::nullopt, std::nullopt});
+            errors.add(
+                {append_pointer(pointer, name), "unknown field", std::nullopt, std::nullopt});
             continue;
         }
         std::string detail = concat("unknown field ", quoted_for_message(name));
         if (auto explanation = hint ? hint(name) : std::nullopt) {
-            errors.add({append_pointer(pointer, name), concat(detail, ": ", *explanation), std::nullopt, std::nullopt});
+            errors.add({append_pointer(pointer, name), concat(detail, ": ", *explanation),
+                        std::nullopt, std::nullopt});
             continue;
         }
         detail += did_you_mean(name, known);
@@ -107,11 +108,13 @@ std::optional<double> read_number(const nlohmann::json& value, const std::string
     if (!range.contains(number)) {
         // Dimensionless values read better without the unit code "1".
         const std::string unit_suffix = unit.code == units::one.code ? "" : concat(" ", unit.code);
-        std::string detail = concat(format_number(number), unit_suffix, " is outside ", range.text(), unit_suffix);
+        std::string detail =
+            concat(format_number(number), unit_suffix, " is outside ", range.text(), unit_suffix);
         // A fraction given as a percentage ("reduction": 25): say so when value / 100 would fit.
-        if (unit.code == units::one.code && range.max <= 1.0 && number > 1.0 && range.contains(number / 100.0)) {
-            detail += concat("; this is a fraction, 0.25 = 25 %: for ", format_number(number), " % write ",
-                             format_number(number / 100.0));
+        if (unit.code == units::one.code && range.max <= 1.0 && number > 1.0 &&
+            range.contains(number / 100.0)) {
+            detail += concat("; this is a fraction, 0.25 = 25 %: for ", format_number(number),
+                             " % write ", format_number(number / 100.0));
         }
         errors.add({pointer, std::move(detail), range.text(), std::string(unit.code)});
         return std::nullopt;
@@ -158,14 +161,17 @@ std::optional<std::string> read_string(const nlohmann::json& value, const std::s
 }
 
 std::optional<std::string> read_choice(const nlohmann::json& value, const std::string& pointer,
-                                       std::span<const std::string_view> choices, FieldErrors& errors) {
+                                       std::span<const std::string_view> choices,
+                                       FieldErrors& errors) {
     if (!value.is_string()) {
-        add_type_error(value, pointer, concat("one of the strings ", choices_text(choices)), errors);
+        add_type_error(value, pointer, concat("one of the strings ", choices_text(choices)),
+                       errors);
         return std::nullopt;
     }
     const auto& text = value.get_ref<const std::string&>();
     if (std::find(choices.begin(), choices.end(), text) == choices.end()) {
-        std::string detail = concat(quoted_for_message(text), " is not one of ", choices_text(choices));
+        std::string detail =
+            concat(quoted_for_message(text), " is not one of ", choices_text(choices));
         detail += did_you_mean(text, choices);
         errors.add({pointer, std::move(detail), choices_text(choices), std::nullopt});
         return std::nullopt;

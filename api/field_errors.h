@@ -71,7 +71,8 @@ std::optional<long long> read_integer(const nlohmann::json& value, const std::st
 std::optional<bool> read_boolean(const nlohmann::json& value, const std::string& pointer,
                                  FieldErrors& errors);
 std::optional<std::string> read_choice(const nlohmann::json& value, const std::string& pointer,
-                                       std::span<const std::string_view> choices, FieldErrors& errors);
+                                       std::span<const std::string_view> choices,
+                                       FieldErrors& errors);
 std::optional<std::string> read_string(const nlohmann::json& value, const std::string& pointer,
                                        FieldErrors& errors);
 

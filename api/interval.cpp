@@ -12,7 +12,8 @@ bool Interval::contains(double value) const {
 }
 
 std::string Interval::text() const {
-    return concat(min_open ? "(" : "[", format_number(min), ", ", format_number(max), max_open ? ")" : "]");
+    return concat(min_open ? "(" : "[", format_number(min), ", ", format_number(max),
+                  max_open ? ")" : "]");
 }
 
 }  // namespace rollgap::api

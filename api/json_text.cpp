@@ -28,7 +28,8 @@ std::variant<nlohmann::json, Problem> parse_json_text(std::string_view text) {
             case Event::object_start:
             case Event::array_start:
                 if (depth >= max_json_depth) {
-                    throw RejectedStructure{concat("nesting deeper than ", std::to_string(max_json_depth), " levels")};
+                    throw RejectedStructure{
+                        concat("nesting deeper than ", std::to_string(max_json_depth), " levels")};
                 }
                 if (event == Event::object_start) open_objects.emplace_back();
                 break;
@@ -40,25 +41,23 @@ std::variant<nlohmann::json, Problem> parse_json_text(std::string_view text) {
                 }
                 break;
             }
-            case Event::object_end:
-                open_objects.pop_back();
-                break;
+            case Event::object_end: open_objects.pop_back(); break;
             case Event::array_end:
-            case Event::value:
-                break;
+            case Event::value: break;
         }
         return true;
     };
     try {
         return nlohmann::json::parse(text.begin(), text.end(), check_structure);
     } catch (const RejectedStructure& rejected) {
-        return make_problem(ProblemCode::invalid_json, concat("request body has ", rejected.reason));
+        return make_problem(ProblemCode::invalid_json,
+                            concat("request body has ", rejected.reason));
     } catch (const nlohmann::json::exception& error) {
         // parse_error (syntax, with the position) or out_of_range 406 (number overflow). The
         // message starts with an internal tag, "[json.exception.parse_error.101] ", dropped here.
         std::string_view message = error.what();
-        if (const auto tag_end = message.find("] "); !message.empty() && message.front() == '[' &&
-                                                     tag_end != std::string_view::npos) {
+        if (const auto tag_end = message.find("] ");
+            !message.empty() && message.front() == '[' && tag_end != std::string_view::npos) {
             message.remove_prefix(tag_end + 2);
         }
         return make_problem(ProblemCode::invalid_json, std::string(message));

@@ -24,13 +24,15 @@ void read_axes(const OptionsReader& reader, const core::Scenario* valid_scenario
     const nlohmann::json* parameters = reader.find(parameters_name);
     FieldErrors& errors = reader.errors();
     if (parameters == nullptr || !parameters->is_array() || parameters->size() != 2) {
-        errors.add({pointer,
-                    parameters == nullptr
-                        ? "required: the two scenario fields of the map, [{\"parameter\", \"values\" | \"range\"}, {...}]"
-                        : concat("must be an array of exactly two fields, got ",
-                                 parameters->is_array() ? concat(std::to_string(parameters->size()), " items")
-                                                        : std::string(json_type_name(*parameters))),
-                    "2 fields", std::nullopt});
+        errors.add(
+            {pointer,
+             parameters == nullptr
+                 ? "required: the two scenario fields of the map, [{\"parameter\", \"values\" | \"range\"}, {...}]"
+                 : concat("must be an array of exactly two fields, got ",
+                          parameters->is_array()
+                              ? concat(std::to_string(parameters->size()), " items")
+                              : std::string(json_type_name(*parameters))),
+             "2 fields", std::nullopt});
         return;
     }
     for (std::size_t k = 0; k < 2; ++k) {
@@ -38,16 +40,17 @@ void read_axes(const OptionsReader& reader, const core::Scenario* valid_scenario
         plan.axes[k] = sweep_axis_from_json((*parameters)[k], at, valid_scenario, errors);
         const ScenarioField* field = plan.axes[k].field;
         if (field != nullptr && field->path == speed_path) {
-            errors.add({append_pointer(at, "parameter"),
-                        "the critical-speed search scans the roll speed itself: map two other fields",
-                        std::nullopt, std::nullopt});
+            errors.add(
+                {append_pointer(at, "parameter"),
+                 "the critical-speed search scans the roll speed itself: map two other fields",
+                 std::nullopt, std::nullopt});
             plan.axes[k].field = nullptr;
         }
     }
     if (plan.axes[0].field != nullptr && plan.axes[0].field == plan.axes[1].field) {
         errors.add({append_pointer(append_pointer(pointer, "1"), "parameter"),
-                    concat("names the same field as the first parameter (", plan.axes[0].field->path,
-                           "): a map needs two different fields"),
+                    concat("names the same field as the first parameter (",
+                           plan.axes[0].field->path, "): a map needs two different fields"),
                     std::nullopt, std::nullopt});
         plan.axes[1].field = nullptr;
     }
@@ -76,11 +79,12 @@ void build_cells(MapPlan& plan, const std::string& pointer, FieldErrors& errors)
                 continue;
             }
             const FieldError& first = cell_errors.reported().front();
-            errors.add({pointer,
-                        concat("with ", rows.field->path, " = ", format_number(rows.values[i]), " and ",
-                               columns.field->path, " = ", format_number(columns.values[j]),
-                               " the scenario is invalid at ", first.pointer, ": ", first.detail),
-                        std::nullopt, std::nullopt});
+            errors.add(
+                {pointer,
+                 concat("with ", rows.field->path, " = ", format_number(rows.values[i]), " and ",
+                        columns.field->path, " = ", format_number(columns.values[j]),
+                        " the scenario is invalid at ", first.pointer, ": ", first.detail),
+                 std::nullopt, std::nullopt});
             plan.cells.clear();
             return;
         }
@@ -96,25 +100,29 @@ MapPlan map_plan_from_json(const nlohmann::json& options, const std::string& poi
     if (!reader.is_object()) return plan;
     read_axes(reader, valid_scenario, plan);
     const nlohmann::json* search = reader.find(critical_speed_name);
-    plan.critical_speed = critical_speed_options_from_json(search != nullptr ? *search : nlohmann::json::object(),
-                                                           reader.at(critical_speed_name), errors);
+    plan.critical_speed =
+        critical_speed_options_from_json(search != nullptr ? *search : nlohmann::json::object(),
+                                         reader.at(critical_speed_name), errors);
 
     // The bounds, on the counts the client asked for (valid values or not).
     const long cells = static_cast<long>(axis_count(plan.axes[0].resolved)) *
                        static_cast<long>(axis_count(plan.axes[1].resolved));
     if (cells > max_map_cells) {
-        errors.add({reader.at(parameters_name),
-                    concat(std::to_string(axis_count(plan.axes[0].resolved)), " × ",
-                           std::to_string(axis_count(plan.axes[1].resolved)), " = ", std::to_string(cells),
-                           " cells; a map may have at most ", std::to_string(max_map_cells)),
-                    concat("at most ", std::to_string(max_map_cells), " cells"), std::nullopt});
+        errors.add(
+            {reader.at(parameters_name),
+             concat(std::to_string(axis_count(plan.axes[0].resolved)), " × ",
+                    std::to_string(axis_count(plan.axes[1].resolved)), " = ", std::to_string(cells),
+                    " cells; a map may have at most ", std::to_string(max_map_cells)),
+             concat("at most ", std::to_string(max_map_cells), " cells"), std::nullopt});
     } else if (!errors.has_error_at_or_below(reader.at(critical_speed_name))) {
         const long total = cells * scan_point_count(plan.critical_speed);
         if (total > max_sweep_scan_points) {
             errors.add({append_pointer(reader.at(critical_speed_name), "speed_step_m_per_s"),
-                        concat(std::to_string(cells), " cells × ", std::to_string(scan_point_count(plan.critical_speed)),
+                        concat(std::to_string(cells), " cells × ",
+                               std::to_string(scan_point_count(plan.critical_speed)),
                                " scan speeds each = ", std::to_string(total),
-                               " stability evaluations; a map may do at most ", std::to_string(max_sweep_scan_points),
+                               " stability evaluations; a map may do at most ",
+                               std::to_string(max_sweep_scan_points),
                                ": use fewer values, a larger step or a narrower speed range"),
                         std::nullopt, std::nullopt});
         }
@@ -143,13 +151,16 @@ const ResultTable<MapCellView>& map_cell_table() {
         "The critical speed at one cell of the map: the first field at values[0], the second at values[1].",
         [] {
             std::vector<Member<MapCellView>> members{
-                {"values", "The cell's values of the two fields, [first, second], each in its field's unit.",
-                 array_schema({{"type", "number"}}), [](const MapCellView& cell) { return cell.values; }},
+                {"values",
+                 "The cell's values of the two fields, [first, second], each in its field's unit.",
+                 array_schema({{"type", "number"}}),
+                 [](const MapCellView& cell) { return cell.values; }},
             };
-            for (Member<MapCellView>& member : lift<MapCellView>(
-                     crossing_members(), [](const MapCellView& cell) -> const core::CriticalSpeedResult& {
-                         return cell.result;
-                     })) {
+            for (Member<MapCellView>& member :
+                 lift<MapCellView>(crossing_members(),
+                                   [](const MapCellView& cell) -> const core::CriticalSpeedResult& {
+                                       return cell.result;
+                                   })) {
                 members.push_back(std::move(member));
             }
             return members;
@@ -167,7 +178,8 @@ const ResultTable<SweepAxis>& map_parameter_table() {
             {"unit", "The field's unit (UCUM code); the values are in it.", string_schema(),
              [](const SweepAxis& axis) { return nlohmann::json(axis.field->unit.code); }},
             {"values", "The field's values, in the order of options.parameters' values or range.",
-             array_schema({{"type", "number"}}), [](const SweepAxis& axis) { return nlohmann::json(axis.values); }},
+             array_schema({{"type", "number"}}),
+             [](const SweepAxis& axis) { return nlohmann::json(axis.values); }},
         }};
     return table;
 }
@@ -177,7 +189,8 @@ struct MapOutput {
     const core::StabilityMap& map;
     // The pair of values of a cell (row-major index).
     nlohmann::json values_of(int cell) const {
-        const auto i = static_cast<std::size_t>(cell / map.columns), j = static_cast<std::size_t>(cell % map.columns);
+        const auto i = static_cast<std::size_t>(cell / map.columns),
+                   j = static_cast<std::size_t>(cell % map.columns);
         return nlohmann::json::array({plan.axes[0].values[i], plan.axes[1].values[j]});
     }
 };
@@ -188,10 +201,12 @@ const ResultTable<MapOutput>& map_result_table() {
         "The critical speed, its frequency and chatter type over a grid of two scenario fields "
         "(docs/model.md §10.2).",
         {
-            {"parameters", "The two fields: [rows, columns].", array_schema(ref_schema("MapParameter")),
+            {"parameters", "The two fields: [rows, columns].",
+             array_schema(ref_schema("MapParameter")),
              [](const MapOutput& o) {
                  nlohmann::json parameters = nlohmann::json::array();
-                 for (const SweepAxis& axis : o.plan.axes) parameters.push_back(map_parameter_table().write(axis));
+                 for (const SweepAxis& axis : o.plan.axes)
+                     parameters.push_back(map_parameter_table().write(axis));
                  return parameters;
              }},
             {"cells", "One per pair of values, row-major (the second field varies fastest).",
@@ -199,7 +214,8 @@ const ResultTable<MapOutput>& map_result_table() {
              [](const MapOutput& o) {
                  nlohmann::json cells = nlohmann::json::array();
                  for (std::size_t c = 0; c < o.map.cells.size(); ++c) {
-                     cells.push_back(map_cell_table().write({o.values_of(static_cast<int>(c)), o.map.cells[c]}));
+                     cells.push_back(map_cell_table().write(
+                         {o.values_of(static_cast<int>(c)), o.map.cells[c]}));
                  }
                  return cells;
              }},
@@ -207,7 +223,8 @@ const ResultTable<MapOutput>& map_result_table() {
              "Each pair of neighbouring cells (along either field) whose crossing modes differ in chatter type.",
              chatter_type_changes_schema(array_schema({{"type", "number"}})),
              [](const MapOutput& o) {
-                 return chatter_type_changes_json(o.map.changes, [&o](int cell) { return o.values_of(cell); });
+                 return chatter_type_changes_json(o.map.changes,
+                                                  [&o](int cell) { return o.values_of(cell); });
              }},
         }};
     return table;
@@ -218,7 +235,8 @@ const ResultTable<MapOutput>& map_result_table() {
 std::vector<std::string> map_cell_columns() { return map_cell_table().scalar_names(); }
 
 std::vector<ResultSchema> map_result_schemas() {
-    return {result_schema(map_parameter_table()), result_schema(map_cell_table()), result_schema(map_result_table())};
+    return {result_schema(map_parameter_table()), result_schema(map_cell_table()),
+            result_schema(map_result_table())};
 }
 
 nlohmann::json map_json(const MapPlan& plan, const core::StabilityMap& map) {

@@ -19,7 +19,8 @@ std::size_t edit_distance(std::string_view a, std::string_view b) {
         row[0] = i;
         for (std::size_t j = 1; j <= b.size(); ++j) {
             const std::size_t above = row[j];
-            const std::size_t substitution = diagonal + (lower(a[i - 1]) == lower(b[j - 1]) ? 0 : 1);
+            const std::size_t substitution =
+                diagonal + (lower(a[i - 1]) == lower(b[j - 1]) ? 0 : 1);
             row[j] = std::min({above + 1, row[j - 1] + 1, substitution});
             diagonal = above;
         }
@@ -44,7 +45,8 @@ std::optional<std::string_view> closest_name(std::string_view name,
     }
     // Up to a third of the name may differ: "speed_mps" → "speed_m_per_s" (4 edits) is
     // suggested, "thickness" → "width_mm" is not.
-    const std::size_t tolerance = std::max<std::size_t>(3, std::max(name.size(), best ? best->size() : 0) / 3);
+    const std::size_t tolerance =
+        std::max<std::size_t>(3, std::max(name.size(), best ? best->size() : 0) / 3);
     if (best && best_distance <= tolerance) return best;
     return std::nullopt;
 }

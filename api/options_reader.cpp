@@ -12,7 +12,9 @@ OptionsReader::OptionsReader(const nlohmann::json& options, std::string pointer,
     reject_unknown_fields(options, pointer_, known, errors_);
 }
 
-std::string OptionsReader::at(std::string_view name) const { return append_pointer(pointer_, name); }
+std::string OptionsReader::at(std::string_view name) const {
+    return append_pointer(pointer_, name);
+}
 
 const nlohmann::json* OptionsReader::find(std::string_view name) const {
     if (object_ == nullptr) return nullptr;
@@ -20,7 +22,8 @@ const nlohmann::json* OptionsReader::find(std::string_view name) const {
     return member == object_->end() ? nullptr : &*member;
 }
 
-bool OptionsReader::number(std::string_view name, Unit unit, const Interval& range, double& si_target) const {
+bool OptionsReader::number(std::string_view name, Unit unit, const Interval& range,
+                           double& si_target) const {
     const nlohmann::json* value = find(name);
     if (value == nullptr) return false;
     const auto number = read_number(*value, at(name), range, unit, errors_);

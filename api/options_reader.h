@@ -19,8 +19,8 @@ namespace rollgap::api {
 class OptionsReader {
 public:
     // Records "must be an object" or the unknown members of `options` under `pointer`.
-    OptionsReader(const nlohmann::json& options, std::string pointer, std::span<const std::string_view> known,
-                  FieldErrors& errors);
+    OptionsReader(const nlohmann::json& options, std::string pointer,
+                  std::span<const std::string_view> known, FieldErrors& errors);
 
     bool is_object() const { return object_ != nullptr; }
     const std::string& pointer() const { return pointer_; }

@@ -13,32 +13,32 @@
 namespace rollgap::api {
 
 enum class ProblemCode {
-    invalid_json,            // the body is not JSON (syntax, overflowing number, too deep)
-    invalid_request,         // JSON, but the request envelope is wrong (unknown or mistyped field)
-    invalid_scenario,        // the scenario violates the schema or a physical bound
-    invalid_options,         // the analysis options violate their schema
-    unknown_analysis,        // "analysis" names no analysis the service offers
-    unreadable_input,        // the request could not be read at all (CLI: missing file)
-    unauthorized,            // HTTP: a compute endpoint without the configured bearer token
-    not_found,               // HTTP: no such route
-    method_not_allowed,      // HTTP: route exists, method does not
-    payload_too_large,       // the request exceeds the size limit
-    unsupported_media_type,  // HTTP: not application/json
-    request_timeout,         // HTTP: the request did not arrive within the read deadline
-    uri_too_long,            // HTTP: the request line exceeds the limit
-    range_not_satisfiable,   // HTTP: a malformed Range header (a valid one is ignored)
-    header_fields_too_large, // HTTP: the header section exceeds its size or field count limit
-    invalid_header,          // HTTP: a header the server cannot take as sent (a NUL byte)
-    not_acceptable,          // the result has no table in the format asked for (Accept: text/csv)
-    overloaded,              // HTTP: every worker busy and the queue full
-    deadline_exceeded,       // the analysis did not finish within its time budget
-    cancelled,               // the caller stopped the analysis (core::Control), e.g. a deleted job
-    internal,                // a bug: an exception escaped an analysis
+    invalid_json,             // the body is not JSON (syntax, overflowing number, too deep)
+    invalid_request,          // JSON, but the request envelope is wrong (unknown or mistyped field)
+    invalid_scenario,         // the scenario violates the schema or a physical bound
+    invalid_options,          // the analysis options violate their schema
+    unknown_analysis,         // "analysis" names no analysis the service offers
+    unreadable_input,         // the request could not be read at all (CLI: missing file)
+    unauthorized,             // HTTP: a compute endpoint without the configured bearer token
+    not_found,                // HTTP: no such route
+    method_not_allowed,       // HTTP: route exists, method does not
+    payload_too_large,        // the request exceeds the size limit
+    unsupported_media_type,   // HTTP: not application/json
+    request_timeout,          // HTTP: the request did not arrive within the read deadline
+    uri_too_long,             // HTTP: the request line exceeds the limit
+    range_not_satisfiable,    // HTTP: a malformed Range header (a valid one is ignored)
+    header_fields_too_large,  // HTTP: the header section exceeds its size or field count limit
+    invalid_header,           // HTTP: a header the server cannot take as sent (a NUL byte)
+    not_acceptable,           // the result has no table in the format asked for (Accept: text/csv)
+    overloaded,               // HTTP: every worker busy and the queue full
+    deadline_exceeded,        // the analysis did not finish within its time budget
+    cancelled,                // the caller stopped the analysis (core::Control), e.g. a deleted job
+    internal,                 // a bug: an exception escaped an analysis
 };
 
 struct ProblemKind {
     ProblemCode code;
-    std::string_view slug;   // the last segment of the type URI, stable, snake_case
+    std::string_view slug;  // the last segment of the type URI, stable, snake_case
     int http_status;
     std::string_view title;  // short, the same for every occurrence (RFC 9457 §3.1.3)
 };
@@ -61,9 +61,9 @@ struct FieldError {
 
 struct Problem {
     ProblemCode code = ProblemCode::internal;
-    std::string detail;               // this occurrence, for humans
-    std::vector<FieldError> errors;   // every violation found, not only the first
-    std::size_t errors_omitted = 0;   // violations beyond the reporting cap
+    std::string detail;              // this occurrence, for humans
+    std::vector<FieldError> errors;  // every violation found, not only the first
+    std::size_t errors_omitted = 0;  // violations beyond the reporting cap
 
     int http_status() const { return problem_kind(code).http_status; }
 };

@@ -18,10 +18,12 @@ AnalysisRequest analysis_request_from_json(const nlohmann::json& request, FieldE
         parsed.analysis = std::move(*name);
     }
     // null is treated as absent: many clients serialise a missing optional member as null.
-    if (const auto scenario = request.find("scenario"); scenario != request.end() && !scenario->is_null()) {
+    if (const auto scenario = request.find("scenario");
+        scenario != request.end() && !scenario->is_null()) {
         parsed.scenario_patch = *scenario;
     }
-    if (const auto options = request.find("options"); options != request.end() && !options->is_null()) {
+    if (const auto options = request.find("options");
+        options != request.end() && !options->is_null()) {
         parsed.options = *options;
     }
     return parsed;

@@ -1,6 +1,6 @@
 #pragma once
-// The request envelope: {"analysis": "roll_gap", "scenario": {...merge patch...}, "options": {...}}.
-// Only its shape is checked here; the analysis name, scenario and options are read by the
+// The request envelope: {"analysis": "roll_gap", "scenario": {...merge patch...}, "options":
+// {...}}. Only its shape is checked here; the analysis name, scenario and options are read by the
 // service once it knows which analysis runs.
 
 #include <string>

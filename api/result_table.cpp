@@ -34,23 +34,28 @@ nlohmann::json ref_schema(std::string_view component, bool nullable) {
     return {{"oneOf", nlohmann::json::array({std::move(ref), {{"type", "null"}}})}};
 }
 
-nlohmann::json array_schema(nlohmann::json items) { return {{"type", "array"}, {"items", std::move(items)}}; }
+nlohmann::json array_schema(nlohmann::json items) {
+    return {{"type", "array"}, {"items", std::move(items)}};
+}
 
-nlohmann::json object_schema(std::string_view description,
-                             const std::vector<std::pair<std::string_view, nlohmann::json>>& properties,
-                             const std::vector<std::string_view>& required) {
+nlohmann::json object_schema(
+    std::string_view description,
+    const std::vector<std::pair<std::string_view, nlohmann::json>>& properties,
+    const std::vector<std::string_view>& required) {
     nlohmann::json members = nlohmann::json::object();
     for (const auto& [name, schema] : properties) {
         nlohmann::json property = schema;
         // The unit is in the name; the description says it in words too.
-        const nlohmann::json* unit = property.contains("x-unit") ? &property["x-unit"]
-                                     : property.contains("items") && property["items"].contains("x-unit")
-                                         ? &property["items"]["x-unit"]
-                                         : nullptr;
+        const nlohmann::json* unit =
+            property.contains("x-unit") ? &property["x-unit"]
+            : property.contains("items") && property["items"].contains("x-unit")
+                ? &property["items"]["x-unit"]
+                : nullptr;
         if (unit != nullptr) {
             const std::string code = unit->get<std::string>();
-            property["description"] = concat(property.value("description", std::string()),
-                                             code == "1" ? " Dimensionless." : concat(" Unit: ", code, " (UCUM)."));
+            property["description"] =
+                concat(property.value("description", std::string()),
+                       code == "1" ? " Dimensionless." : concat(" Unit: ", code, " (UCUM)."));
         }
         members[std::string(name)] = std::move(property);
     }

@@ -41,19 +41,21 @@ struct Member {
     std::string_view description;  // for people; the unit is added from x-unit
     nlohmann::json schema;         // of the value
     std::function<nlohmann::json(const T&)> get;
-    bool optional = false;         // may be absent (the getter returns absent())
+    bool optional = false;  // may be absent (the getter returns absent())
 };
 
 // The JSON Schema of an object with these members: every member described, the members that
 // are always present required, no others allowed.
-nlohmann::json object_schema(std::string_view description,
-                             const std::vector<std::pair<std::string_view, nlohmann::json>>& properties,
-                             const std::vector<std::string_view>& required);
+nlohmann::json object_schema(
+    std::string_view description,
+    const std::vector<std::pair<std::string_view, nlohmann::json>>& properties,
+    const std::vector<std::string_view>& required);
 
 template <class T>
 class ResultTable {
 public:
-    ResultTable(std::string_view component, std::string_view description, std::vector<Member<T>> members)
+    ResultTable(std::string_view component, std::string_view description,
+                std::vector<Member<T>> members)
         : component_(component), description_(description), members_(std::move(members)) {}
 
     nlohmann::json write(const T& value) const {
@@ -89,7 +91,8 @@ public:
         std::vector<std::string> names;
         for (const Member<T>& member : members_) {
             const nlohmann::json& schema = member.schema;
-            if (!schema.contains("items") && !schema.contains("$ref") && !schema.contains("oneOf")) {
+            if (!schema.contains("items") && !schema.contains("$ref") &&
+                !schema.contains("oneOf")) {
                 names.emplace_back(member.name);
             }
         }
@@ -110,9 +113,10 @@ template <class Outer, class Inner, class Part>
 std::vector<Member<Outer>> lift(std::vector<Member<Inner>> members, Part part) {
     std::vector<Member<Outer>> lifted;
     for (Member<Inner>& member : members) {
-        lifted.push_back({member.name, member.description, std::move(member.schema),
-                          [get = std::move(member.get), part](const Outer& outer) { return get(part(outer)); },
-                          member.optional});
+        lifted.push_back(
+            {member.name, member.description, std::move(member.schema),
+             [get = std::move(member.get), part](const Outer& outer) { return get(part(outer)); },
+             member.optional});
     }
     return lifted;
 }

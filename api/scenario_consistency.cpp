@@ -10,7 +10,9 @@
 namespace rollgap::api {
 namespace {
 
-std::string mpa_text(double pascal) { return concat(format_number(from_si(pascal, units::megapascal)), " MPa"); }
+std::string mpa_text(double pascal) {
+    return concat(format_number(from_si(pascal, units::megapascal)), " MPa");
+}
 
 struct Context {
     const core::Scenario& scenario;
@@ -37,8 +39,9 @@ void check_tension_below_flow_stress(const Context& context, const std::string& 
     if (tension.stress < flow_stress) return;
     const Interval allowed = closed_open(0.0, from_si(flow_stress, units::megapascal));
     context.errors.add({context.at(path),
-                        concat(side, " tension ", mpa_text(tension.stress), " must be below the flow stress ",
-                               mpa_text(flow_stress), " (/strip/flow_stress_MPa): the strip would yield in the span"),
+                        concat(side, " tension ", mpa_text(tension.stress),
+                               " must be below the flow stress ", mpa_text(flow_stress),
+                               " (/strip/flow_stress_MPa): the strip would yield in the span"),
                         allowed.text(), std::string(units::megapascal.code)});
 }
 
@@ -56,7 +59,8 @@ void check_sinusoid_within_limits(const Context& context, const std::string& sid
     // The amplitude the mean allows: up to the mean (slack side), below sigma - mean (yield side).
     const double slack_limit = from_si(tension.stress, units::megapascal);
     const double yield_limit = from_si(flow_stress - tension.stress, units::megapascal);
-    const Interval allowed = slack_limit < yield_limit ? closed(0.0, slack_limit) : closed_open(0.0, yield_limit);
+    const Interval allowed =
+        slack_limit < yield_limit ? closed(0.0, slack_limit) : closed_open(0.0, yield_limit);
     const std::string reason =
         goes_slack ? "would go slack (below 0): the amplitude must not exceed the mean tension"
                    : concat("would reach the flow stress ", mpa_text(flow_stress),
@@ -73,21 +77,25 @@ void check_sinusoid_within_limits(const Context& context, const std::string& sid
 constexpr double largest_bite_angle = 0.35;
 
 void check_bite_angle_small(const Context& context) {
-    if (!context.inputs_valid({"/strip/entry_thickness_mm", "/strip/reduction", "/rolls/radius_mm"})) return;
+    if (!context.inputs_valid(
+            {"/strip/entry_thickness_mm", "/strip/reduction", "/rolls/radius_mm"}))
+        return;
     const core::Scenario& s = context.scenario;
     const double draft = s.strip.entry_thickness * s.strip.reduction;
     const double bite_angle = std::sqrt(draft / s.rolls.radius);
     if (bite_angle <= largest_bite_angle) return;
     // Rounded down to 4 decimals so the bound reads well and is itself allowed.
-    const double largest_reduction =
-        std::floor(largest_bite_angle * largest_bite_angle * s.rolls.radius / s.strip.entry_thickness * 1e4) / 1e4;
-    context.errors.add({context.at("/strip/reduction"),
-                        concat("bite angle sqrt(entry thickness × reduction / roll radius) = ",
-                               format_number(std::round(bite_angle * 1000.0) / 1000.0), " rad exceeds ",
-                               format_number(largest_bite_angle),
-                               " rad: the model's parabolic roll profile needs a small angle; reduce the "
-                               "reduction or the entry thickness, or use a larger roll radius"),
-                        open_closed(0.0, largest_reduction).text(), std::string(units::one.code)});
+    const double largest_reduction = std::floor(largest_bite_angle * largest_bite_angle *
+                                                s.rolls.radius / s.strip.entry_thickness * 1e4) /
+                                     1e4;
+    context.errors.add(
+        {context.at("/strip/reduction"),
+         concat("bite angle sqrt(entry thickness × reduction / roll radius) = ",
+                format_number(std::round(bite_angle * 1000.0) / 1000.0), " rad exceeds ",
+                format_number(largest_bite_angle),
+                " rad: the model's parabolic roll profile needs a small angle; reduce the "
+                "reduction or the entry thickness, or use a larger roll radius"),
+         open_closed(0.0, largest_reduction).text(), std::string(units::one.code)});
 }
 
 void check_rayleigh_frequencies_ordered(const Context& context) {
@@ -97,10 +105,11 @@ void check_rayleigh_frequencies_ordered(const Context& context) {
     const core::Mill& mill = context.scenario.mill;
     if (mill.rayleigh_frequency_low < mill.rayleigh_frequency_high) return;
     const Interval allowed = open_closed(mill.rayleigh_frequency_low, 1e5);
-    context.errors.add({context.at(high_path),
-                        concat("must be above low_frequency_Hz (", format_number(mill.rayleigh_frequency_low),
-                               " Hz): the two frequencies fix the Rayleigh coefficients"),
-                        allowed.text(), std::string(units::hertz.code)});
+    context.errors.add(
+        {context.at(high_path),
+         concat("must be above low_frequency_Hz (", format_number(mill.rayleigh_frequency_low),
+                " Hz): the two frequencies fix the Rayleigh coefficients"),
+         allowed.text(), std::string(units::hertz.code)});
 }
 
 }  // namespace

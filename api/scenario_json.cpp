@@ -34,12 +34,14 @@ void read_field(const ScenarioField& field, const nlohmann::json& value, const s
             }
             return;
         case FieldKind::integer:
-            if (const auto integer = read_integer(value, pointer, field.range, field.even, errors)) {
+            if (const auto integer =
+                    read_integer(value, pointer, field.range, field.even, errors)) {
                 field.integer(scenario) = static_cast<int>(*integer);  // within range, fits
             }
             return;
         case FieldKind::boolean:
-            if (const auto flag = read_boolean(value, pointer, errors)) field.flag(scenario) = *flag;
+            if (const auto flag = read_boolean(value, pointer, errors))
+                field.flag(scenario) = *flag;
             return;
         case FieldKind::choice:
             if (const auto choice = read_choice(value, pointer, field.choices, errors)) {
@@ -50,13 +52,14 @@ void read_field(const ScenarioField& field, const nlohmann::json& value, const s
 }
 
 // Schema paths are pointers already: schema names contain neither '/' nor '~'.
-void read_group(const std::string& group, const nlohmann::json& node, const std::string& base_pointer,
-                core::Scenario& scenario, FieldErrors& errors) {
+void read_group(const std::string& group, const nlohmann::json& node,
+                const std::string& base_pointer, core::Scenario& scenario, FieldErrors& errors) {
     const std::string pointer = base_pointer + group;
     if (!require_object(node, pointer, errors)) return;
     const auto members = scenario_group_members(group);
-    reject_unknown_fields(node, pointer, members, errors,
-                          [&group](std::string_view name) { return derived_quantity_hint(group, name); });
+    reject_unknown_fields(node, pointer, members, errors, [&group](std::string_view name) {
+        return derived_quantity_hint(group, name);
+    });
     for (const std::string_view member : members) {
         const auto value = node.find(std::string(member));
         if (value == node.end()) continue;  // missing: the default stays

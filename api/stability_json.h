@@ -38,12 +38,13 @@ struct StabilityOptions {
     Detail detail = Detail::full;
 };
 
-StabilityOptions stability_options_from_json(const nlohmann::json& options, const std::string& pointer,
-                                             FieldErrors& errors);
+StabilityOptions stability_options_from_json(const nlohmann::json& options,
+                                             const std::string& pointer, FieldErrors& errors);
 nlohmann::json stability_options_json(const StabilityOptions& options);
 
 // The search options alone (the "critical_speed" member of sweep and evaluate options).
-core::CriticalSpeedOptions critical_speed_options_from_json(const nlohmann::json& options, const std::string& pointer,
+core::CriticalSpeedOptions critical_speed_options_from_json(const nlohmann::json& options,
+                                                            const std::string& pointer,
                                                             FieldErrors& errors);
 nlohmann::json critical_speed_options_json(const core::CriticalSpeedOptions& options);
 
@@ -69,7 +70,8 @@ nlohmann::json stability_result_json(const StabilityReport& report);
 // The short forms: evaluate's "stability" and "critical_speed", a sweep point's figures.
 nlohmann::json speed_stability_summary_json(const core::SpeedStability& stability);
 nlohmann::json critical_speed_summary_json(const core::CriticalSpeedResult& result);
-nlohmann::json critical_speed_json(const core::CriticalSpeedResult& result, Detail detail = Detail::full);
+nlohmann::json critical_speed_json(const core::CriticalSpeedResult& result,
+                                   Detail detail = Detail::full);
 
 // The tables that write them (result_table.h) and their OpenAPI components.
 const ResultTable<core::Eigenmode>& eigenmode_table();
@@ -84,7 +86,7 @@ std::vector<Member<core::CriticalSpeedResult>> critical_speed_head_members();
 Member<core::CriticalSpeedResult> unstable_frequency_member(std::string_view name);
 // The chatter type and band of the mode that goes unstable, under these names.
 std::vector<Member<core::CriticalSpeedResult>> unstable_chatter_members(std::string_view type_name,
-                                                                      std::string_view band_name);
+                                                                        std::string_view band_name);
 const ResultTable<core::Eigenmode>& chatter_mode_table();
 // A sweep point's or a map cell's figures: status, critical_speed_m_per_s, and the frequency_Hz,
 // chatter_type and chatter_band of the mode that goes unstable.

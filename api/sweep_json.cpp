@@ -26,8 +26,8 @@ constexpr std::string_view range_name = "range";
 constexpr std::string_view quantity_name = "quantity";
 constexpr std::string_view critical_speed_name = "critical_speed";
 constexpr std::string_view amplitude_name = "amplitude";
-constexpr std::array<std::string_view, 6> members{parameter_name, values_name,         range_name,
-                                                  quantity_name,  critical_speed_name, amplitude_name};
+constexpr std::array<std::string_view, 6> members{
+    parameter_name, values_name, range_name, quantity_name, critical_speed_name, amplitude_name};
 constexpr std::array<std::string_view, 2> quantities{"critical_speed", "amplitude"};
 constexpr std::array<std::string_view, 3> range_members{"from", "to", "count"};
 
@@ -66,10 +66,11 @@ const ScenarioField* read_parameter(const OptionsReader& reader) {
     const std::string pointer = reader.at(parameter_name);
     const nlohmann::json* value = reader.find(parameter_name);
     if (value == nullptr) {
-        reader.errors().add({pointer,
-                             "required: the JSON pointer of the numeric scenario field to sweep, e.g. "
-                             "\"/lubricant/viscosity_Pa_s\"",
-                             std::nullopt, std::nullopt});
+        reader.errors().add(
+            {pointer,
+             "required: the JSON pointer of the numeric scenario field to sweep, e.g. "
+             "\"/lubricant/viscosity_Pa_s\"",
+             std::nullopt, std::nullopt});
         return nullptr;
     }
     const auto path = read_string(*value, pointer, reader.errors());
@@ -84,9 +85,10 @@ const ScenarioField* read_parameter(const OptionsReader& reader) {
     } else if (is_scenario_group(*path)) {
         detail = concat(quoted_for_message(*path), " is a group of fields, not a field");
     } else {
-        detail = concat(quoted_for_message(*path),
-                        " is not a field of the scenario: give a JSON pointer into the scenario document "
-                        "(as 'rollgap scenario' prints it), e.g. \"/lubricant/viscosity_Pa_s\"");
+        detail = concat(
+            quoted_for_message(*path),
+            " is not a field of the scenario: give a JSON pointer into the scenario document "
+            "(as 'rollgap scenario' prints it), e.g. \"/lubricant/viscosity_Pa_s\"");
         // The usual slips: no leading '/', the request's "/scenario" prefix, a typo.
         std::optional<std::string_view> suggestion;
         if (!path->starts_with('/') && numeric_field(concat("/", *path)) != nullptr) {
@@ -120,7 +122,8 @@ struct Point {
 };
 
 // The points as the client gave them (values or range), or nothing with the violation recorded.
-std::optional<std::vector<Point>> read_points(const OptionsReader& reader, nlohmann::json& echo_values) {
+std::optional<std::vector<Point>> read_points(const OptionsReader& reader,
+                                              nlohmann::json& echo_values) {
     const nlohmann::json* values = reader.find(values_name);
     const nlohmann::json* range = reader.find(range_name);
     FieldErrors& errors = reader.errors();
@@ -137,17 +140,21 @@ std::optional<std::vector<Point>> read_points(const OptionsReader& reader, nlohm
     if (values != nullptr) {
         const std::string pointer = reader.at(values_name);
         if (!values->is_array()) {
-            errors.add({pointer, concat("must be an array of values, got ", json_type_name(*values)),
+            errors.add({pointer,
+                        concat("must be an array of values, got ", json_type_name(*values)),
                         std::nullopt, std::nullopt});
             return std::nullopt;
         }
         if (values->empty() || values->size() > static_cast<std::size_t>(max_sweep_points)) {
-            errors.add({pointer, concat("has ", std::to_string(values->size()), " values; give ", count_bound),
-                        count_bound, std::nullopt});
+            errors.add(
+                {pointer,
+                 concat("has ", std::to_string(values->size()), " values; give ", count_bound),
+                 count_bound, std::nullopt});
             return std::nullopt;
         }
         for (std::size_t i = 0; i < values->size(); ++i) {
-            points.push_back({(*values)[i], append_pointer(pointer, std::to_string(i)), std::nullopt});
+            points.push_back(
+                {(*values)[i], append_pointer(pointer, std::to_string(i)), std::nullopt});
         }
         echo_values = {{values_name, *values}};
         return points;
@@ -161,14 +168,16 @@ std::optional<std::vector<Point>> read_points(const OptionsReader& reader, nlohm
         const std::string_view name = range_members[static_cast<std::size_t>(end)];
         const nlohmann::json* value = range_reader.find(name);
         if (value == nullptr) {
-            errors.add({range_reader.at(name), concat("required: the ", end == 0 ? "first" : "last",
-                                                      " value of the range, in the parameter's unit"),
+            errors.add({range_reader.at(name),
+                        concat("required: the ", end == 0 ? "first" : "last",
+                               " value of the range, in the parameter's unit"),
                         std::nullopt, std::nullopt});
             valid = false;
         } else if (!value->is_number() || !std::isfinite(value->get<double>())) {
             // Bounds are the field's: checked with the scenario below.
-            errors.add({range_reader.at(name), concat("must be a number, got ", json_type_name(*value)),
-                        std::nullopt, std::nullopt});
+            errors.add({range_reader.at(name),
+                        concat("must be a number, got ", json_type_name(*value)), std::nullopt,
+                        std::nullopt});
             valid = false;
         } else {
             ends[end] = value->get<double>();
@@ -176,8 +185,9 @@ std::optional<std::vector<Point>> read_points(const OptionsReader& reader, nlohm
     }
     int count = 0;
     if (range_reader.find("count") == nullptr) {
-        errors.add({range_reader.at("count"), concat("required: the number of values, in [2, ",
-                                                     std::to_string(max_sweep_points), "]"),
+        errors.add({range_reader.at("count"),
+                    concat("required: the number of values, in [2, ",
+                           std::to_string(max_sweep_points), "]"),
                     std::nullopt, std::nullopt});
         valid = false;
     } else if (!range_reader.integer("count", closed(2.0, max_sweep_points), count)) {
@@ -189,7 +199,9 @@ std::optional<std::vector<Point>> read_points(const OptionsReader& reader, nlohm
         const bool first = i == 0, last = i == count - 1;
         const double value = first ? from : last ? to : tidy(from + (to - from) * i / (count - 1));
         points.push_back({value,
-                          first ? range_reader.at("from") : last ? range_reader.at("to") : range_reader.pointer(),
+                          first  ? range_reader.at("from")
+                          : last ? range_reader.at("to")
+                                 : range_reader.pointer(),
                           first || last ? std::nullopt : std::optional<std::size_t>(i)});
     }
     echo_values = {{range_name, {{"from", from}, {"to", to}, {"count", count}}}};
@@ -203,8 +215,8 @@ std::string value_text(const nlohmann::json& value) {
 
 // Sets each point into the scenario document and reads it back like a request's scenario.
 // Violations of point i are reported at its pointer.
-void build_scenarios(const ScenarioField& field, const std::vector<Point>& points, const core::Scenario& scenario,
-                     SweepPlan& plan, FieldErrors& errors) {
+void build_scenarios(const ScenarioField& field, const std::vector<Point>& points,
+                     const core::Scenario& scenario, SweepPlan& plan, FieldErrors& errors) {
     const nlohmann::json base = resolved_scenario_json(scenario);
     const nlohmann::json::json_pointer location(field.path);
     const std::string field_pointer = concat("/scenario", field.path);
@@ -229,28 +241,31 @@ void build_scenarios(const ScenarioField& field, const std::vector<Point>& point
             if (interior_reported) continue;
             interior_reported = true;
         }
-        const std::string where =
-            point.range_index ? concat("point ", std::to_string(*point.range_index), " of the range (",
-                                       value_text(point.value), "): ")
-                              : std::string();
+        const std::string where = point.range_index
+                                      ? concat("point ", std::to_string(*point.range_index),
+                                               " of the range (", value_text(point.value), "): ")
+                                      : std::string();
         for (const FieldError& error : point_errors.reported()) {
             if (error.pointer == field_pointer) {
                 errors.add({point.pointer, concat(where, error.detail), error.bound, error.unit});
             } else {
                 // A cross-field rule: the value is fine for the field but not with the rest.
-                errors.add({point.pointer,
-                            concat(where, "with ", field.path, " = ", value_text(point.value),
-                                   " the scenario is invalid at ", error.pointer, ": ", error.detail),
-                            std::nullopt, std::nullopt});
+                errors.add(
+                    {point.pointer,
+                     concat(where, "with ", field.path, " = ", value_text(point.value),
+                            " the scenario is invalid at ", error.pointer, ": ", error.detail),
+                     std::nullopt, std::nullopt});
             }
         }
     }
 }
 
-void reject_other_quantity(const OptionsReader& reader, std::string_view member, std::string_view quantity) {
+void reject_other_quantity(const OptionsReader& reader, std::string_view member,
+                           std::string_view quantity) {
     if (reader.find(member) == nullptr) return;
     reader.errors().add({reader.at(member),
-                         concat("applies to quantity '", member, "' only; this sweep's quantity is '", quantity, "'"),
+                         concat("applies to quantity '", member,
+                                "' only; this sweep's quantity is '", quantity, "'"),
                          std::nullopt, std::nullopt});
 }
 
@@ -262,27 +277,32 @@ void check_work(const OptionsReader& reader, SweepPlan& plan, std::size_t point_
         const double total = n * plan.amplitude.window;
         if (total <= max_sweep_simulated_time_s) return;
         const double longest = std::floor(max_sweep_simulated_time_s / n * 1e6) / 1e6;
-        reader.errors().add({window_pointer,
-                             concat(std::to_string(point_count), " values × window_s ",
-                                    format_number(plan.amplitude.window), " s = ", format_number(total),
-                                    " s of simulated time; a sweep may simulate at most ",
-                                    format_number(max_sweep_simulated_time_s),
-                                    " s: use fewer values or a shorter window"),
-                             open_closed(0.0, longest).text(), std::string(units::second.code)});
+        reader.errors().add(
+            {window_pointer,
+             concat(std::to_string(point_count), " values × window_s ",
+                    format_number(plan.amplitude.window), " s = ", format_number(total),
+                    " s of simulated time; a sweep may simulate at most ",
+                    format_number(max_sweep_simulated_time_s),
+                    " s: use fewer values or a shorter window"),
+             open_closed(0.0, longest).text(), std::string(units::second.code)});
         return;
     }
-    const std::string step_pointer = append_pointer(reader.at(critical_speed_name), "speed_step_m_per_s");
+    const std::string step_pointer =
+        append_pointer(reader.at(critical_speed_name), "speed_step_m_per_s");
     if (reader.errors().has_error_at_or_below(reader.at(critical_speed_name))) return;
     const long scan = scan_point_count(plan.critical_speed);
     const long total = static_cast<long>(point_count) * scan;
     if (total <= max_sweep_scan_points) return;
-    reader.errors().add({step_pointer,
-                         concat(std::to_string(point_count), " values × ", std::to_string(scan),
-                                " scan speeds each = ", std::to_string(total), " stability evaluations; a sweep may do at most ",
-                                std::to_string(max_sweep_scan_points), " (",
-                                std::to_string(max_sweep_scan_points / static_cast<long>(point_count)),
-                                " scan speeds per value here): use fewer values, a larger step or a narrower speed range"),
-                         std::nullopt, std::nullopt});
+    reader.errors().add(
+        {step_pointer,
+         concat(
+             std::to_string(point_count), " values × ", std::to_string(scan),
+             " scan speeds each = ", std::to_string(total),
+             " stability evaluations; a sweep may do at most ",
+             std::to_string(max_sweep_scan_points), " (",
+             std::to_string(max_sweep_scan_points / static_cast<long>(point_count)),
+             " scan speeds per value here): use fewer values, a larger step or a narrower speed range"),
+         std::nullopt, std::nullopt});
 }
 
 }  // namespace
@@ -297,7 +317,8 @@ void set_scenario_field(core::Scenario& scenario, const ScenarioField& field, do
 
 SweepAxis sweep_axis_from_json(const nlohmann::json& axis, const std::string& pointer,
                                const core::Scenario* valid_scenario, FieldErrors& errors) {
-    static constexpr std::array<std::string_view, 3> axis_members{parameter_name, values_name, range_name};
+    static constexpr std::array<std::string_view, 3> axis_members{parameter_name, values_name,
+                                                                  range_name};
     SweepAxis out;
     const OptionsReader reader(axis, pointer, axis_members, errors);
     if (!reader.is_object()) return out;
@@ -310,7 +331,8 @@ SweepAxis sweep_axis_from_json(const nlohmann::json& axis, const std::string& po
         out.values = std::move(plan.values);
         out.scenarios = std::move(plan.scenarios);
     }
-    out.resolved = {{parameter_name, out.field != nullptr ? nlohmann::json(out.field->path) : nlohmann::json(nullptr)}};
+    out.resolved = {{parameter_name, out.field != nullptr ? nlohmann::json(out.field->path)
+                                                          : nlohmann::json(nullptr)}};
     if (echo_values.is_object()) out.resolved.update(echo_values);
     return out;
 }
@@ -332,14 +354,16 @@ SweepPlan sweep_plan_from_json(const nlohmann::json& options, const std::string&
             quantity_valid = false;
         }
     }
-    plan.quantity = quantity == "amplitude" ? SweepQuantity::amplitude : SweepQuantity::critical_speed;
+    plan.quantity =
+        quantity == "amplitude" ? SweepQuantity::amplitude : SweepQuantity::critical_speed;
 
     if (plan.field != nullptr && quantity_valid && plan.quantity == SweepQuantity::critical_speed &&
         plan.field->path == "/rolls/speed_m_per_s") {
-        errors.add({reader.at(parameter_name),
-                    "the critical-speed search scans the roll speed itself, so the scenario's speed does not "
-                    "change it: sweep another field, or sweep the speed with quantity 'amplitude'",
-                    std::nullopt, std::nullopt});
+        errors.add(
+            {reader.at(parameter_name),
+             "the critical-speed search scans the roll speed itself, so the scenario's speed does not "
+             "change it: sweep another field, or sweep the speed with quantity 'amplitude'",
+             std::nullopt, std::nullopt});
         plan.field = nullptr;
     }
 
@@ -352,7 +376,8 @@ SweepPlan sweep_plan_from_json(const nlohmann::json& options, const std::string&
             reject_other_quantity(reader, amplitude_name, quantity);
             const nlohmann::json* search = reader.find(critical_speed_name);
             plan.critical_speed = critical_speed_options_from_json(
-                search != nullptr ? *search : nlohmann::json::object(), reader.at(critical_speed_name), errors);
+                search != nullptr ? *search : nlohmann::json::object(),
+                reader.at(critical_speed_name), errors);
             quantity_options = critical_speed_options_json(plan.critical_speed);
         } else {
             reject_other_quantity(reader, critical_speed_name, quantity);
@@ -371,7 +396,8 @@ SweepPlan sweep_plan_from_json(const nlohmann::json& options, const std::string&
     }
 
     plan.resolved_options = {
-        {parameter_name, plan.field != nullptr ? nlohmann::json(plan.field->path) : nlohmann::json(nullptr)},
+        {parameter_name,
+         plan.field != nullptr ? nlohmann::json(plan.field->path) : nlohmann::json(nullptr)},
         {quantity_name, quantity},
     };
     if (echo_values.is_object()) plan.resolved_options.update(echo_values);
@@ -421,14 +447,17 @@ std::string value_name(Unit unit) {
 // A point's schema: the table's members and the swept value under value_name.
 nlohmann::json point_schema(nlohmann::json schema) {
     schema["patternProperties"] = {
-        {value_pattern, {{"type", "number"}, {"description", "The swept value, in the field's unit (see value_name)."}}}};
+        {value_pattern,
+         {{"type", "number"},
+          {"description", "The swept value, in the field's unit (see value_name)."}}}};
     schema["minProperties"] = schema["required"].size() + 1;
     return schema;
 }
 
 template <class Result, class Table>
-nlohmann::json sweep_json(const SweepPlan& plan, std::string_view quantity, const std::vector<Result>& results,
-                          const Table& table, nlohmann::json chatter_type_changes = absent()) {
+nlohmann::json sweep_json(const SweepPlan& plan, std::string_view quantity,
+                          const std::vector<Result>& results, const Table& table,
+                          nlohmann::json chatter_type_changes = absent()) {
     const std::string key = value_name(plan.field->unit);
     nlohmann::json points = nlohmann::json::array();
     for (std::size_t i = 0; i < results.size() && i < plan.values.size(); ++i) {
@@ -436,8 +465,8 @@ nlohmann::json sweep_json(const SweepPlan& plan, std::string_view quantity, cons
         point[key] = plan.values[i];
         points.push_back(std::move(point));
     }
-    return sweep_result_table().write(
-        {plan.field->path, plan.field->unit.code, key, quantity, std::move(points), std::move(chatter_type_changes)});
+    return sweep_result_table().write({plan.field->path, plan.field->unit.code, key, quantity,
+                                       std::move(points), std::move(chatter_type_changes)});
 }
 
 }  // namespace
@@ -460,7 +489,7 @@ const ResultTable<SweepOutput>& sweep_result_table() {
              [](const SweepOutput& o) { return nlohmann::json(o.quantity); }},
             {"points", "One per value, in the order of options.values or the range.",
              array_schema({{"oneOf", nlohmann::json::array({ref_schema("SweepCriticalSpeedPoint"),
-                                                             ref_schema("SweepAmplitudePoint")})}}),
+                                                            ref_schema("SweepAmplitudePoint")})}}),
              [](const SweepOutput& o) { return o.points; }},
             {"chatter_type_changes",
              "Each pair of consecutive values whose crossing modes differ in chatter type; critical_speed sweeps "
@@ -477,18 +506,21 @@ std::vector<std::string> sweep_point_columns(bool amplitude) {
 
 std::vector<ResultSchema> sweep_result_schemas() {
     return {{critical_point_table().component(), point_schema(critical_point_table().schema())},
-            {amplitude_point_figures_table().component(), point_schema(amplitude_point_figures_table().schema())},
+            {amplitude_point_figures_table().component(),
+             point_schema(amplitude_point_figures_table().schema())},
             result_schema(sweep_result_table())};
 }
 
-nlohmann::json sweep_critical_speed_json(const SweepPlan& plan, const std::vector<core::CriticalSpeedResult>& results) {
+nlohmann::json sweep_critical_speed_json(const SweepPlan& plan,
+                                         const std::vector<core::CriticalSpeedResult>& results) {
     return sweep_json(plan, "critical_speed", results, critical_point_table(),
                       chatter_type_changes_json(core::chatter_type_changes(results), [&](int i) {
                           return nlohmann::json(plan.values[static_cast<std::size_t>(i)]);
                       }));
 }
 
-nlohmann::json sweep_amplitude_json(const SweepPlan& plan, const std::vector<core::AmplitudeResult>& results) {
+nlohmann::json sweep_amplitude_json(const SweepPlan& plan,
+                                    const std::vector<core::AmplitudeResult>& results) {
     return sweep_json(plan, "amplitude", results, amplitude_point_figures_table());
 }
 

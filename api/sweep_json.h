@@ -41,13 +41,13 @@ inline constexpr long max_sweep_scan_points = 250'000;
 enum class SweepQuantity { critical_speed, amplitude };
 
 struct SweepPlan {
-    const ScenarioField* field = nullptr;    // the swept field
-    std::vector<double> values;              // in the field's unit, as the client wrote them
-    std::vector<core::Scenario> scenarios;   // one per value; filled only for a valid request
+    const ScenarioField* field = nullptr;   // the swept field
+    std::vector<double> values;             // in the field's unit, as the client wrote them
+    std::vector<core::Scenario> scenarios;  // one per value; filled only for a valid request
     SweepQuantity quantity = SweepQuantity::critical_speed;
     core::CriticalSpeedOptions critical_speed;
     core::AmplitudeOptions amplitude;
-    nlohmann::json resolved_options;         // the echo
+    nlohmann::json resolved_options;  // the echo
 };
 
 // `valid_scenario` is the request's scenario if it passed validation, else nullptr (then the
@@ -84,16 +84,19 @@ std::vector<ResultSchema> sweep_result_schemas();
 // The members of a point besides the value, in order (the CSV columns).
 std::vector<std::string> sweep_point_columns(bool amplitude);
 
-// {"parameter", "unit", "value_name", "quantity", "points": [{"value_<unit>", "status", "critical_speed_m_per_s",
-// "frequency_Hz", "chatter_type", "chatter_band"}], "chatter_type_changes": [...]}: the critical
-// speed and the frequency and chatter type of the mode that goes unstable there (null unless
-// found; the mode also for unstable_at_lower_bound); the changes (api/chatter_json.h) name each
-// pair of consecutive values whose crossing modes differ in type.
-nlohmann::json sweep_critical_speed_json(const SweepPlan& plan, const std::vector<core::CriticalSpeedResult>& results);
+// {"parameter", "unit", "value_name", "quantity", "points": [{"value_<unit>", "status",
+// "critical_speed_m_per_s", "frequency_Hz", "chatter_type", "chatter_band"}],
+// "chatter_type_changes": [...]}: the critical speed and the frequency and chatter type of the mode
+// that goes unstable there (null unless found; the mode also for unstable_at_lower_bound); the
+// changes (api/chatter_json.h) name each pair of consecutive values whose crossing modes differ in
+// type.
+nlohmann::json sweep_critical_speed_json(const SweepPlan& plan,
+                                         const std::vector<core::CriticalSpeedResult>& results);
 
 // The same with amplitude points: {"value_<unit>", "status", "message", "frequency_Hz" (of the
 // excitation), "upper_roll_amplitude_um", "gap_amplitude_um", "force_amplitude_kN", "settled",
 // "growth_rate_per_s", "end_time_s"}.
-nlohmann::json sweep_amplitude_json(const SweepPlan& plan, const std::vector<core::AmplitudeResult>& results);
+nlohmann::json sweep_amplitude_json(const SweepPlan& plan,
+                                    const std::vector<core::AmplitudeResult>& results);
 
 }  // namespace rollgap::api

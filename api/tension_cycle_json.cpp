@@ -27,21 +27,24 @@ void read_phases(const OptionsReader& reader, std::vector<double>& phases) {
     if (value == nullptr) return;
     const std::string pointer = reader.at(phases_name);
     if (!value->is_array()) {
-        reader.errors().add({pointer, concat("must be an array of phases, got ", json_type_name(*value)),
+        reader.errors().add({pointer,
+                             concat("must be an array of phases, got ", json_type_name(*value)),
                              std::nullopt, std::nullopt});
         return;
     }
     const std::string count_bound = concat("1 to ", std::to_string(max_phases), " phases");
     if (value->empty() || value->size() > static_cast<std::size_t>(max_phases)) {
-        reader.errors().add({pointer, concat("has ", std::to_string(value->size()), " phases; give ", count_bound),
-                             count_bound, std::nullopt});
+        reader.errors().add(
+            {pointer, concat("has ", std::to_string(value->size()), " phases; give ", count_bound),
+             count_bound, std::nullopt});
         return;
     }
     std::vector<double> parsed;
     bool valid = true;
     for (std::size_t i = 0; i < value->size(); ++i) {
         const std::string item = append_pointer(pointer, std::to_string(i));
-        const auto phase = read_number((*value)[i], item, closed_open(0.0, 1.0), units::one, reader.errors());
+        const auto phase =
+            read_number((*value)[i], item, closed_open(0.0, 1.0), units::one, reader.errors());
         if (!phase) {
             valid = false;
             continue;
@@ -66,8 +69,10 @@ std::string run_status(const core::TensionCycleResult& result) {
 
 }  // namespace
 
-core::TensionCycleOptions tension_cycle_options_from_json(const nlohmann::json& options, const std::string& pointer,
-                                                          const core::Scenario* valid_scenario, FieldErrors& errors) {
+core::TensionCycleOptions tension_cycle_options_from_json(const nlohmann::json& options,
+                                                          const std::string& pointer,
+                                                          const core::Scenario* valid_scenario,
+                                                          FieldErrors& errors) {
     core::TensionCycleOptions parsed;
     const OptionsReader reader(options, pointer, members, errors);
     reader.integer(cycles_name, closed(1.0, 20.0), parsed.cycles);
@@ -80,16 +85,18 @@ core::TensionCycleOptions tension_cycle_options_from_json(const nlohmann::json& 
         const double simulated = parsed.cycles / frequency;
         if (simulated > max_simulated_time_s) {
             const double most_cycles = std::floor(max_simulated_time_s * frequency);
-            std::string detail = concat(std::to_string(parsed.cycles), " cycles of the ", format_number(frequency),
-                                        " Hz back-tension sinusoid (/scenario/tension/back/frequency_Hz) are ",
-                                        format_number(simulated), " s of simulated time; at most ",
-                                        format_number(max_simulated_time_s), " s are allowed");
+            std::string detail =
+                concat(std::to_string(parsed.cycles), " cycles of the ", format_number(frequency),
+                       " Hz back-tension sinusoid (/scenario/tension/back/frequency_Hz) are ",
+                       format_number(simulated), " s of simulated time; at most ",
+                       format_number(max_simulated_time_s), " s are allowed");
             if (most_cycles < 1.0) {
                 detail += concat(": raise the frequency to at least ",
                                  format_number(1.0 / max_simulated_time_s), " Hz");
             }
             errors.add({reader.at(cycles_name), std::move(detail),
-                        most_cycles < 1.0 ? std::optional<std::string>() : closed(1.0, std::min(20.0, most_cycles)).text(),
+                        most_cycles < 1.0 ? std::optional<std::string>()
+                                          : closed(1.0, std::min(20.0, most_cycles)).text(),
                         std::string(units::one.code)});
         }
     }
@@ -104,9 +111,10 @@ nlohmann::json tension_cycle_options_json(const core::TensionCycleOptions& optio
     };
 }
 
-void check_tension_cycle_scenario(const core::Scenario& scenario, const std::string& scenario_pointer,
-                                  FieldErrors& errors) {
-    if (scenario.tensions.back.mode == core::TensionMode::sinusoid) return;  // checked with the scenario
+void check_tension_cycle_scenario(const core::Scenario& scenario,
+                                  const std::string& scenario_pointer, FieldErrors& errors) {
+    if (scenario.tensions.back.mode == core::TensionMode::sinusoid)
+        return;  // checked with the scenario
     core::Scenario as_run = scenario;
     as_run.tensions.back.mode = core::TensionMode::sinusoid;
     FieldErrors sinusoid_errors;
@@ -123,17 +131,26 @@ const ResultTable<core::PhaseDistribution>& tension_phase_table() {
         "TensionCyclePhase",
         "The bite at one phase of the back-tension cycle.",
         {
-            {"phase", "Phase T in the cycle, s_b = mean + amplitude·sin 2πT.", number_schema(units::one),
+            {"phase", "Phase T in the cycle, s_b = mean + amplitude·sin 2πT.",
+             number_schema(units::one),
              [](const PhaseDistribution& p) { return quantity_json(p.phase, units::one); }},
-            {"time_s", "Simulated time of the phase, in the last cycle.", number_schema(units::second),
+            {"time_s", "Simulated time of the phase, in the last cycle.",
+             number_schema(units::second),
              [](const PhaseDistribution& p) { return quantity_json(p.time, units::second); }},
             {"back_tension_MPa", "Back tension at this phase.", number_schema(units::megapascal),
-             [](const PhaseDistribution& p) { return quantity_json(p.back_tension, units::megapascal); }},
-            {"gap_um", "Change of the work-roll gap (x3 − x4) from its steady value.", number_schema(units::micrometre),
+             [](const PhaseDistribution& p) {
+                 return quantity_json(p.back_tension, units::megapascal);
+             }},
+            {"gap_um", "Change of the work-roll gap (x3 − x4) from its steady value.",
+             number_schema(units::micrometre),
              [](const PhaseDistribution& p) { return quantity_json(p.gap, units::micrometre); }},
-            {"inlet_film_um", "Lubricant film thickness at the bite inlet.", number_schema(units::micrometre),
-             [](const PhaseDistribution& p) { return quantity_json(p.inlet_film, units::micrometre); }},
-            {"roll_gap", "The bite at this phase, with its distributions.", ref_schema("RollGapResult"),
+            {"inlet_film_um", "Lubricant film thickness at the bite inlet.",
+             number_schema(units::micrometre),
+             [](const PhaseDistribution& p) {
+                 return quantity_json(p.inlet_film, units::micrometre);
+             }},
+            {"roll_gap", "The bite at this phase, with its distributions.",
+             ref_schema("RollGapResult"),
              [](const PhaseDistribution& p) { return bite_result_json(p.bite); }},
         }};
     return table;
@@ -149,19 +166,28 @@ const ResultTable<core::TensionCycleResult>& tension_cycle_result_table() {
             {"status",
              "`ok`, `no_steady_state` (no steady bite to start from: steady_status says why), or what ended the run "
              "early.",
-             enum_schema({"ok", "no_steady_state", "contact_lost", "skidding", "slack_strip", "solver_failure"}),
+             enum_schema({"ok", "no_steady_state", "contact_lost", "skidding", "slack_strip",
+                          "solver_failure"}),
              [](const TensionCycleResult& r) { return nlohmann::json(run_status(r)); }},
             {"message", "Why, for humans; empty when ok.", string_schema(),
-             [](const TensionCycleResult& r) { return nlohmann::json(r.message != nullptr ? r.message : ""); }},
+             [](const TensionCycleResult& r) {
+                 return nlohmann::json(r.message != nullptr ? r.message : "");
+             }},
             {"steady_status", "The status of the steady bite the run starts from.",
              enum_schema({"ok", "skidding", "contact_lost", "solver_failure"}),
-             [](const TensionCycleResult& r) { return nlohmann::json(core::to_string(r.steady_status)); }},
+             [](const TensionCycleResult& r) {
+                 return nlohmann::json(core::to_string(r.steady_status));
+             }},
             {"frequency_Hz", "Frequency of the back-tension sinusoid.", number_schema(units::hertz),
-             [](const TensionCycleResult& r) { return quantity_json(r.frequency_Hz, units::hertz); }},
-            {"phases", "One per phase of options.phases, ascending.", array_schema(ref_schema("TensionCyclePhase")),
+             [](const TensionCycleResult& r) {
+                 return quantity_json(r.frequency_Hz, units::hertz);
+             }},
+            {"phases", "One per phase of options.phases, ascending.",
+             array_schema(ref_schema("TensionCyclePhase")),
              [](const TensionCycleResult& r) {
                  nlohmann::json phases = nlohmann::json::array();
-                 for (const core::PhaseDistribution& phase : r.phases) phases.push_back(tension_phase_table().write(phase));
+                 for (const core::PhaseDistribution& phase : r.phases)
+                     phases.push_back(tension_phase_table().write(phase));
                  return phases;
              }},
         }};

@@ -28,16 +28,18 @@ inline constexpr double max_simulated_time_s = 2000.0;
 
 // `valid_scenario` is the scenario when it passed validation, else nullptr: rules that combine
 // options with the scenario (the simulated time, the sinusoid's limits) need it.
-core::TensionCycleOptions tension_cycle_options_from_json(const nlohmann::json& options, const std::string& pointer,
-                                                          const core::Scenario* valid_scenario, FieldErrors& errors);
+core::TensionCycleOptions tension_cycle_options_from_json(const nlohmann::json& options,
+                                                          const std::string& pointer,
+                                                          const core::Scenario* valid_scenario,
+                                                          FieldErrors& errors);
 // Phases in ascending order, as they are run.
 nlohmann::json tension_cycle_options_json(const core::TensionCycleOptions& options);
 
 // The scenario rules for a sinusoidal back tension (never slack, below the flow stress), checked
 // as if /scenario/tension/back/mode were "sinusoid": the analysis runs it so. Violations are
 // recorded under `scenario_pointer` + the field's path.
-void check_tension_cycle_scenario(const core::Scenario& scenario, const std::string& scenario_pointer,
-                                  FieldErrors& errors);
+void check_tension_cycle_scenario(const core::Scenario& scenario,
+                                  const std::string& scenario_pointer, FieldErrors& errors);
 
 // {"status", "message", "steady_status", "frequency_Hz", "phases": [{"phase", "time_s",
 // "back_tension_MPa", "gap_um", "inlet_film_um", "roll_gap": <the roll_gap result>}]}.

@@ -34,10 +34,12 @@ int main(int argc, char** argv) {
     const std::clock_t cpu_start = std::clock();
     const auto start = std::chrono::steady_clock::now();
     const rollgap::core::StabilityMap map = rollgap::core::stability_map(cells, n, n, {}, threads);
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const double cpu_seconds = static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC;
     int found = 0;
-    for (const auto& cell : map.cells) found += cell.status == rollgap::core::CriticalSpeedStatus::found;
+    for (const auto& cell : map.cells)
+        found += cell.status == rollgap::core::CriticalSpeedStatus::found;
     std::printf("map.20x20.threads: %d\n", threads);
     std::printf("map.20x20.wall: %.3f s\n", seconds);
     std::printf("map.20x20.per_cell: %.3f ms\n", 1e3 * seconds / (n * n));

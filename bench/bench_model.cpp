@@ -1,5 +1,5 @@
-// Timing of rollgap's analyses for the default scenario: the roll-bite solve (docs/model.md §4), the
-// critical speed (§7.3), the amplitude (§7.4) and a critical-speed sweep (§7.5).
+// Timing of rollgap's analyses for the default scenario: the roll-bite solve (docs/model.md §4),
+// the critical speed (§7.3), the amplitude (§7.4) and a critical-speed sweep (§7.5).
 //
 // Output, one figure per line on stdout, in a stable format that scripts can parse:
 //     <bench>.<figure>: <value> <unit>
@@ -35,11 +35,11 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 struct Config {
-    double min_time_s = 1.0;    // measure at least this long ...
-    long min_reps = 2000;       // ... and at least this many repetitions,
-    double max_time_s = 20.0;   // but stop after this long once min_reps_hard are done
+    double min_time_s = 1.0;   // measure at least this long ...
+    long min_reps = 2000;      // ... and at least this many repetitions,
+    double max_time_s = 20.0;  // but stop after this long once min_reps_hard are done
     long min_reps_hard = 20;
-    double warmup_s = 0.2;      // warm-up: this long or warmup_reps, whichever comes first
+    double warmup_s = 0.2;  // warm-up: this long or warmup_reps, whichever comes first
     long warmup_reps = 200;
 };
 
@@ -114,8 +114,8 @@ int bench_roll_gap(const Config& cfg) {
     const rollgap::core::Scenario scenario{};
 
     // One untimed solve to check that we time the real path, not an early failure.
-    const auto check = rollgap::core::solve_roll_bite(
-        scenario, rollgap::core::steady_bite_state(scenario));
+    const auto check =
+        rollgap::core::solve_roll_bite(scenario, rollgap::core::steady_bite_state(scenario));
     if (check.status != rollgap::core::BiteStatus::ok) {
         std::fprintf(stderr, "roll_gap: default scenario did not solve: %s (%s)\n",
                      rollgap::core::to_string(check.status), check.message);
@@ -154,11 +154,14 @@ int bench_critical_speed(const Config& cfg) {
         options.threads = threads;
         const auto check = rollgap::core::critical_speed(scenario, options);
         if (check.status != rollgap::core::CriticalSpeedStatus::found) {
-            std::fprintf(stderr, "critical_speed: not found (%s)\n", rollgap::core::to_string(check.status));
+            std::fprintf(stderr, "critical_speed: not found (%s)\n",
+                         rollgap::core::to_string(check.status));
             return 1;
         }
         if (threads == 1) print_figure("critical_speed.value", check.critical_speed, "m/s");
-        const Timing t = time_it(heavy(cfg, 20), [&] { return rollgap::core::critical_speed(scenario, options).critical_speed; });
+        const Timing t = time_it(heavy(cfg, 20), [&] {
+            return rollgap::core::critical_speed(scenario, options).critical_speed;
+        });
         print_timing("critical_speed.threads_" + std::to_string(threads), t);
     }
     return 0;
@@ -176,7 +179,9 @@ int bench_amplitude(const Config& cfg) {
     }
     print_figure("amplitude_1s.upper_roll", check.upper_roll * 1e6, "um");
     print_count("amplitude_1s.rhs_evaluations", check.rhs_evaluations);
-    const Timing t = time_it(heavy(cfg, 5), [&] { return rollgap::core::vibration_amplitude(scenario, options).upper_roll; });
+    const Timing t = time_it(heavy(cfg, 5), [&] {
+        return rollgap::core::vibration_amplitude(scenario, options).upper_roll;
+    });
     print_timing("amplitude_1s", t);
     return 0;
 }
@@ -244,7 +249,8 @@ int main(int argc, char** argv) {
     int failures = 0;
     int ran = 0;
     for (const Bench& b : kBenches) {
-        if (!filter.empty() && std::string_view(b.name).find(filter) == std::string_view::npos) continue;
+        if (!filter.empty() && std::string_view(b.name).find(filter) == std::string_view::npos)
+            continue;
         if (list) {
             std::printf("%s\n", b.name);
             continue;

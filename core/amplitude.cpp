@@ -36,7 +36,8 @@ struct Range {
 
 }  // namespace
 
-AmplitudeResult vibration_amplitude(const Scenario& s, const AmplitudeOptions& options, const Control& control) {
+AmplitudeResult vibration_amplitude(const Scenario& s, const AmplitudeOptions& options,
+                                    const Control& control) {
     AmplitudeResult out;
     out.speed = s.rolls.speed;
 
@@ -47,28 +48,33 @@ AmplitudeResult vibration_amplitude(const Scenario& s, const AmplitudeOptions& o
         return out;
     }
     out.least_damped_growth_rate = linear.least_damped.eigenvalue.real();
-    out.excitation_frequency_Hz =
-        options.excitation_frequency_Hz > 0.0 ? options.excitation_frequency_Hz : linear.least_damped.frequency_Hz;
+    out.excitation_frequency_Hz = options.excitation_frequency_Hz > 0.0
+                                      ? options.excitation_frequency_Hz
+                                      : linear.least_damped.frequency_Hz;
 
     const Scenario dynamics = dynamics_scenario(s);
     const ReferenceState ref = reference_state(dynamics, false);
-    const CoupledModel model(dynamics, ref, Excitation{options.excitation_amplitude, out.excitation_frequency_Hz});
+    const CoupledModel model(dynamics, ref,
+                             Excitation{options.excitation_amplitude, out.excitation_frequency_Hz});
 
     // Sample fast enough for the excitation and for the stack's modes (~400 Hz at the defaults),
     // within a memory budget; a stack too fast to resolve in the window is refused, not run.
     double fastest = std::max(out.excitation_frequency_Hz, 400.0);
     for (const Eigenmode& mode : linear.oscillatory) fastest = std::max(fastest, mode.frequency_Hz);
     constexpr double kMaxSamples = 400'000;
-    const double per_period = std::min(options.samples_per_period, kMaxSamples / (fastest * options.window));
+    const double per_period =
+        std::min(options.samples_per_period, kMaxSamples / (fastest * options.window));
     if (per_period < 8.0) {
         out.status = AmplitudeStatus::solver_failure;
-        out.message = "the stack's fastest mode is too fast to resolve in this window: shorten the window";
+        out.message =
+            "the stack's fastest mode is too fast to resolve in this window: shorten the window";
         return out;
     }
     const double dt = 1.0 / (per_period * fastest);
     const int samples = std::max(10, static_cast<int>(std::ceil(options.window / dt)));
     std::vector<double> times(static_cast<std::size_t>(samples));
-    for (int i = 0; i < samples; ++i) times[static_cast<std::size_t>(i)] = options.window * (i + 1) / samples;
+    for (int i = 0; i < samples; ++i)
+        times[static_cast<std::size_t>(i)] = options.window * (i + 1) / samples;
 
     constexpr int kWindows = 10;
     std::vector<Range> upper(kWindows), gap(kWindows), force(kWindows);
@@ -81,10 +87,12 @@ AmplitudeResult vibration_amplitude(const Scenario& s, const AmplitudeOptions& o
     int index = 0;
 
     auto on_output = [&](const Sample& sample) {
-        const int w = std::min(kWindows - 1, static_cast<int>(sample.t / options.window * kWindows));
+        const int w =
+            std::min(kWindows - 1, static_cast<int>(sample.t / options.window * kWindows));
         const double x3 = sample.z(2), g = sample.z(2) - sample.z(3);
         // b dP = M q'' + C q' + K_s q (eq. 37 with k4 cancelled): the force on the upper work roll
-        const Vector6 q = sample.z.head<6>(), qdot = sample.z.segment<6>(6), qddot = sample.zdot.segment<6>(6);
+        const Vector6 q = sample.z.head<6>(), qdot = sample.z.segment<6>(6),
+                      qddot = sample.zdot.segment<6>(6);
         const double dP = (M * qddot + C * qdot + K * q)(2);
         upper[static_cast<std::size_t>(w)].add(x3);
         gap[static_cast<std::size_t>(w)].add(g);
@@ -118,8 +126,10 @@ AmplitudeResult vibration_amplitude(const Scenario& s, const AmplitudeOptions& o
     // a limit ended the run early, the (partial) one in which it ended. Settling and growth from
     // the last two complete windows.
     const double window_length = options.window / kWindows;
-    const int complete = std::min(kWindows, static_cast<int>(std::floor(run.end_time / window_length + 1e-9)));
-    const int with_data = std::min(kWindows - 1, static_cast<int>(std::floor(run.end_time / window_length - 1e-9)));
+    const int complete =
+        std::min(kWindows, static_cast<int>(std::floor(run.end_time / window_length + 1e-9)));
+    const int with_data =
+        std::min(kWindows - 1, static_cast<int>(std::floor(run.end_time / window_length - 1e-9)));
     if (with_data >= 0) {
         const std::size_t last = static_cast<std::size_t>(with_data);
         out.upper_roll = upper[last].half_span();
@@ -129,18 +139,20 @@ AmplitudeResult vibration_amplitude(const Scenario& s, const AmplitudeOptions& o
     if (complete >= 2) {
         const double a1 = upper[static_cast<std::size_t>(complete - 2)].half_span();
         const double a2 = upper[static_cast<std::size_t>(complete - 1)].half_span();
-        out.settled = run.status == DynamicsStatus::ok && a1 > 0.0 && std::abs(a2 - a1) <= 0.01 * a1;
+        out.settled =
+            run.status == DynamicsStatus::ok && a1 > 0.0 && std::abs(a2 - a1) <= 0.01 * a1;
         out.growth_rate = (a1 > 0.0 && a2 > 0.0) ? std::log(a2 / a1) / window_length : 0.0;
     }
 
     switch (run.status) {
         case DynamicsStatus::ok:
-            out.status = out.settled ? AmplitudeStatus::settled
+            out.status = out.settled             ? AmplitudeStatus::settled
                          : out.growth_rate > 0.0 ? AmplitudeStatus::growing
                                                  : AmplitudeStatus::decaying;
             out.message = out.settled ? "the response settled (last two 10 % windows within 1 %)"
-                          : out.growth_rate > 0.0 ? "the response is still growing at the end of the window"
-                                                  : "the response is still decaying at the end of the window";
+                          : out.growth_rate > 0.0
+                              ? "the response is still growing at the end of the window"
+                              : "the response is still decaying at the end of the window";
             break;
         case DynamicsStatus::cancelled:
             out.status = AmplitudeStatus::cancelled;
@@ -150,9 +162,11 @@ AmplitudeResult vibration_amplitude(const Scenario& s, const AmplitudeOptions& o
         case DynamicsStatus::skidding:
         case DynamicsStatus::slack_strip:
             out.status = AmplitudeStatus::limit_reached;
-            out.message = run.status == DynamicsStatus::contact_lost ? "the vibration opened the gap: contact lost"
-                          : run.status == DynamicsStatus::skidding   ? "the vibration made the rolls skid"
-                                                                     : "the vibration slackened the strip";
+            out.message = run.status == DynamicsStatus::contact_lost
+                              ? "the vibration opened the gap: contact lost"
+                          : run.status == DynamicsStatus::skidding
+                              ? "the vibration made the rolls skid"
+                              : "the vibration slackened the strip";
             break;
         case DynamicsStatus::solver_failure:
             out.status = AmplitudeStatus::solver_failure;

@@ -16,8 +16,8 @@ struct RootResult {
 // tolerance `tolerance` in x. A `guess` inside (a, b) first narrows the bracket; it changes the
 // path, not the root beyond the tolerance.
 template <class F>
-RootResult brent_root(F&& f, double a, double b, double fa, double fb, double tolerance, double guess = -1.0,
-                      int max_iterations = 200) {
+RootResult brent_root(F&& f, double a, double b, double fa, double fb, double tolerance,
+                      double guess = -1.0, int max_iterations = 200) {
     RootResult result;
     if (guess > a && guess < b) {
         const double fg = f(guess);
@@ -40,8 +40,12 @@ RootResult brent_root(F&& f, double a, double b, double fa, double fb, double to
             d = e = b - a;
         }
         if (std::abs(fc) < std::abs(fb)) {
-            a = b; b = c; c = a;
-            fa = fb; fb = fc; fc = fa;
+            a = b;
+            b = c;
+            c = a;
+            fa = fb;
+            fb = fc;
+            fc = fa;
         }
         const double tol = 2.0 * 2.2e-16 * std::abs(b) + 0.5 * tolerance;
         const double m = 0.5 * (c - b);
@@ -61,7 +65,8 @@ RootResult brent_root(F&& f, double a, double b, double fa, double fb, double to
                 p = s * (2.0 * m * qa * (qa - r) - (b - a) * (r - 1.0));
                 q = (qa - 1.0) * (r - 1.0) * (s - 1.0);
             }
-            if (p > 0.0) q = -q; else p = -p;
+            if (p > 0.0) q = -q;
+            else p = -p;
             if (2.0 * p < std::min(3.0 * m * q - std::abs(tol * q), std::abs(e * q))) {
                 e = d;
                 d = p / q;

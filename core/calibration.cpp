@@ -28,10 +28,10 @@ using Eigen::VectorXd;
 
 class Fit {
 public:
-    Fit(const std::vector<CalibrationParameter>& parameters, int observation_count, const ResidualFunction& model,
-        const CalibrationOptions& options, const Control& control)
-        : p_(parameters), m_(observation_count), n_(static_cast<int>(parameters.size())), model_(model),
-          options_(options), control_(control) {
+    Fit(const std::vector<CalibrationParameter>& parameters, int observation_count,
+        const ResidualFunction& model, const CalibrationOptions& options, const Control& control)
+        : p_(parameters), m_(observation_count), n_(static_cast<int>(parameters.size())),
+          model_(model), options_(options), control_(control) {
         lower_.resize(n_);
         upper_.resize(n_);
         scale_.resize(n_);
@@ -41,7 +41,8 @@ public:
             upper_(j) = parameter.upper;
             // The size a step is measured against: the value itself, unless it is near zero
             // relative to its range.
-            scale_(j) = std::max(std::abs(parameter.start), 1e-3 * (parameter.upper - parameter.lower));
+            scale_(j) =
+                std::max(std::abs(parameter.start), 1e-3 * (parameter.upper - parameter.lower));
         }
     }
 
@@ -63,14 +64,17 @@ private:
         r.head(m_) = observed;
         for (int j = 0; j < n_; ++j) {
             const auto& parameter = p_[static_cast<std::size_t>(j)];
-            r(m_ + j) = parameter.has_prior ? (x(j) - parameter.prior_value) / parameter.prior_uncertainty : 0.0;
+            r(m_ + j) = parameter.has_prior
+                            ? (x(j) - parameter.prior_value) / parameter.prior_uncertainty
+                            : 0.0;
         }
         return true;
     }
 
     // Forward differences, one column per thread; a step that would leave the box goes the
     // other way. The prior rows are exact. False if a column has no model answer either way.
-    bool jacobian(const VectorXd& x, const VectorXd& r, MatrixXd& J, double progress_from, double progress_span) {
+    bool jacobian(const VectorXd& x, const VectorXd& r, MatrixXd& J, double progress_from,
+                  double progress_span) {
         J = MatrixXd::Zero(rows(), n_);
         std::vector<char> ok(static_cast<std::size_t>(n_), 0);
         const int threads = control_.thread_budget();
@@ -97,7 +101,8 @@ private:
 
     bool stop_requested() const { return control_.should_stop(); }
 
-    void fill_statistics(CalibrationResult& result, const VectorXd& x, const VectorXd& r, const MatrixXd& J) const;
+    void fill_statistics(CalibrationResult& result, const VectorXd& x, const VectorXd& r,
+                         const MatrixXd& J) const;
 
     const std::vector<CalibrationParameter>& p_;
     int m_, n_;
@@ -111,7 +116,8 @@ private:
 CalibrationResult Fit::run() {
     CalibrationResult result;
     VectorXd x(n_);
-    for (int j = 0; j < n_; ++j) x(j) = std::clamp(p_[static_cast<std::size_t>(j)].start, lower_(j), upper_(j));
+    for (int j = 0; j < n_; ++j)
+        x(j) = std::clamp(p_[static_cast<std::size_t>(j)].start, lower_(j), upper_(j));
     result.values = x;
     result.standard_errors = VectorXd::Constant(n_, std::numeric_limits<double>::infinity());
     result.correlation = MatrixXd::Constant(n_, n_, std::nan(""));
@@ -127,7 +133,8 @@ CalibrationResult Fit::run() {
 
     VectorXd r;
     if (!evaluate(x, r, control_.thread_budget())) {
-        return finish(stop_requested() ? CalibrationStatus::cancelled : CalibrationStatus::model_failure);
+        return finish(stop_requested() ? CalibrationStatus::cancelled
+                                       : CalibrationStatus::model_failure);
     }
     double cost = r.squaredNorm();
     double lambda = -1.0, nu = 2.0;
@@ -140,8 +147,9 @@ CalibrationResult Fit::run() {
         if (stop_requested()) return finish(CalibrationStatus::cancelled);
         if (!jacobian(x, r, J, iteration * per_iteration, per_iteration)) {
             if (stop_requested()) return finish(CalibrationStatus::cancelled);
-            status = evaluations_.load() >= options_.max_evaluations ? CalibrationStatus::max_evaluations
-                                                                     : CalibrationStatus::stalled;
+            status = evaluations_.load() >= options_.max_evaluations
+                         ? CalibrationStatus::max_evaluations
+                         : CalibrationStatus::stalled;
             break;
         }
         jacobian_current = true;
@@ -152,7 +160,8 @@ CalibrationResult Fit::run() {
         // Active set: a parameter on a bound that the descent direction pushes outward is held.
         std::vector<int> free;
         for (int j = 0; j < n_; ++j) {
-            const bool held = (x(j) <= lower_(j) && g(j) > 0.0) || (x(j) >= upper_(j) && g(j) < 0.0);
+            const bool held =
+                (x(j) <= lower_(j) && g(j) > 0.0) || (x(j) >= upper_(j) && g(j) < 0.0);
             if (!held) free.push_back(j);
         }
         const int nf = static_cast<int>(free.size());
@@ -164,7 +173,8 @@ CalibrationResult Fit::run() {
         VectorXd gf(nf), diag(nf);
         for (int a = 0; a < nf; ++a) {
             gf(a) = g(free[static_cast<std::size_t>(a)]);
-            for (int b = 0; b < nf; ++b) Af(a, b) = A(free[static_cast<std::size_t>(a)], free[static_cast<std::size_t>(b)]);
+            for (int b = 0; b < nf; ++b)
+                Af(a, b) = A(free[static_cast<std::size_t>(a)], free[static_cast<std::size_t>(b)]);
         }
         const double largest = Af.diagonal().maxCoeff();
         if (!(largest > 0.0)) {
@@ -190,7 +200,9 @@ CalibrationResult Fit::run() {
             const VectorXd step = trial - x;
             bool small = true;
             for (int j = 0; j < n_; ++j) {
-                if (std::abs(step(j)) > options_.step_tolerance * std::max(std::abs(x(j)), scale_(j))) small = false;
+                if (std::abs(step(j)) >
+                    options_.step_tolerance * std::max(std::abs(x(j)), scale_(j)))
+                    small = false;
             }
             if (small) {
                 done = true;
@@ -244,7 +256,8 @@ CalibrationResult Fit::run() {
     if (!jacobian_current) {
         Eigen::MatrixXd final_jacobian;
         const int budget = options_.max_evaluations;
-        options_.max_evaluations = evaluations_.load() + 2 * n_;  // the final Jacobian is always allowed
+        options_.max_evaluations =
+            evaluations_.load() + 2 * n_;  // the final Jacobian is always allowed
         const bool ok = jacobian(x, r, final_jacobian, 1.0 - per_iteration, per_iteration);
         options_.max_evaluations = budget;
         if (stop_requested()) return finish(CalibrationStatus::cancelled);
@@ -269,7 +282,7 @@ CalibrationResult Fit::run() {
 // matrix): its smallest eigenvalues say which combinations of parameters are not determined,
 // whatever the parameters' units.
 struct ScaledNormal {
-    VectorXd scale;        // sqrt of the diagonal (0: the column is zero)
+    VectorXd scale;  // sqrt of the diagonal (0: the column is zero)
     Eigen::SelfAdjointEigenSolver<MatrixXd> eigen;
 };
 
@@ -280,14 +293,16 @@ ScaledNormal scaled_normal(const MatrixXd& normal) {
     MatrixXd scaled = MatrixXd::Identity(n, n);
     for (Eigen::Index a = 0; a < n; ++a) {
         for (Eigen::Index b = 0; b < n; ++b) {
-            if (out.scale(a) > 0.0 && out.scale(b) > 0.0) scaled(a, b) = normal(a, b) / (out.scale(a) * out.scale(b));
+            if (out.scale(a) > 0.0 && out.scale(b) > 0.0)
+                scaled(a, b) = normal(a, b) / (out.scale(a) * out.scale(b));
         }
     }
     out.eigen.compute(scaled);
     return out;
 }
 
-void Fit::fill_statistics(CalibrationResult& result, const VectorXd&, const VectorXd&, const MatrixXd& J) const {
+void Fit::fill_statistics(CalibrationResult& result, const VectorXd&, const VectorXd&,
+                          const MatrixXd& J) const {
     // Posterior covariance (JᵀJ)⁻¹ with the prior rows, through the scaled eigen-decomposition;
     // directions with no information (eigenvalue at rounding level) make the standard errors
     // of the parameters in them infinite instead of huge-but-finite noise.
@@ -311,12 +326,14 @@ void Fit::fill_statistics(CalibrationResult& result, const VectorXd&, const Vect
     }
     for (int a = 0; a < n_; ++a) {
         const bool a_known = !undetermined[static_cast<std::size_t>(a)];
-        result.standard_errors(a) = a_known ? std::sqrt(covariance_scaled(a, a)) / posterior.scale(a)
-                                            : std::numeric_limits<double>::infinity();
+        result.standard_errors(a) = a_known
+                                        ? std::sqrt(covariance_scaled(a, a)) / posterior.scale(a)
+                                        : std::numeric_limits<double>::infinity();
         for (int b = 0; b < n_; ++b) {
             const bool b_known = !undetermined[static_cast<std::size_t>(b)];
             result.correlation(a, b) =
-                a_known && b_known ? covariance_scaled(a, b) / std::sqrt(covariance_scaled(a, a) * covariance_scaled(b, b))
+                a_known && b_known ? covariance_scaled(a, b) / std::sqrt(covariance_scaled(a, a) *
+                                                                         covariance_scaled(b, b))
                                    : (a == b ? 1.0 : std::nan(""));
         }
     }
@@ -346,9 +363,9 @@ void Fit::fill_statistics(CalibrationResult& result, const VectorXd&, const Vect
 
 }  // namespace
 
-CalibrationResult calibrate(const std::vector<CalibrationParameter>& parameters, int observation_count,
-                            const ResidualFunction& residuals, const CalibrationOptions& options,
-                            const Control& control) {
+CalibrationResult calibrate(const std::vector<CalibrationParameter>& parameters,
+                            int observation_count, const ResidualFunction& residuals,
+                            const CalibrationOptions& options, const Control& control) {
     Fit fit(parameters, observation_count, residuals, options, control);
     return fit.run();
 }

@@ -26,9 +26,9 @@
 namespace rollgap::core {
 
 struct CalibrationParameter {
-    double start = 0.0;   // lower ≤ start ≤ upper
+    double start = 0.0;  // lower ≤ start ≤ upper
     double lower = 0.0;
-    double upper = 0.0;   // lower < upper, both finite
+    double upper = 0.0;  // lower < upper, both finite
     bool has_prior = false;
     double prior_value = 0.0;
     double prior_uncertainty = 0.0;  // > 0 when has_prior
@@ -38,15 +38,15 @@ struct CalibrationParameter {
 // (no steady bite, no critical speed in range): the fit treats the point as unacceptable.
 // `control.threads` is the thread budget of this one evaluation; it is called from several
 // threads at once (one per Jacobian column), so it must not share mutable state.
-using ResidualFunction =
-    std::function<bool(const Eigen::VectorXd& x, Eigen::VectorXd& residuals, const Control& control)>;
+using ResidualFunction = std::function<bool(const Eigen::VectorXd& x, Eigen::VectorXd& residuals,
+                                            const Control& control)>;
 
 struct CalibrationOptions {
     int max_iterations = 30;
-    int max_evaluations = 400;          // residual evaluations in all, Jacobian columns included
-    double relative_step = 1e-6;        // forward-difference step, of max(|x|, scale)
-    double step_tolerance = 1e-9;       // converged when every step is below this, relative
-    double cost_tolerance = 1e-12;      // ... or χ² decreases by less than this, relative
+    int max_evaluations = 400;      // residual evaluations in all, Jacobian columns included
+    double relative_step = 1e-6;    // forward-difference step, of max(|x|, scale)
+    double step_tolerance = 1e-9;   // converged when every step is below this, relative
+    double cost_tolerance = 1e-12;  // ... or χ² decreases by less than this, relative
     // Below this reciprocal condition number of the observations' (correlation-scaled) normal
     // matrix the observations are said not to separate the parameters of the near-null
     // direction (|correlation| beyond ~0.9998 for two parameters).
@@ -57,8 +57,8 @@ enum class CalibrationStatus {
     converged,
     max_iterations,
     max_evaluations,
-    stalled,            // no step lowers χ² any more before the tolerances are met
-    model_failure,      // the model has no answer at the start values
+    stalled,        // no step lowers χ² any more before the tolerances are met
+    model_failure,  // the model has no answer at the start values
     cancelled,
 };
 const char* to_string(CalibrationStatus);
@@ -69,17 +69,17 @@ struct CalibrationResult {
     CalibrationStatus status = CalibrationStatus::model_failure;
     int iterations = 0;
     int evaluations = 0;
-    Eigen::VectorXd values;            // the fitted parameters (the start if model_failure)
+    Eigen::VectorXd values;  // the fitted parameters (the start if model_failure)
     // Posterior (observations and priors): sqrt of the diagonal of (JᵀJ)⁻¹ at the solution;
     // +inf for a parameter in a direction neither observations nor priors determine.
     Eigen::VectorXd standard_errors;
-    Eigen::MatrixXd correlation;       // posterior; NaN where a standard error is infinite
-    Eigen::VectorXd residuals;         // the observations' normalised residuals at the solution
-    Eigen::VectorXd prior_residuals;   // (x − prior) / σ, 0 where no prior
+    Eigen::MatrixXd correlation;      // posterior; NaN where a standard error is infinite
+    Eigen::VectorXd residuals;        // the observations' normalised residuals at the solution
+    Eigen::VectorXd prior_residuals;  // (x − prior) / σ, 0 where no prior
     double chi_squared_observations = 0.0;
     double chi_squared_priors = 0.0;
-    int degrees_of_freedom = 0;        // observations − parameters
-    std::vector<BoundState> bounds;    // where each fitted value sits
+    int degrees_of_freedom = 0;      // observations − parameters
+    std::vector<BoundState> bounds;  // where each fitted value sits
     // Parameters the observations alone cannot separate: one group per near-null direction of
     // the observations' normal matrix (indices with a large component in it), and parameters
     // the observations do not depend on at all.
@@ -88,8 +88,8 @@ struct CalibrationResult {
     double reciprocal_condition = 0.0;  // of the observations' correlation-scaled normal matrix
 };
 
-CalibrationResult calibrate(const std::vector<CalibrationParameter>& parameters, int observation_count,
-                            const ResidualFunction& residuals, const CalibrationOptions& options = {},
-                            const Control& control = {});
+CalibrationResult calibrate(const std::vector<CalibrationParameter>& parameters,
+                            int observation_count, const ResidualFunction& residuals,
+                            const CalibrationOptions& options = {}, const Control& control = {});
 
 }  // namespace rollgap::core

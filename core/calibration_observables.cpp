@@ -32,14 +32,17 @@ namespace {
 bool needs_bite(Observable q) {
     return q == Observable::roll_force || q == Observable::torque || q == Observable::forward_slip;
 }
-bool needs_critical(Observable q) { return q == Observable::critical_speed || q == Observable::chatter_frequency; }
+bool needs_critical(Observable q) {
+    return q == Observable::critical_speed || q == Observable::chatter_frequency;
+}
 
 constexpr double nan = std::numeric_limits<double>::quiet_NaN();
 
 // Modal assurance criterion of two real shapes: 1 for the same shape, 0 for orthogonal ones.
 double mac(const Vector6& a, const Vector6& b) {
     const double denominator = a.squaredNorm() * b.squaredNorm();
-    return denominator > 0.0 ? std::min(1.0, a.dot(b) * a.dot(b) / denominator) : 0.0;  // ≤ 1 in exact arithmetic
+    return denominator > 0.0 ? std::min(1.0, a.dot(b) * a.dot(b) / denominator)
+                             : 0.0;  // ≤ 1 in exact arithmetic
 }
 
 struct Modes {
@@ -54,7 +57,8 @@ Modes modes_of(const Scenario& s) {
     Modes out;
     const ReferenceState reference = reference_state(dynamics_scenario(s), true);
     if (reference.status != BiteStatus::ok || !(reference.strip_stiffness > 0.0)) {
-        out.failure = std::string("no steady bite for the strip spring: ") + to_string(reference.status);
+        out.failure =
+            std::string("no steady bite for the strip spring: ") + to_string(reference.status);
         return out;
     }
     out.modal = modal_analysis(mill_matrices(s.mill), reference.strip_stiffness);
@@ -73,7 +77,8 @@ struct Critical {
 // The critical speed of the search, refined by secant steps on the largest growth rate (smooth
 // in speed near a simple crossing). Without the refinement the search's tolerance (1e-4 of the
 // speed) would be noise of that size in every finite difference.
-Critical critical_of(const Scenario& s, const CriticalSpeedOptions& search, const Control& control) {
+Critical critical_of(const Scenario& s, const CriticalSpeedOptions& search,
+                     const Control& control) {
     Critical out;
     const CriticalSpeedResult found = critical_speed(s, search, control);
     if (found.status != CriticalSpeedStatus::found) {
@@ -90,7 +95,8 @@ Critical critical_of(const Scenario& s, const CriticalSpeedOptions& search, cons
     double v_best = v0;
     SpeedStability best = p0;
     if (p0.status == DynamicsStatus::ok) {
-        const double reach = std::min(search.speed_step, 0.5);  // stay inside the bracketing scan step
+        const double reach =
+            std::min(search.speed_step, 0.5);  // stay inside the bracketing scan step
         double v1 = v0 * (1.0 + std::max(search.relative_tolerance, 1e-7));
         SpeedStability p1 = at(v1);
         for (int k = 0; k < 6 && p1.status == DynamicsStatus::ok; ++k) {
@@ -116,7 +122,8 @@ Critical critical_of(const Scenario& s, const CriticalSpeedOptions& search, cons
     out.speed = v_best;
     // The mode that crosses: the oscillatory eigenvalue with the largest real part; a real
     // eigenvalue crossing has no chatter frequency.
-    out.frequency_Hz = best.least_damped.eigenvalue.real() >= best.max_real_part - 1e-9 * (1.0 + std::abs(best.max_real_part))
+    out.frequency_Hz = best.least_damped.eigenvalue.real() >=
+                               best.max_real_part - 1e-9 * (1.0 + std::abs(best.max_real_part))
                            ? best.least_damped.frequency_Hz
                            : nan;
     out.ok = true;
@@ -141,7 +148,8 @@ public:
             if (!needs_mode(o.quantity)) continue;
             const Modes modes = modes_of(with(x, o.condition));
             if (!modes.ok) {
-                failure = "observation " + std::to_string(i) + ": at the start values " + modes.failure;
+                failure =
+                    "observation " + std::to_string(i) + ": at the start values " + modes.failure;
                 return false;
             }
             std::size_t chosen = 0;
@@ -157,24 +165,28 @@ public:
                     }
                 }
             }
-            references_[i] = {modes.modal.natural[chosen].shape, modes.modal.natural[chosen].frequency_Hz};
+            references_[i] = {modes.modal.natural[chosen].shape,
+                              modes.modal.natural[chosen].frequency_Hz};
         }
         return true;
     }
 
     Eigen::VectorXd start() const {
         Eigen::VectorXd x(static_cast<Eigen::Index>(setup_.parameters.size()));
-        for (std::size_t j = 0; j < setup_.parameters.size(); ++j) x(static_cast<Eigen::Index>(j)) = setup_.parameters[j].start;
+        for (std::size_t j = 0; j < setup_.parameters.size(); ++j)
+            x(static_cast<Eigen::Index>(j)) = setup_.parameters[j].start;
         return x;
     }
 
     Scenario with(const Eigen::VectorXd& x, int condition) const {
         Scenario s = setup_.conditions[static_cast<std::size_t>(condition)];
-        for (std::size_t j = 0; j < setup_.access.size(); ++j) setup_.access[j](s) = x(static_cast<Eigen::Index>(j));
+        for (std::size_t j = 0; j < setup_.access.size(); ++j)
+            setup_.access[j](s) = x(static_cast<Eigen::Index>(j));
         return s;
     }
 
-    std::vector<ObservationPrediction> predict(const Eigen::VectorXd& x, const Control& control) const {
+    std::vector<ObservationPrediction> predict(const Eigen::VectorXd& x,
+                                               const Control& control) const {
         std::vector<ObservationPrediction> out(setup_.observations.size());
         for (std::size_t c = 0; c < setup_.conditions.size(); ++c) {
             if (control.should_stop()) break;
@@ -189,7 +201,8 @@ public:
             if (!bite_needed && !critical_needed && !modes_needed) continue;
             const Scenario s = with(x, condition);
             std::optional<BiteResult> bite;
-            if (bite_needed) bite = solve_roll_bite(s, steady_bite_state(s), BiteOptions{false, -1.0});
+            if (bite_needed)
+                bite = solve_roll_bite(s, steady_bite_state(s), BiteOptions{false, -1.0});
             std::optional<Critical> critical;
             if (critical_needed) {
                 CriticalSpeedOptions search = setup_.critical_speed;
@@ -217,8 +230,10 @@ public:
                         p.failure = critical->failure;
                         continue;
                     }
-                    p.value = o.quantity == Observable::critical_speed ? critical->speed : critical->frequency_Hz;
-                    if (!std::isfinite(p.value)) p.failure = "the mode crossing at the critical speed is not oscillatory";
+                    p.value = o.quantity == Observable::critical_speed ? critical->speed
+                                                                       : critical->frequency_Hz;
+                    if (!std::isfinite(p.value))
+                        p.failure = "the mode crossing at the critical speed is not oscillatory";
                 } else {
                     if (!modes->ok) {
                         p.failure = modes->failure;
@@ -261,7 +276,8 @@ private:
                 p.value = damped.damping_ratio;
             }
         }
-        if (!std::isfinite(distance)) p.failure = "the mode is not oscillatory with the structure's damping";
+        if (!std::isfinite(distance))
+            p.failure = "the mode is not oscillatory with the structure's damping";
     }
 
     const ScenarioCalibration& setup_;
@@ -273,21 +289,26 @@ private:
 long stability_evaluations_per_prediction(const ScenarioCalibration& setup) {
     // A search scans its speeds and then bisects (Brent, ~20 evaluations at most for 1e-8 of
     // a 0.5 m/s bracket), then up to 8 refinement linearisations.
-    const long scan = std::max(2L, static_cast<long>(std::ceil((setup.critical_speed.speed_max - setup.critical_speed.speed_min) /
-                                                                    std::min(setup.critical_speed.speed_step, 0.5) -
-                                                                1e-9)) +
-                                       1);
+    const long scan = std::max(
+        2L, static_cast<long>(
+                std::ceil((setup.critical_speed.speed_max - setup.critical_speed.speed_min) /
+                              std::min(setup.critical_speed.speed_step, 0.5) -
+                          1e-9)) +
+                1);
     long total = 0;
     for (std::size_t c = 0; c < setup.conditions.size(); ++c) {
-        const bool critical = std::any_of(setup.observations.begin(), setup.observations.end(), [&](const ScenarioObservation& o) {
-            return o.condition == static_cast<int>(c) && needs_critical(o.quantity);
-        });
+        const bool critical =
+            std::any_of(setup.observations.begin(), setup.observations.end(),
+                        [&](const ScenarioObservation& o) {
+                            return o.condition == static_cast<int>(c) && needs_critical(o.quantity);
+                        });
         if (critical) total += scan + 30;
     }
     return total;
 }
 
-std::vector<ObservationPrediction> predict_observations(const ScenarioCalibration& setup, const Eigen::VectorXd& x,
+std::vector<ObservationPrediction> predict_observations(const ScenarioCalibration& setup,
+                                                        const Eigen::VectorXd& x,
                                                         const Control& control) {
     Predictor predictor(setup);
     std::string failure;
@@ -302,18 +323,21 @@ std::vector<ObservationPrediction> predict_observations(const ScenarioCalibratio
     return predictor.predict(x, control);
 }
 
-ScenarioCalibrationResult calibrate_scenario(const ScenarioCalibration& setup, const Control& control) {
+ScenarioCalibrationResult calibrate_scenario(const ScenarioCalibration& setup,
+                                             const Control& control) {
     ScenarioCalibrationResult out;
     Predictor predictor(setup);
     std::string failure;
     if (!predictor.choose_modes(failure)) {
         out.fit.status = CalibrationStatus::model_failure;
         out.fit.values = predictor.start();
-        out.predictions.assign(setup.observations.size(), ObservationPrediction{nan, failure, 0.0, 0.0});
+        out.predictions.assign(setup.observations.size(),
+                               ObservationPrediction{nan, failure, 0.0, 0.0});
         return out;
     }
     const int m = static_cast<int>(setup.observations.size());
-    const ResidualFunction residuals = [&](const Eigen::VectorXd& x, Eigen::VectorXd& r, const Control& inner) {
+    const ResidualFunction residuals = [&](const Eigen::VectorXd& x, Eigen::VectorXd& r,
+                                           const Control& inner) {
         const std::vector<ObservationPrediction> predicted = predictor.predict(x, inner);
         if (inner.should_stop()) return false;
         r.resize(m);
@@ -326,7 +350,8 @@ ScenarioCalibrationResult calibrate_scenario(const ScenarioCalibration& setup, c
         return true;
     };
     out.fit = calibrate(setup.parameters, m, residuals, setup.options, control);
-    if (out.fit.status != CalibrationStatus::cancelled) out.predictions = predictor.predict(out.fit.values, control);
+    if (out.fit.status != CalibrationStatus::cancelled)
+        out.predictions = predictor.predict(out.fit.values, control);
     return out;
 }
 

@@ -35,23 +35,23 @@ bool needs_mode(Observable);
 // its shape (the modal assurance criterion against the chosen mode), not by its index: two
 // modes of the default stand sit at 201 and 210 Hz and can swap order.
 struct ModeChoice {
-    int index = -1;          // ≥ 0: by index
-    double near_Hz = 0.0;    // > 0: nearest this frequency
+    int index = -1;        // ≥ 0: by index
+    double near_Hz = 0.0;  // > 0: nearest this frequency
 };
 
 struct ScenarioObservation {
-    int condition = 0;          // index into ScenarioCalibration::conditions
+    int condition = 0;  // index into ScenarioCalibration::conditions
     Observable quantity = Observable::roll_force;
-    double value = 0.0;         // SI
-    double uncertainty = 0.0;   // SI, > 0
-    ModeChoice mode;            // natural_frequency and damping_ratio only
+    double value = 0.0;        // SI
+    double uncertainty = 0.0;  // SI, > 0
+    ModeChoice mode;           // natural_frequency and damping_ratio only
 };
 
 using ParameterAccess = std::function<double&(Scenario&)>;
 
 struct ScenarioCalibration {
-    std::vector<Scenario> conditions;           // the fitted fields at their start values
-    std::vector<ParameterAccess> access;        // one per parameter: where it lives in a scenario
+    std::vector<Scenario> conditions;     // the fitted fields at their start values
+    std::vector<ParameterAccess> access;  // one per parameter: where it lives in a scenario
     std::vector<CalibrationParameter> parameters;  // SI
     std::vector<ScenarioObservation> observations;
     // The search for critical-speed observations (threads are set by the fit). Its result is
@@ -62,8 +62,8 @@ struct ScenarioCalibration {
 };
 
 struct ObservationPrediction {
-    double value = 0.0;       // SI; NaN when the model has no answer
-    std::string failure;      // why not, when value is NaN
+    double value = 0.0;              // SI; NaN when the model has no answer
+    std::string failure;             // why not, when value is NaN
     double mode_frequency_Hz = 0.0;  // of the mode chosen at the start (mode observations)
     double mode_mac = 0.0;           // shape agreement of the followed mode with it, 0..1
 };
@@ -74,11 +74,13 @@ struct ScenarioCalibrationResult {
     std::vector<ObservationPrediction> predictions;
 };
 
-ScenarioCalibrationResult calibrate_scenario(const ScenarioCalibration& setup, const Control& control = {});
+ScenarioCalibrationResult calibrate_scenario(const ScenarioCalibration& setup,
+                                             const Control& control = {});
 
 // The predictions at parameter values `x` (SI): what a fit compares with the observations.
 // The modes are the ones chosen at the setup's start values.
-std::vector<ObservationPrediction> predict_observations(const ScenarioCalibration& setup, const Eigen::VectorXd& x,
+std::vector<ObservationPrediction> predict_observations(const ScenarioCalibration& setup,
+                                                        const Eigen::VectorXd& x,
                                                         const Control& control = {});
 
 // The number of stability evaluations (linearisations) one evaluation of all observations

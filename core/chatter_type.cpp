@@ -40,7 +40,8 @@ ChatterShape chatter_shape(const Vector6c& q) {
     return out;
 }
 
-ChatterClassification classify_chatter(const Vector6c& displacement, double frequency_Hz, const ChatterBands& bands) {
+ChatterClassification classify_chatter(const Vector6c& displacement, double frequency_Hz,
+                                       const ChatterBands& bands) {
     ChatterClassification out;
     out.band = chatter_band(frequency_Hz, bands);
     out.shape = chatter_shape(displacement);

@@ -50,7 +50,8 @@ struct ChatterClassification {
 };
 
 // Thresholds of the shape criterion.
-inline constexpr double kGapOpeningMin = 0.5;      // the work rolls move more against than with each other
+inline constexpr double kGapOpeningMin =
+    0.5;  // the work rolls move more against than with each other
 inline constexpr double kWorkRollMotionMin = 0.1;  // the work rolls take part in the mode
 inline constexpr double kBackupFollowMin = 0.5;    // the back-up roll carries its work roll along
 

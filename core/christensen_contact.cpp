@@ -104,7 +104,8 @@ double christensen_separation(double film_ratio) {
     const double cell = (u - kSmoothStart) / width;
     const int i = std::min(static_cast<int>(cell), kSmoothCells - 1);
     const double f = cell - i, f2 = f * f, f3 = f2 * f;
-    const double Z = (2 * f3 - 3 * f2 + 1) * tables.Z[i] + (f3 - 2 * f2 + f) * width * tables.slope[i] +
+    const double Z = (2 * f3 - 3 * f2 + 1) * tables.Z[i] +
+                     (f3 - 2 * f2 + f) * width * tables.slope[i] +
                      (-2 * f3 + 3 * f2) * tables.Z[i + 1] + (f3 - f2) * width * tables.slope[i + 1];
     return newton_step(Z, film_ratio);
 }
@@ -119,9 +120,11 @@ double paper_fit_contact_ratio(double H) {
     if (H < 0.5) {
         A = 1.0;
     } else if (H <= 1.5) {
-        A = 1.0 + H * (-2.4398 + H * (6.2049 + H * (-11.8410 + H * (12.5350 + H * (-6.6134 + H * 1.3618)))));
+        A = 1.0 + H * (-2.4398 +
+                       H * (6.2049 + H * (-11.8410 + H * (12.5350 + H * (-6.6134 + H * 1.3618)))));
     } else if (H <= 3.0) {
-        A = 0.8855 + H * (-1.1982 + H * (0.7614 + H * (-0.3394 + H * (0.1116 + H * (-0.0220 + H * 0.0018)))));
+        A = 0.8855 + H * (-1.1982 +
+                          H * (0.7614 + H * (-0.3394 + H * (0.1116 + H * (-0.0220 + H * 0.0018)))));
     } else {
         A = 0.0;
     }

@@ -72,7 +72,8 @@ DynamicsStatus from_bite(BiteStatus status) {
 
 }  // namespace
 
-CoupledModel::CoupledModel(const Scenario& s, const ReferenceState& reference, Excitation excitation)
+CoupledModel::CoupledModel(const Scenario& s, const ReferenceState& reference,
+                           Excitation excitation)
     : s_(s), ref_(reference), excitation_(excitation), mill_(mill_matrices(s.mill)) {
     mass_inverse_ = mill_.mass.inverse();
     last_neutral_point_ = ref_.bite.neutral_point;
@@ -111,8 +112,8 @@ BiteState CoupledModel::bite_state(double t, const double* z) const {
     state.inlet_film = z[kFilm];
     state.back_tension = back_tension(t, z);
     if (excitation_.back_tension_amplitude != 0.0) {
-        state.back_tension +=
-            excitation_.back_tension_amplitude * std::sin(2.0 * std::numbers::pi * excitation_.frequency_Hz * t);
+        state.back_tension += excitation_.back_tension_amplitude *
+                              std::sin(2.0 * std::numbers::pi * excitation_.frequency_Hz * t);
     }
     state.front_tension = front_tension(t, z);
     state.roll_radius = ref_.bite.roll_radius;  // flattened or not: frozen at the steady state
@@ -132,12 +133,15 @@ void CoupledModel::limit_margins(double t, const double* z, double margins[kLimi
     margins[2] = s_.strip.entry_thickness - state.exit_thickness;
 }
 
-DynamicsStatus CoupledModel::rhs(double t, const double* z, double* zdot, BiteResult* bite_out) const {
+DynamicsStatus CoupledModel::rhs(double t, const double* z, double* zdot,
+                                 BiteResult* bite_out) const {
     const BiteState state = bite_state(t, z);
     // A strip cannot push: a span whose tension falls to zero has gone slack, and no tension the
     // bite sees may be compressive. A constant zero tension is a legitimate input.
-    const bool slack_span = (back_index_ >= 0 && z[back_index_] <= 0.0) || (front_index_ >= 0 && z[front_index_] <= 0.0);
-    if (slack_span || state.back_tension < 0.0 || state.front_tension < 0.0) return DynamicsStatus::slack_strip;
+    const bool slack_span = (back_index_ >= 0 && z[back_index_] <= 0.0) ||
+                            (front_index_ >= 0 && z[front_index_] <= 0.0);
+    if (slack_span || state.back_tension < 0.0 || state.front_tension < 0.0)
+        return DynamicsStatus::slack_strip;
     if (!(state.inlet_film > 0.0)) return DynamicsStatus::solver_failure;
 
     const BiteResult& bite = solve_bite(state);
@@ -145,7 +149,8 @@ DynamicsStatus CoupledModel::rhs(double t, const double* z, double* zdot, BiteRe
 
     Eigen::Map<const Vector6> q(z), qdot(z + 6);
     const Vector6 load = gap_direction() * (bite.force - ref_.bite.force);
-    const Vector6 qddot = mass_inverse_ * (load - mill_.damping * qdot - mill_.structural_stiffness * q);
+    const Vector6 qddot =
+        mass_inverse_ * (load - mill_.damping * qdot - mill_.structural_stiffness * q);
     for (int i = 0; i < 6; ++i) {
         zdot[i] = z[6 + i];
         zdot[6 + i] = qddot(i);
@@ -165,12 +170,12 @@ DynamicsStatus CoupledModel::rhs(double t, const double* z, double* zdot, BiteRe
     zdot[kFilm] = inlet_film_rate(s_.inlet_film, film);
 
     if (back_index_ >= 0) {
-        zdot[back_index_] =
-            s_.strip.youngs_modulus / s_.tensions.back.span_length * (bite.entry_speed - ref_.bite.entry_speed);
+        zdot[back_index_] = s_.strip.youngs_modulus / s_.tensions.back.span_length *
+                            (bite.entry_speed - ref_.bite.entry_speed);
     }
     if (front_index_ >= 0) {
-        zdot[front_index_] =
-            s_.strip.youngs_modulus / s_.tensions.front.span_length * (ref_.bite.exit_speed - bite.exit_speed);
+        zdot[front_index_] = s_.strip.youngs_modulus / s_.tensions.front.span_length *
+                             (ref_.bite.exit_speed - bite.exit_speed);
     }
     for (int i = 0; i < size_; ++i) {
         if (!std::isfinite(zdot[i])) return DynamicsStatus::solver_failure;
@@ -181,8 +186,9 @@ DynamicsStatus CoupledModel::rhs(double t, const double* z, double* zdot, BiteRe
 
 namespace {
 bool same(const BiteState& a, const BiteState& b) {
-    return a.exit_thickness == b.exit_thickness && a.gap_rate == b.gap_rate && a.inlet_film == b.inlet_film &&
-           a.back_tension == b.back_tension && a.front_tension == b.front_tension && a.roll_radius == b.roll_radius;
+    return a.exit_thickness == b.exit_thickness && a.gap_rate == b.gap_rate &&
+           a.inlet_film == b.inlet_film && a.back_tension == b.back_tension &&
+           a.front_tension == b.front_tension && a.roll_radius == b.roll_radius;
 }
 }  // namespace
 

@@ -22,9 +22,9 @@ const char* to_string(DynamicsStatus);
 struct ReferenceState {
     BiteStatus status = BiteStatus::solver_failure;
     const char* message = "";
-    BiteResult bite;                // the steady bite (no distributions)
-    double exit_thickness = 0.0;    // y2_ref = y1 (1 - R)
-    double strip_stiffness = 0.0;   // k4 = -dP/dy2 at the steady film, N/m
+    BiteResult bite;               // the steady bite (no distributions)
+    double exit_thickness = 0.0;   // y2_ref = y1 (1 - R)
+    double strip_stiffness = 0.0;  // k4 = -dP/dy2 at the steady film, N/m
 };
 
 // The scenario the dynamics run on: the bite with numerics.dynamics_bite_intervals steps.
@@ -47,15 +47,15 @@ public:
 
     static constexpr int kFilm = 12;
     int size() const { return size_; }
-    int back_tension_index() const { return back_index_; }   // -1 unless span mode
-    int front_tension_index() const { return front_index_; } // -1 unless span mode
+    int back_tension_index() const { return back_index_; }    // -1 unless span mode
+    int front_tension_index() const { return front_index_; }  // -1 unless span mode
 
     // z0 = (0, 0, h00, tensions)
     Eigen::VectorXd equilibrium() const;
 
     // The bite inputs of state z at time t.
     BiteState bite_state(double t, const double* z) const;
-    double back_tension(double t, const double* z) const;   // as the span ODE sees it
+    double back_tension(double t, const double* z) const;  // as the span ODE sees it
     double front_tension(double t, const double* z) const;
 
     // z' = f(t, z). `bite` (optional) receives the bite solved for this state (no distributions;

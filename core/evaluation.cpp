@@ -12,7 +12,8 @@ Evaluation evaluate_scenario(const Scenario& s, const CriticalSpeedOptions& crit
     Control critical_control = control;
     critical_control.progress = [&](double f) { control.report(0.6 * f); };
     out.critical = critical_speed(s, critical_options, critical_control);
-    if (out.roll_gap.status != BiteStatus::ok) return out;  // no steady state: nothing vibrates about it
+    if (out.roll_gap.status != BiteStatus::ok)
+        return out;  // no steady state: nothing vibrates about it
     out.stability = stability_at(s);
     if (control.should_stop()) return out;
     Control amplitude_control = control;

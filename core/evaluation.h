@@ -11,12 +11,13 @@ namespace rollgap::core {
 
 struct Evaluation {
     BiteResult roll_gap;
-    SpeedStability stability;      // eigenvalues at the scenario's speed
+    SpeedStability stability;  // eigenvalues at the scenario's speed
     CriticalSpeedResult critical;
     AmplitudeResult amplitude;
 };
 
 Evaluation evaluate_scenario(const Scenario& s, const CriticalSpeedOptions& critical_options = {},
-                             const AmplitudeOptions& amplitude_options = {}, const Control& control = {});
+                             const AmplitudeOptions& amplitude_options = {},
+                             const Control& control = {});
 
 }  // namespace rollgap::core

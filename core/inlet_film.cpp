@@ -33,7 +33,8 @@ double inverse_tanh_ratio(double q, double one_minus_q) {
 double wilson_walowit_film(double viscosity, double pressure_viscosity, double mean_inlet_speed,
                            double inlet_angle, double flow_stress, double back_tension) {
     return 6.0 * viscosity * mean_inlet_speed /
-           (inlet_angle * reduced_pressure_over_gamma(pressure_viscosity, flow_stress - back_tension));
+           (inlet_angle *
+            reduced_pressure_over_gamma(pressure_viscosity, flow_stress - back_tension));
 }
 
 // With q = e / (a theta^2) = 1 - 2 h0 / (a theta^2), the model document's closed form becomes
@@ -59,14 +60,13 @@ double inlet_integral_I2(double roll_radius, double inlet_angle, double inlet_fi
 double inlet_film_rate(InletFilmModel model, const InletFilmInputs& in) {
     const double theta = in.inlet_angle;
     const double supply = theta * in.mean_inlet_speed;
-    const double relaxation = theta * theta * in.inlet_film *
-                              reduced_pressure_over_gamma(in.pressure_viscosity, in.flow_stress - in.back_tension) /
-                              (6.0 * in.viscosity);
+    const double relaxation =
+        theta * theta * in.inlet_film *
+        reduced_pressure_over_gamma(in.pressure_viscosity, in.flow_stress - in.back_tension) /
+        (6.0 * in.viscosity);
     switch (model) {
-        case InletFilmModel::eulerian:
-            return supply - 0.5 * in.gap_rate - relaxation;
-        case InletFilmModel::paper:
-            break;
+        case InletFilmModel::eulerian: return supply - 0.5 * in.gap_rate - relaxation;
+        case InletFilmModel::paper: break;
     }
     const double I2 = inlet_integral_I2(in.roll_radius, theta, in.inlet_film);
     return supply - theta * theta * in.inlet_film * in.inlet_angle_rate * I2 - relaxation;

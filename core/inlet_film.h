@@ -19,20 +19,21 @@ double wilson_walowit_film(double viscosity, double pressure_viscosity, double m
 double inlet_integral_I2(double roll_radius, double inlet_angle, double inlet_film);
 
 struct InletFilmInputs {
-    double inlet_film;        // h0, m
-    double inlet_angle;       // theta
-    double inlet_angle_rate;  // d theta / dt, 1/s
-    double gap_rate;          // d yc / dt, m/s (opening positive)
-    double mean_inlet_speed;  // u1bar, m/s
-    double roll_radius;       // a, m
-    double viscosity;         // eta0
+    double inlet_film;          // h0, m
+    double inlet_angle;         // theta
+    double inlet_angle_rate;    // d theta / dt, 1/s
+    double gap_rate;            // d yc / dt, m/s (opening positive)
+    double mean_inlet_speed;    // u1bar, m/s
+    double roll_radius;         // a, m
+    double viscosity;           // eta0
     double pressure_viscosity;  // gamma
-    double flow_stress;       // sigma
-    double back_tension;      // s_b
+    double flow_stress;         // sigma
+    double back_tension;        // s_b
 };
 
 // dh0/dt of the selected model: `paper` is eq. (11) with C_R = -I2,
-//   dh0/dt = theta u1bar - theta^2 h0 thetadot I2 - theta^2 h0 (1 - e^{-gamma(sigma - s_b)}) / (6 gamma eta0);
+//   dh0/dt = theta u1bar - theta^2 h0 thetadot I2 - theta^2 h0 (1 - e^{-gamma(sigma - s_b)}) / (6
+//   gamma eta0);
 // `eulerian` replaces the thetadot term by the uniform squeeze -dyc/dt / 2.
 double inlet_film_rate(InletFilmModel model, const InletFilmInputs& in);
 

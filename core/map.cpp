@@ -15,7 +15,8 @@ std::vector<std::pair<int, int>> grid_neighbours(int rows, int columns) {
 }
 
 StabilityMap stability_map(const std::vector<Scenario>& cells, int rows, int columns,
-                           const CriticalSpeedOptions& options, int threads, const Control& control) {
+                           const CriticalSpeedOptions& options, int threads,
+                           const Control& control) {
     StabilityMap map;
     map.rows = rows;
     map.columns = columns;

@@ -6,7 +6,8 @@
 
 namespace rollgap::core {
 
-RayleighCoefficients rayleigh_coefficients(double damping_ratio, double low_frequency_Hz, double high_frequency_Hz) {
+RayleighCoefficients rayleigh_coefficients(double damping_ratio, double low_frequency_Hz,
+                                           double high_frequency_Hz) {
     const double w1 = 2.0 * std::numbers::pi * low_frequency_Hz;
     const double w2 = 2.0 * std::numbers::pi * high_frequency_Hz;
     return {2.0 * damping_ratio * w1 * w2 / (w1 + w2), 2.0 * damping_ratio / (w1 + w2)};
@@ -96,8 +97,9 @@ ModalAnalysis modal_analysis(const MillMatrices& m, double strip_stiffness) {
         mode.shape = magnitude / magnitude.maxCoeff();
         out.damped.push_back(mode);
     }
-    std::sort(out.damped.begin(), out.damped.end(),
-              [](const DampedMode& a, const DampedMode& b) { return a.frequency_Hz < b.frequency_Hz; });
+    std::sort(out.damped.begin(), out.damped.end(), [](const DampedMode& a, const DampedMode& b) {
+        return a.frequency_Hz < b.frequency_Hz;
+    });
     out.ok = true;
     return out;
 }

@@ -21,7 +21,8 @@ struct RayleighCoefficients {
     double alpha = 0.0;  // 1/s
     double beta = 0.0;   // s
 };
-RayleighCoefficients rayleigh_coefficients(double damping_ratio, double low_frequency_Hz, double high_frequency_Hz);
+RayleighCoefficients rayleigh_coefficients(double damping_ratio, double low_frequency_Hz,
+                                           double high_frequency_Hz);
 
 struct MillMatrices {
     Matrix6 mass;
@@ -53,7 +54,8 @@ struct DampedMode {
 struct ModalAnalysis {
     bool ok = false;
     std::vector<NaturalMode> natural;  // of (M, K), ascending frequency
-    std::vector<DampedMode> damped;    // of (M, C, K), oscillatory pairs once (Im > 0), ascending frequency
+    std::vector<DampedMode>
+        damped;  // of (M, C, K), oscillatory pairs once (Im > 0), ascending frequency
 };
 
 ModalAnalysis modal_analysis(const MillMatrices& m, double strip_stiffness);

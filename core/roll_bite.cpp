@@ -56,9 +56,9 @@ struct Bite {
     double y1, y2, a, v, sigma, back, front, width;
     double gap_rate;
     double contact_length, inlet_angle;
-    double asperity_stress;   // tau_a = m_a sigma / 2
-    double rq;                // composite roughness
-    double fixed_film;        // h0 > 0, or <= 0 for the steady film h00(u1)
+    double asperity_stress;  // tau_a = m_a sigma / 2
+    double rq;               // composite roughness
+    double fixed_film;       // h0 > 0, or <= 0 for the steady film h00(u1)
     const Scenario* s;
     int intervals;
 
@@ -137,8 +137,8 @@ public:
                                                0.5 * (t.entry_speed + b_.v), b_.inlet_angle,
                                                b_.sigma, b_.back);
         }
-        t.valid = std::isfinite(t.entry_speed) && std::isfinite(t.inlet_film) && t.inlet_film > 0.0 &&
-                  b_.v + t.entry_speed > 0.0;
+        t.valid = std::isfinite(t.entry_speed) && std::isfinite(t.inlet_film) &&
+                  t.inlet_film > 0.0 && b_.v + t.entry_speed > 0.0;
         return t;
     }
 
@@ -153,13 +153,15 @@ public:
         // u - v factored so that it vanishes exactly at x_n (continuity with u(x_n) = v):
         // u - v = (x_n - x) (v (x_n + x) / a - dyc/dt) / y.
         const double xn = t.neutral_point;
-        pt.slip = (xn - inside) * (b_.v * (xn + inside) / b_.a - b_.gap_rate) / b_.thickness(inside);
+        pt.slip =
+            (xn - inside) * (b_.v * (xn + inside) / b_.a - b_.gap_rate) / b_.thickness(inside);
         pt.film = film_at(t, pt.u);
         pt.film_ratio = pt.film / b_.rq;
         double contact_film_ratio = pt.film_ratio;
         if (inside != x) {
             const double u_inside =
-                (t.entry_speed * b_.y1 - (b_.contact_length - inside) * b_.gap_rate) / b_.thickness(inside);
+                (t.entry_speed * b_.y1 - (b_.contact_length - inside) * b_.gap_rate) /
+                b_.thickness(inside);
             contact_film_ratio = film_at(t, u_inside) / b_.rq;
         }
         pt.contact = b_.s->friction.model == FrictionModel::mixed
@@ -169,14 +171,17 @@ public:
     }
 
     // eq. (15)
-    double film_at(const Trial& t, double u) const { return t.inlet_film * (b_.v + t.entry_speed) / (b_.v + u); }
+    double film_at(const Trial& t, double u) const {
+        return t.inlet_film * (b_.v + t.entry_speed) / (b_.v + u);
+    }
 
     // Where the paper's fit (26) jumps (H_t = 0.5 and 1.5) inside (lo, hi). H_t(x) = c means
     // v + u(x) = h0 (v + u1) / (c Rq) = v + U, and with continuity u y = u1 y1 - (x_w - x) dyc/dt
     // that is the quadratic (U / a) x^2 - dyc/dt x + U y2 - u1 y1 + x_w dyc/dt = 0.
     int contact_jumps(const Trial& t, double lo, double hi, double out[4]) const {
         int count = 0;
-        if (b_.s->friction.model != FrictionModel::mixed || b_.s->friction.contact != ContactModel::paper_fit) {
+        if (b_.s->friction.model != FrictionModel::mixed ||
+            b_.s->friction.contact != ContactModel::paper_fit) {
             return count;
         }
         for (double c : {0.5, 1.5}) {
@@ -206,20 +211,22 @@ public:
     }
 
     // dp/dx = (sigma y' + 2 tau) / y, eq. (36) with y' = 2x / a.
-    double slope(const SidePoint& pt, double tau) const { return (b_.sigma * 2.0 * pt.x / b_.a + 2.0 * tau) / pt.y; }
+    double slope(const SidePoint& pt, double tau) const {
+        return (b_.sigma * 2.0 * pt.x / b_.a + 2.0 * tau) / pt.y;
+    }
 
     // Classical RK4 with a fixed number of steps from x_start to x_end (per segment between
     // jumps of the contact law): the same steps for the same inputs, so the solution is a smooth,
     // repeatable function of them. The integrals of p, tau and |tau| ride along as quadratures of
     // the same stages.
-    SideResult integrate(const Trial& t, double x_start, double x_end, double p_start, double direction,
-                         std::vector<BitePoint>* record) const {
+    SideResult integrate(const Trial& t, double x_start, double x_end, double p_start,
+                         double direction, std::vector<BitePoint>* record) const {
         SideResult r;
         double p = p_start;
         auto emit = [&](const SidePoint& pt, double pressure) {
             if (!record) return;
-            record->push_back({pt.x, pressure, law_(pt, pressure, direction), pt.film, pt.film_ratio,
-                               pt.contact, pt.u, pt.y, regime_of(pt.film_ratio)});
+            record->push_back({pt.x, pressure, law_(pt, pressure, direction), pt.film,
+                               pt.film_ratio, pt.contact, pt.u, pt.y, regime_of(pt.film_ratio)});
         };
         emit(point(t, x_start, x_start), p);
         if (x_end == x_start) {  // an empty side: the neutral point sits at the bite's end
@@ -228,11 +235,13 @@ public:
         }
 
         double jumps[4];
-        const int jump_count = contact_jumps(t, std::min(x_start, x_end), std::max(x_start, x_end), jumps);
+        const int jump_count =
+            contact_jumps(t, std::min(x_start, x_end), std::max(x_start, x_end), jumps);
         double bounds[6];
         int segments = 0;
         bounds[0] = x_start;
-        for (int j = 0; j < jump_count; ++j) bounds[++segments] = x_end > x_start ? jumps[j] : jumps[jump_count - 1 - j];
+        for (int j = 0; j < jump_count; ++j)
+            bounds[++segments] = x_end > x_start ? jumps[j] : jumps[jump_count - 1 - j];
         bounds[++segments] = x_end;
 
         const int n = b_.intervals;
@@ -271,7 +280,8 @@ public:
                 r.integral_p += step * (p + 2.0 * p2 + 2.0 * p3 + p4) / 6.0;
                 r.integral_tau += step * (t1 + 2.0 * t2 + 2.0 * t3 + t4) / 6.0;
                 r.integral_abs_tau +=
-                    step * (std::abs(t1) + 2.0 * std::abs(t2) + 2.0 * std::abs(t3) + std::abs(t4)) / 6.0;
+                    step * (std::abs(t1) + 2.0 * std::abs(t2) + 2.0 * std::abs(t3) + std::abs(t4)) /
+                    6.0;
 
                 p += step * (k1 + 2.0 * k2 + 2.0 * k3 + k4) / 6.0;
                 left = right;
@@ -314,11 +324,14 @@ BiteResult failure(BiteResult r, const char* message) {
 
 // The root search over the whole bite [0, x_w]. Returns `partial` with status ok and the root
 // in `root`, or the skidding / failure result.
-BiteResult bracket_and_solve(const BiteSolver& solver, const Bite& b, BiteResult partial, RootResult& root) {
+BiteResult bracket_and_solve(const BiteSolver& solver, const Bite& b, BiteResult partial,
+                             RootResult& root) {
     const double at_exit = solver.residual(0.0);
     const double at_entry = solver.residual(b.contact_length);
     if (!std::isfinite(at_exit) || !std::isfinite(at_entry)) {
-        return failure(partial, "the bite equations gave non-finite values (strip speed or film out of range)");
+        return failure(
+            partial,
+            "the bite equations gave non-finite values (strip speed or film out of range)");
     }
     // The residual falls from the exit to the entry when a neutral point exists. If it is
     // negative already at the exit, friction cannot build the pressure the exit needs: the
@@ -327,13 +340,14 @@ BiteResult bracket_and_solve(const BiteSolver& solver, const Bite& b, BiteResult
         partial.status = BiteStatus::skidding;
         partial.skid_at_exit = at_exit <= 0.0;
         partial.skid_residual = partial.skid_at_exit ? at_exit : at_entry;
-        partial.message = partial.skid_at_exit
-                              ? "no neutral point: the rolls slide over the strip (neutral point beyond the exit)"
-                              : "no neutral point: the strip slides over the rolls (neutral point beyond the entry)";
+        partial.message =
+            partial.skid_at_exit
+                ? "no neutral point: the rolls slide over the strip (neutral point beyond the exit)"
+                : "no neutral point: the strip slides over the rolls (neutral point beyond the entry)";
         return partial;
     }
-    root = brent_root([&](double xn) { return solver.residual(xn); }, 0.0, b.contact_length, at_exit, at_entry,
-                      1e-14 * b.contact_length);
+    root = brent_root([&](double xn) { return solver.residual(xn); }, 0.0, b.contact_length,
+                      at_exit, at_entry, 1e-14 * b.contact_length);
     if (!root.converged) return failure(partial, "the neutral-point search did not converge");
     partial.status = BiteStatus::ok;
     return partial;
@@ -359,16 +373,19 @@ BiteResult solve_roll_bite(const Scenario& s, const BiteState& state, const Bite
     b.fixed_film = state.inlet_film;
     b.intervals = std::max(2, s.numerics.bite_intervals);
 
-    const double inputs[] = {b.y1, b.y2, b.a, b.v, b.sigma, b.back, b.front, b.width, b.gap_rate, b.rq, b.fixed_film};
+    const double inputs[] = {b.y1,    b.y2,    b.a,        b.v,  b.sigma,     b.back,
+                             b.front, b.width, b.gap_rate, b.rq, b.fixed_film};
     for (double value : inputs) {
         if (!std::isfinite(value)) return failure(result, "non-finite input to the roll bite");
     }
     if (!(b.y2 > 0.0) || !(b.a > 0.0) || !(b.v > 0.0) || !(b.rq > 0.0)) {
-        return failure(result, "exit thickness, roll radius, roll speed and roughness must be positive");
+        return failure(result,
+                       "exit thickness, roll radius, roll speed and roughness must be positive");
     }
     if (!(b.y1 > b.y2)) {
         result.status = BiteStatus::contact_lost;
-        result.message = "the exit thickness is not below the entry thickness: the rolls do not touch the strip";
+        result.message =
+            "the exit thickness is not below the entry thickness: the rolls do not touch the strip";
         return result;
     }
 
@@ -389,7 +406,8 @@ BiteResult solve_roll_bite(const Scenario& s, const BiteState& state, const Bite
     if (guess - half_width > 0.0 && guess + half_width < b.contact_length) {
         const double lo = residual(guess - half_width), hi = residual(guess + half_width);
         if (std::isfinite(lo) && std::isfinite(hi) && lo > 0.0 && hi < 0.0) {
-            root = brent_root(residual, guess - half_width, guess + half_width, lo, hi, 1e-14 * b.contact_length);
+            root = brent_root(residual, guess - half_width, guess + half_width, lo, hi,
+                              1e-14 * b.contact_length);
         }
     }
     if (!root.converged) {
@@ -397,12 +415,12 @@ BiteResult solve_roll_bite(const Scenario& s, const BiteState& state, const Bite
         if (outcome.status != BiteStatus::ok) return outcome;
     }
 
-
     const Trial t = solver.trial(root.x);
     std::vector<BitePoint> exit_points, entry_points;
     const SideResult exit = solver.exit_side(t, options.distributions ? &exit_points : nullptr);
     const SideResult entry = solver.entry_side(t, options.distributions ? &entry_points : nullptr);
-    if (!exit.finite || !entry.finite) return failure(result, "the bite equations gave non-finite values");
+    if (!exit.finite || !entry.finite)
+        return failure(result, "the bite equations gave non-finite values");
 
     result.status = BiteStatus::ok;
     result.message = "ok";
@@ -422,7 +440,8 @@ BiteResult solve_roll_bite(const Scenario& s, const BiteState& state, const Bite
 
     if (options.distributions) {
         result.distribution = std::move(exit_points);
-        result.distribution.insert(result.distribution.end(), entry_points.rbegin(), entry_points.rend());
+        result.distribution.insert(result.distribution.end(), entry_points.rbegin(),
+                                   entry_points.rend());
     }
     return result;
 }

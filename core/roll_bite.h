@@ -1,6 +1,7 @@
 #pragma once
-// The roll-bite model of docs/model.md §1-4: slab pressure equation with mixed-lubrication friction,
-// solved by shooting on the neutral point. A pure function of its inputs; failures are values.
+// The roll-bite model of docs/model.md §1-4: slab pressure equation with mixed-lubrication
+// friction, solved by shooting on the neutral point. A pure function of its inputs; failures are
+// values.
 
 #include <vector>
 
@@ -23,20 +24,20 @@ struct BiteState {
 
 enum class BiteStatus {
     ok,
-    skidding,      // no neutral point inside the bite: the rolls cannot drive the strip
-    contact_lost,  // y1 <= y2: no reduction, no force
-    solver_failure // non-finite values or an inconsistent state (e.g. v + u <= 0)
+    skidding,       // no neutral point inside the bite: the rolls cannot drive the strip
+    contact_lost,   // y1 <= y2: no reduction, no force
+    solver_failure  // non-finite values or an inconsistent state (e.g. v + u <= 0)
 };
 
 enum class Regime { boundary, mixed, full_film };
 
 // One point of a distribution. At the neutral point two points share x (the friction jumps).
 struct BitePoint {
-    double x;          // m, from the roll centre line (exit, 0) toward the entry (x_w)
-    double pressure;   // p, Pa
-    double friction;   // tau, Pa, x-component of the traction on the strip (> 0 where u > v)
-    double film;       // h, m, mean film thickness in the bite
-    double film_ratio; // H_t = h / Rq
+    double x;              // m, from the roll centre line (exit, 0) toward the entry (x_w)
+    double pressure;       // p, Pa
+    double friction;       // tau, Pa, x-component of the traction on the strip (> 0 where u > v)
+    double film;           // h, m, mean film thickness in the bite
+    double film_ratio;     // H_t = h / Rq
     double contact_ratio;  // A
     double strip_speed;    // u, m/s
     double thickness;      // y, m
@@ -79,7 +80,8 @@ struct BiteOptions {
 // steady state (rigid when the bite has none).
 BiteState steady_bite_state(const Scenario& s);
 
-BiteResult solve_roll_bite(const Scenario& s, const BiteState& state, const BiteOptions& options = {});
+BiteResult solve_roll_bite(const Scenario& s, const BiteState& state,
+                           const BiteOptions& options = {});
 
 const char* to_string(BiteStatus);
 const char* to_string(Regime);

@@ -14,8 +14,8 @@ double hitchcock_radius(const Scenario& s, double force, double reduction_dh) {
     return s.rolls.radius * (1.0 + c * force / (s.strip.width * reduction_dh));
 }
 
-FlatteningResult flattened_radius(const Scenario& s, const BiteState& state, double relative_tolerance,
-                                  int max_iterations) {
+FlatteningResult flattened_radius(const Scenario& s, const BiteState& state,
+                                  double relative_tolerance, int max_iterations) {
     FlatteningResult out;
     const double dh = s.strip.entry_thickness - state.exit_thickness;
     BiteState at = state;

@@ -26,7 +26,7 @@ struct FlatteningResult {
 // The fixed point R' = hitchcock_radius(F(R')) for the bite `state` (its roll_radius is
 // ignored), to `relative_tolerance` of R'. The map has slope (R' - R) / (2 R') < 1/2 when
 // F grows like the contact length sqrt(R' dh), so plain iteration contracts.
-FlatteningResult flattened_radius(const Scenario& s, const BiteState& state, double relative_tolerance = 1e-12,
-                                  int max_iterations = 200);
+FlatteningResult flattened_radius(const Scenario& s, const BiteState& state,
+                                  double relative_tolerance = 1e-12, int max_iterations = 200);
 
 }  // namespace rollgap::core

@@ -30,9 +30,9 @@ struct Rolls {
 };
 
 struct Lubricant {
-    double viscosity = 5.5e-4;          // eta0
-    double pressure_viscosity = 1.7e-6; // gamma, 1/Pa (1.7 MPa^-1 as printed)
-    bool limiting_shear = true;         // [extension] |tau_f| <= lambda_L p
+    double viscosity = 5.5e-4;           // eta0
+    double pressure_viscosity = 1.7e-6;  // gamma, 1/Pa (1.7 MPa^-1 as printed)
+    bool limiting_shear = true;          // [extension] |tau_f| <= lambda_L p
     double limiting_shear_coefficient = 0.05;
 };
 
@@ -44,16 +44,16 @@ struct Roughness {
 struct Friction {
     FrictionModel model = FrictionModel::mixed;
     ContactModel contact = ContactModel::christensen_exact;
-    double asperity_factor = 1.0;    // m_a, tau_a = m_a sigma / 2
-    double coulomb_coefficient = 0.1; // mu of the verification law tau = mu p sgn(u - v)
+    double asperity_factor = 1.0;      // m_a, tau_a = m_a sigma / 2
+    double coulomb_coefficient = 0.1;  // mu of the verification law tau = mu p sgn(u - v)
 };
 
 struct TensionSide {
     TensionMode mode = TensionMode::constant;
-    double stress = 0.0;         // mean tension stress
-    double span_length = 5.0;    // L, for span mode
-    double amplitude = 9e6;      // for sinusoid mode
-    double frequency = 10.0;     // Hz, for sinusoid mode
+    double stress = 0.0;       // mean tension stress
+    double span_length = 5.0;  // L, for span mode
+    double amplitude = 9e6;    // for sinusoid mode
+    double frequency = 10.0;   // Hz, for sinusoid mode
 };
 
 struct Tensions {
@@ -67,8 +67,8 @@ struct Mill {
     std::array<double, 6> mass{40e3, 60e3, 11e3, 11e3, 60e3, 40e3};
     // k1, k2, k3, k5, k6, k7; k4 (the strip) is derived from the roll-bite model.
     double k1 = 25e9, k2 = 30e9, k3 = 35e9, k5 = 35e9, k6 = 30e9, k7 = 25e9;
-    double c1 = 2.0e6;  // hydraulic cylinder, m1-m2
-    double c2 = 0.1e6;  // strip, m3-m4
+    double c1 = 2.0e6;     // hydraulic cylinder, m1-m2
+    double c2 = 0.1e6;     // strip, m3-m4
     bool rayleigh = true;  // [extension]
     double rayleigh_damping_ratio = 0.04;
     double rayleigh_frequency_low = 100.0;   // Hz

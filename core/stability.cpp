@@ -166,8 +166,9 @@ SpeedStability analyse(const Scenario& scenario, bool with_strip_stiffness) {
             }
         }
     }
-    std::sort(out.oscillatory.begin(), out.oscillatory.end(),
-              [](const Eigenmode& a, const Eigenmode& b) { return a.frequency_Hz < b.frequency_Hz; });
+    std::sort(
+        out.oscillatory.begin(), out.oscillatory.end(),
+        [](const Eigenmode& a, const Eigenmode& b) { return a.frequency_Hz < b.frequency_Hz; });
     out.stable = out.max_real_part < 0.0;
     return out;
 }
@@ -201,16 +202,21 @@ std::vector<DampingBranch> track_branches(const std::vector<SpeedStability>& sca
             if (best < 0) continue;
             claimed[static_cast<std::size_t>(best)] = true;
             branch.speed.push_back(point.speed);
-            branch.frequency_Hz.push_back(point.oscillatory[static_cast<std::size_t>(best)].frequency_Hz);
-            branch.damping_ratio.push_back(point.oscillatory[static_cast<std::size_t>(best)].damping_ratio);
+            branch.frequency_Hz.push_back(
+                point.oscillatory[static_cast<std::size_t>(best)].frequency_Hz);
+            branch.damping_ratio.push_back(
+                point.oscillatory[static_cast<std::size_t>(best)].damping_ratio);
         }
         for (std::size_t k = 0; k < point.oscillatory.size(); ++k) {
             if (claimed[k]) continue;
-            branches.push_back({{point.speed}, {point.oscillatory[k].frequency_Hz}, {point.oscillatory[k].damping_ratio}});
+            branches.push_back({{point.speed},
+                                {point.oscillatory[k].frequency_Hz},
+                                {point.oscillatory[k].damping_ratio}});
         }
     }
-    std::sort(branches.begin(), branches.end(),
-              [](const DampingBranch& a, const DampingBranch& b) { return a.frequency_Hz.front() < b.frequency_Hz.front(); });
+    std::sort(branches.begin(), branches.end(), [](const DampingBranch& a, const DampingBranch& b) {
+        return a.frequency_Hz.front() < b.frequency_Hz.front();
+    });
     return branches;
 }
 
@@ -223,13 +229,16 @@ Eigen::VectorXcd balanced_eigenvalues(const Eigen::MatrixXd& jacobian) {
 
 SpeedStability stability_at(const Scenario& s) { return analyse(s, true); }
 
-CriticalSpeedResult critical_speed(const Scenario& s, const CriticalSpeedOptions& options, const Control& control) {
+CriticalSpeedResult critical_speed(const Scenario& s, const CriticalSpeedOptions& options,
+                                   const Control& control) {
     CriticalSpeedResult result;
     const double step = std::min(options.speed_step, 0.5);
-    const int count = std::max(2, static_cast<int>(std::ceil((options.speed_max - options.speed_min) / step - 1e-9)) + 1);
+    const int count = std::max(
+        2, static_cast<int>(std::ceil((options.speed_max - options.speed_min) / step - 1e-9)) + 1);
     std::vector<double> speeds(static_cast<std::size_t>(count));
     for (int i = 0; i < count; ++i) {
-        speeds[static_cast<std::size_t>(i)] = std::min(options.speed_max, options.speed_min + i * step);
+        speeds[static_cast<std::size_t>(i)] =
+            std::min(options.speed_max, options.speed_min + i * step);
     }
 
     result.scan.resize(speeds.size());
@@ -283,8 +292,8 @@ CriticalSpeedResult critical_speed(const Scenario& s, const CriticalSpeedOptions
         const SpeedStability p = analyse(at_speed(s, v), false);
         return usable(p) ? p.max_real_part : std::nan("");
     };
-    const RootResult root = brent_root(growth, lo.speed, hi.speed, lo.max_real_part, hi.max_real_part,
-                                       options.relative_tolerance * lo.speed);
+    const RootResult root = brent_root(growth, lo.speed, hi.speed, lo.max_real_part,
+                                       hi.max_real_part, options.relative_tolerance * lo.speed);
     if (!root.converged) {
         // the growth rate is not continuous here (a steady state is lost inside the interval):
         // report the first unstable scan speed
@@ -297,7 +306,8 @@ CriticalSpeedResult critical_speed(const Scenario& s, const CriticalSpeedOptions
         // the mode that crosses: the eigenvalue with the largest real part, oscillatory or not
         if (at.max_real_part > at.least_damped.eigenvalue.real()) {
             for (const auto& lambda : at.eigenvalues) {
-                if (lambda.real() == at.max_real_part) result.unstable_mode = make_mode(lambda, Eigen::VectorXcd::Zero(6));
+                if (lambda.real() == at.max_real_part)
+                    result.unstable_mode = make_mode(lambda, Eigen::VectorXcd::Zero(6));
             }
         }
     }

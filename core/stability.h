@@ -43,8 +43,8 @@ struct SpeedStability {
     BiteStatus steady_status = BiteStatus::solver_failure;  // no steady state unless ok
     DynamicsStatus status = DynamicsStatus::solver_failure;
     bool stable = false;
-    double max_real_part = 0.0;     // over all eigenvalues, 1/s
-    Eigenmode least_damped;         // the oscillatory eigenvalue with the largest real part
+    double max_real_part = 0.0;          // over all eigenvalues, 1/s
+    Eigenmode least_damped;              // the oscillatory eigenvalue with the largest real part
     std::vector<Eigenmode> oscillatory;  // Im > 0, ascending frequency
     std::vector<std::complex<double>> eigenvalues;
     double strip_stiffness = 0.0;
@@ -62,7 +62,13 @@ struct CriticalSpeedOptions {
     int threads = 1;
 };
 
-enum class CriticalSpeedStatus { found, stable_in_range, unstable_at_lower_bound, no_steady_state, cancelled };
+enum class CriticalSpeedStatus {
+    found,
+    stable_in_range,
+    unstable_at_lower_bound,
+    no_steady_state,
+    cancelled
+};
 const char* to_string(CriticalSpeedStatus);
 
 // One oscillatory eigenvalue followed over speed by frequency continuity.
@@ -72,8 +78,8 @@ struct DampingBranch {
 
 struct CriticalSpeedResult {
     CriticalSpeedStatus status = CriticalSpeedStatus::no_steady_state;
-    double critical_speed = 0.0;  // m/s, when found
-    Eigenmode unstable_mode;      // the eigenvalue crossing zero there
+    double critical_speed = 0.0;       // m/s, when found
+    Eigenmode unstable_mode;           // the eigenvalue crossing zero there
     std::vector<SpeedStability> scan;  // without the per-speed mode lists
     std::vector<DampingBranch> branches;
 };

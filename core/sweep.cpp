@@ -9,8 +9,8 @@ namespace rollgap::core {
 namespace {
 
 template <class Result, class Analysis>
-std::vector<Result> sweep(const std::vector<Scenario>& scenarios, int threads, const Control& control,
-                          Analysis&& analysis) {
+std::vector<Result> sweep(const std::vector<Scenario>& scenarios, int threads,
+                          const Control& control, Analysis&& analysis) {
     // A point the sweep never reached because it was cancelled says so.
     Result not_run;
     not_run.status = decltype(not_run.status)::cancelled;
@@ -28,8 +28,9 @@ std::vector<Result> sweep(const std::vector<Scenario>& scenarios, int threads, c
 }  // namespace
 
 std::vector<CriticalSpeedResult> sweep_critical_speed(const std::vector<Scenario>& scenarios,
-                                                      const CriticalSpeedOptions& options, int threads,
-                                                      const Control& control, bool keep_scan) {
+                                                      const CriticalSpeedOptions& options,
+                                                      int threads, const Control& control,
+                                                      bool keep_scan) {
     CriticalSpeedOptions serial = options;
     serial.threads = 1;  // the parallelism is across the sweep
     Control inner;
@@ -44,23 +45,27 @@ std::vector<CriticalSpeedResult> sweep_critical_speed(const std::vector<Scenario
     });
 }
 
-std::vector<AmplitudeResult> sweep_amplitude(const std::vector<Scenario>& scenarios, const AmplitudeOptions& options,
-                                             int threads, const Control& control) {
+std::vector<AmplitudeResult> sweep_amplitude(const std::vector<Scenario>& scenarios,
+                                             const AmplitudeOptions& options, int threads,
+                                             const Control& control) {
     Control inner;
     inner.cancelled = control.cancelled;
-    return sweep<AmplitudeResult>(scenarios, threads, control,
-                                  [&](const Scenario& s) { return vibration_amplitude(s, options, inner); });
+    return sweep<AmplitudeResult>(scenarios, threads, control, [&](const Scenario& s) {
+        return vibration_amplitude(s, options, inner);
+    });
 }
 
 std::optional<ChatterType> crossing_chatter_type(const CriticalSpeedResult& result) {
-    if (result.status != CriticalSpeedStatus::found && result.status != CriticalSpeedStatus::unstable_at_lower_bound) {
+    if (result.status != CriticalSpeedStatus::found &&
+        result.status != CriticalSpeedStatus::unstable_at_lower_bound) {
         return std::nullopt;
     }
     return result.unstable_mode.chatter.type;
 }
 
-std::vector<ChatterTypeChange> chatter_type_changes(const std::vector<CriticalSpeedResult>& results,
-                                                    const std::vector<std::pair<int, int>>& neighbours) {
+std::vector<ChatterTypeChange> chatter_type_changes(
+    const std::vector<CriticalSpeedResult>& results,
+    const std::vector<std::pair<int, int>>& neighbours) {
     std::vector<ChatterTypeChange> changes;
     const int n = static_cast<int>(results.size());
     for (const auto& [a, b] : neighbours) {
@@ -72,9 +77,11 @@ std::vector<ChatterTypeChange> chatter_type_changes(const std::vector<CriticalSp
     return changes;
 }
 
-std::vector<ChatterTypeChange> chatter_type_changes(const std::vector<CriticalSpeedResult>& results) {
+std::vector<ChatterTypeChange> chatter_type_changes(
+    const std::vector<CriticalSpeedResult>& results) {
     std::vector<std::pair<int, int>> neighbours;
-    for (int i = 0; i + 1 < static_cast<int>(results.size()); ++i) neighbours.emplace_back(i, i + 1);
+    for (int i = 0; i + 1 < static_cast<int>(results.size()); ++i)
+        neighbours.emplace_back(i, i + 1);
     return chatter_type_changes(results, neighbours);
 }
 

@@ -16,11 +16,13 @@ namespace rollgap::core {
 // keep_scan = false drops each point's scan and damping branches as soon as it is done (a map's
 // thousands of cells would otherwise hold some 100 kB each).
 std::vector<CriticalSpeedResult> sweep_critical_speed(const std::vector<Scenario>& scenarios,
-                                                      const CriticalSpeedOptions& options, int threads,
-                                                      const Control& control = {}, bool keep_scan = true);
+                                                      const CriticalSpeedOptions& options,
+                                                      int threads, const Control& control = {},
+                                                      bool keep_scan = true);
 
-std::vector<AmplitudeResult> sweep_amplitude(const std::vector<Scenario>& scenarios, const AmplitudeOptions& options,
-                                             int threads, const Control& control = {});
+std::vector<AmplitudeResult> sweep_amplitude(const std::vector<Scenario>& scenarios,
+                                             const AmplitudeOptions& options, int threads,
+                                             const Control& control = {});
 
 // The chatter type of the mode that goes unstable first (docs/model.md, "Chatter type"): when
 // the search found a crossing or the range starts unstable, nothing otherwise.
@@ -35,10 +37,12 @@ struct ChatterTypeChange {
 
 // The pairs of `neighbours` (index pairs into `results`) where the crossing type changes; a
 // pair where either side has no crossing mode is not a change.
-std::vector<ChatterTypeChange> chatter_type_changes(const std::vector<CriticalSpeedResult>& results,
-                                                    const std::vector<std::pair<int, int>>& neighbours);
+std::vector<ChatterTypeChange> chatter_type_changes(
+    const std::vector<CriticalSpeedResult>& results,
+    const std::vector<std::pair<int, int>>& neighbours);
 
 // The same for a sweep: each value against the next, in the order given.
-std::vector<ChatterTypeChange> chatter_type_changes(const std::vector<CriticalSpeedResult>& results);
+std::vector<ChatterTypeChange> chatter_type_changes(
+    const std::vector<CriticalSpeedResult>& results);
 
 }  // namespace rollgap::core

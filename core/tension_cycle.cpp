@@ -7,7 +7,8 @@
 
 namespace rollgap::core {
 
-TensionCycleResult tension_cycle(Scenario s, const TensionCycleOptions& options, const Control& control) {
+TensionCycleResult tension_cycle(Scenario s, const TensionCycleOptions& options,
+                                 const Control& control) {
     TensionCycleResult out;
     s.tensions.back.mode = TensionMode::sinusoid;
     out.frequency_Hz = s.tensions.back.frequency;

@@ -13,8 +13,8 @@
 namespace rollgap::core {
 
 struct TensionCycleOptions {
-    int cycles = 2;                              // the first ones let the start-up transient pass
-    std::vector<double> phases{0.25, 0.5, 0.75}; // T in [0, 1): s_b = mean + amplitude sin(2 pi T)
+    int cycles = 2;                               // the first ones let the start-up transient pass
+    std::vector<double> phases{0.25, 0.5, 0.75};  // T in [0, 1): s_b = mean + amplitude sin(2 pi T)
     double relative_tolerance = 1e-6;
 };
 
@@ -37,6 +37,7 @@ struct TensionCycleResult {
 
 // The scenario's back tension is run in sinusoid mode (its mean, amplitude and frequency),
 // whatever mode the scenario names.
-TensionCycleResult tension_cycle(Scenario s, const TensionCycleOptions& options = {}, const Control& control = {});
+TensionCycleResult tension_cycle(Scenario s, const TensionCycleOptions& options = {},
+                                 const Control& control = {});
 
 }  // namespace rollgap::core

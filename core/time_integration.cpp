@@ -29,7 +29,8 @@ constexpr int kLimitFailureBudget = 100;
 // failure says which limit ended the run.
 int right_hand_side(sunrealtype t, N_Vector y, N_Vector ydot, void* user_data) {
     auto* data = static_cast<RhsData*>(user_data);
-    const DynamicsStatus status = data->model->rhs(t, N_VGetArrayPointer(y), N_VGetArrayPointer(ydot));
+    const DynamicsStatus status =
+        data->model->rhs(t, N_VGetArrayPointer(y), N_VGetArrayPointer(ydot));
     if (status == DynamicsStatus::ok) return 0;
     data->last_failure = status;
     return ++data->limit_failures > kLimitFailureBudget ? -1 : 1;
@@ -64,9 +65,12 @@ struct Cvode {
 // where the model has no answer (the inlet film squeezed to nothing, a bite that does not solve).
 const char* end_message(DynamicsStatus status) {
     switch (status) {
-        case DynamicsStatus::contact_lost: return "the gap opened past the entry thickness: the rolls lost the strip";
-        case DynamicsStatus::skidding: return "the rolls skid on the strip (no neutral point in the bite)";
-        case DynamicsStatus::slack_strip: return "a strip tension fell to zero: the strip went slack";
+        case DynamicsStatus::contact_lost:
+            return "the gap opened past the entry thickness: the rolls lost the strip";
+        case DynamicsStatus::skidding:
+            return "the rolls skid on the strip (no neutral point in the bite)";
+        case DynamicsStatus::slack_strip:
+            return "a strip tension fell to zero: the strip went slack";
         case DynamicsStatus::solver_failure:
             return "the model has no state here: the inlet film collapsed or the roll bite did not solve";
         case DynamicsStatus::cancelled: return "cancelled";
@@ -79,8 +83,8 @@ const char* end_message(DynamicsStatus status) {
 
 IntegrationResult integrate(const CoupledModel& model, Eigen::VectorXd& z, double t0,
                             const std::vector<double>& output_times,
-                            const std::function<void(const Sample&)>& on_output, const IntegrationOptions& options,
-                            const Control& control) {
+                            const std::function<void(const Sample&)>& on_output,
+                            const IntegrationOptions& options, const Control& control) {
     IntegrationResult result;
     result.end_time = t0;
     const int n = model.size();
@@ -114,7 +118,8 @@ IntegrationResult integrate(const CoupledModel& model, Eigen::VectorXd& z, doubl
     }
     cv.matrix = SUNDenseMatrix(n, n, cv.context);
     cv.solver = SUNLinSol_Dense(cv.y, cv.matrix, cv.context);
-    if (!cv.matrix || !cv.solver || CVodeSetLinearSolver(cv.memory, cv.solver, cv.matrix) != CV_SUCCESS) {
+    if (!cv.matrix || !cv.solver ||
+        CVodeSetLinearSolver(cv.memory, cv.solver, cv.matrix) != CV_SUCCESS) {
         result.message = "CVODE linear solver setup failed";
         return result;
     }
@@ -141,7 +146,8 @@ IntegrationResult integrate(const CoupledModel& model, Eigen::VectorXd& z, doubl
             int crossed[CoupledModel::kLimitCount] = {};
             CVodeGetRootInfo(cv.memory, crossed);
             for (int i = 0; i < CoupledModel::kLimitCount; ++i) {
-                if (crossed[i] < 0) result.status = CoupledModel::limit_status(i);  // crossed downwards
+                if (crossed[i] < 0)
+                    result.status = CoupledModel::limit_status(i);  // crossed downwards
             }
             if (result.status != DynamicsStatus::ok) {
                 result.end_time = t;
@@ -152,9 +158,12 @@ IntegrationResult integrate(const CoupledModel& model, Eigen::VectorXd& z, doubl
             flag = CVode(cv.memory, tout, cv.y, &t, CV_NORMAL);
         }
         if (flag < 0) {
-            result.status = data.last_failure != DynamicsStatus::ok ? data.last_failure : DynamicsStatus::solver_failure;
-            result.message = data.last_failure != DynamicsStatus::ok ? end_message(data.last_failure)
-                                                                     : "CVODE could not continue (step size too small)";
+            result.status = data.last_failure != DynamicsStatus::ok
+                                ? data.last_failure
+                                : DynamicsStatus::solver_failure;
+            result.message = data.last_failure != DynamicsStatus::ok
+                                 ? end_message(data.last_failure)
+                                 : "CVODE could not continue (step size too small)";
             break;
         }
         CVodeGetDky(cv.memory, t, 1, cv.ydot);
@@ -169,7 +178,8 @@ IntegrationResult integrate(const CoupledModel& model, Eigen::VectorXd& z, doubl
         CVodeGetNumSteps(cv.memory, &steps);
         if (steps > options.max_total_steps) {
             result.status = DynamicsStatus::solver_failure;
-            result.message = "the step budget of the run is exhausted (the stack's modes are too fast for the window)";
+            result.message =
+                "the step budget of the run is exhausted (the stack's modes are too fast for the window)";
             break;
         }
     }

@@ -64,7 +64,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         if (status != core::DynamicsStatus::ok) continue;  // a status is a legitimate answer
         require(zdot.allFinite(), "ok: finite derivatives");
         require(bite.status == core::BiteStatus::ok, "ok: the bite behind it is ok");
-        require(std::isfinite(bite.force) && std::isfinite(bite.entry_speed) && std::isfinite(bite.exit_speed), "ok: a finite bite");
+        require(std::isfinite(bite.force) && std::isfinite(bite.entry_speed) &&
+                    std::isfinite(bite.exit_speed),
+                "ok: a finite bite");
     }
     return 0;
 }

@@ -74,9 +74,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                 "a result echoes analysis, scenario and options");
         return 0;
     }
-    require(*outcome.problem != api::ProblemCode::internal, "no internal error (an exception escaped)");
+    require(*outcome.problem != api::ProblemCode::internal,
+            "no internal error (an exception escaped)");
     require(outcome.http_status >= 400 && outcome.http_status <= 599, "a problem is 4xx or 5xx");
-    require(outcome.body.value("status", 0) == outcome.http_status, "the problem's status is the HTTP status");
-    require(outcome.body.contains("type") && outcome.body.contains("title"), "a problem has type and title");
+    require(outcome.body.value("status", 0) == outcome.http_status,
+            "the problem's status is the HTTP status");
+    require(outcome.body.contains("type") && outcome.body.contains("title"),
+            "a problem has type and title");
     return 0;
 }

@@ -26,7 +26,8 @@ public:
     // has positive ends (masses from 1 kg to 10^7 kg, viscosities from 1e-5 to 10 Pa s).
     double between(double min, double max) {
         const double t = unit();
-        if (min > 0.0 && max / min > 100.0) return std::exp(std::log(min) + t * (std::log(max) - std::log(min)));
+        if (min > 0.0 && max / min > 100.0)
+            return std::exp(std::log(min) + t * (std::log(max) - std::log(min)));
         return min + t * (max - min);
     }
 

@@ -18,7 +18,8 @@ namespace {
 void check(const core::BiteState& state, const core::BiteResult& bite) {
     require(bite.message != nullptr, "a message, possibly empty");
     if (bite.status != core::BiteStatus::ok) return;  // a status is a legitimate answer
-    require(std::isfinite(bite.contact_length) && bite.contact_length > 0.0, "ok: contact length > 0");
+    require(std::isfinite(bite.contact_length) && bite.contact_length > 0.0,
+            "ok: contact length > 0");
     require(std::isfinite(bite.inlet_angle) && bite.inlet_angle > 0.0, "ok: inlet angle > 0");
     require(std::isfinite(bite.inlet_film) && bite.inlet_film >= 0.0, "ok: inlet film >= 0");
     require(std::isfinite(bite.neutral_point) && bite.neutral_point >= 0.0 &&
@@ -36,13 +37,15 @@ void check(const core::BiteState& state, const core::BiteResult& bite) {
 
     double previous_x = -1.0;
     for (const core::BitePoint& point : bite.distribution) {
-        require(std::isfinite(point.x) && std::isfinite(point.pressure) && std::isfinite(point.friction) && std::isfinite(point.film) &&
-                    std::isfinite(point.film_ratio) && std::isfinite(point.contact_ratio) && std::isfinite(point.strip_speed) &&
-                    std::isfinite(point.thickness),
+        require(std::isfinite(point.x) && std::isfinite(point.pressure) &&
+                    std::isfinite(point.friction) && std::isfinite(point.film) &&
+                    std::isfinite(point.film_ratio) && std::isfinite(point.contact_ratio) &&
+                    std::isfinite(point.strip_speed) && std::isfinite(point.thickness),
                 "ok: finite distributions");
         require(point.x >= previous_x, "ok: distribution in ascending x");
         previous_x = point.x;
-        require(point.contact_ratio >= 0.0 && point.contact_ratio <= 1.0, "ok: contact ratio in [0, 1]");
+        require(point.contact_ratio >= 0.0 && point.contact_ratio <= 1.0,
+                "ok: contact ratio in [0, 1]");
         require(point.film >= 0.0 && point.film_ratio >= 0.0, "ok: film >= 0");
         require(point.strip_speed > 0.0, "ok: strip moves forward");
     }

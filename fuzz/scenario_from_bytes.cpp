@@ -36,17 +36,17 @@ std::optional<core::Scenario> scenario_from_bytes(FuzzInput& input) {
         if (selector < 128) continue;  // the default
         switch (field.kind) {
             case api::FieldKind::number:
-                field.number(scenario) = api::to_si(pick_number(input, selector, field.range), field.unit);
+                field.number(scenario) =
+                    api::to_si(pick_number(input, selector, field.range), field.unit);
                 break;
             case api::FieldKind::integer: {
-                int value = static_cast<int>(std::lround(pick_number(input, selector, field.range)));
+                int value =
+                    static_cast<int>(std::lround(pick_number(input, selector, field.range)));
                 if (field.even && value % 2 != 0) value += value < field.range.max ? 1 : -1;
                 field.integer(scenario) = value;
                 break;
             }
-            case api::FieldKind::boolean:
-                field.flag(scenario) = (selector & 1) != 0;
-                break;
+            case api::FieldKind::boolean: field.flag(scenario) = (selector & 1) != 0; break;
             case api::FieldKind::choice:
                 field.write_choice(scenario, field.choices[selector % field.choices.size()]);
                 break;

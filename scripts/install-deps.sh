@@ -20,7 +20,8 @@ SANITIZER_PACKAGES=(clang libclang-rt-14-dev llvm)
 # curl: the test that runs the README's HTTP examples; nginx: the test that runs two service
 # instances behind a load balancer. (wrk and prometheus/promtool are installed by the scripts
 # that use them, bench-http.sh and check-http.sh, not in CI.)
-TOOL_PACKAGES=(curl nginx)
+# clang-format: the format check of scripts/test.sh (scripts/check-format.sh).
+TOOL_PACKAGES=(curl nginx clang-format)
 # The browser workbench: Chart.js embedded at build time; chromium runs its browser tests.
 WEB_PACKAGES=(libjs-chart.js chromium)
 

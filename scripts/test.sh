@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
 # The README's test command and exactly what CI runs (.ci/run). In order:
+#   0. check that every tracked C++ file is formatted as .clang-format says (check-format.sh);
 #   1. build (Release, GCC, warnings as errors) in build/ and run the whole suite with ctest;
 #   2. build the same sources with clang under ASan + LeakSanitizer + UBSan (every report
 #      fatal) in build-asan/ and run the whole suite again, plus the fuzz seed corpora;
@@ -62,6 +63,14 @@ for tool in nginx curl clang++; do
         failed=$((failed + 1))
     fi
 done
+
+stage "0/3 format (.clang-format, scripts/check-format.sh)"
+if bash scripts/check-format.sh; then
+    passed=$((passed + 1))
+    echo "rollgap test: every tracked C++ file is formatted as .clang-format says"
+else
+    failed=$((failed + 1))
+fi
 
 stage "1/3 Release build ($ROLLGAP_BUILD_DIR)"
 # shellcheck disable=SC2119  # no targets: build everything

@@ -36,13 +36,15 @@ public:
     AnalysisRun() = default;
 
     template <class Run>
-        requires std::invocable<Run&, const core::Control&>
-    AnalysisRun(Run run) : run_(std::move(run)) {}  // NOLINT(google-explicit-constructor)
+    requires std::invocable<Run&, const core::Control&> AnalysisRun(Run run)
+        : run_(std::move(run)) {}  // NOLINT(google-explicit-constructor)
 
     template <class Run>
-        requires(!std::invocable<Run&, const core::Control&> && std::invocable<Run&>)
-    AnalysisRun(Run run)  // NOLINT(google-explicit-constructor)
-        : run_([run = std::move(run)](const core::Control&) mutable { return nlohmann::json(run()); }) {}
+    requires(!std::invocable<Run&, const core::Control&> && std::invocable<Run&>)
+        AnalysisRun(Run run)  // NOLINT(google-explicit-constructor)
+        : run_([run = std::move(run)](const core::Control&) mutable {
+              return nlohmann::json(run());
+          }) {}
 
     nlohmann::json operator()(const core::Control& control = {}) const { return run_(control); }
     explicit operator bool() const { return static_cast<bool>(run_); }
@@ -60,8 +62,10 @@ struct PreparedAnalysis {
 // Must not compute. `errors` holds the scenario's violations when prepare is called, so the
 // scenario is valid iff `errors` is empty on entry; rules that combine the options with the
 // scenario run only then.
-using PrepareAnalysis = PreparedAnalysis (*)(const core::Scenario& scenario, const nlohmann::json& options,
-                                             const std::string& options_pointer, api::FieldErrors& errors);
+using PrepareAnalysis = PreparedAnalysis (*)(const core::Scenario& scenario,
+                                             const nlohmann::json& options,
+                                             const std::string& options_pointer,
+                                             api::FieldErrors& errors);
 
 struct Analysis {
     std::string_view name;     // the request's "analysis"

@@ -53,14 +53,16 @@ CLI::App* add_command(CLI::App& app, std::string_view name) {
     const auto row = std::find_if(commands.begin(), commands.end(),
                                   [name](const Command& command) { return command.name == name; });
     CLI::App* command = app.add_subcommand(std::string(name), std::string(row->description));
-    command->allow_extras();  // refused after parsing, in the program's words (unexpected_arguments)
+    command
+        ->allow_extras();  // refused after parsing, in the program's words (unexpected_arguments)
     return command;
 }
 
 void print_usage(std::ostream& stream) {
     constexpr std::size_t command_width = 14;
     const auto column = [&](std::string_view label, std::string_view text) {
-        stream << "  " << label << std::string(label.size() < command_width ? command_width - label.size() : 1, ' ');
+        stream << "  " << label
+               << std::string(label.size() < command_width ? command_width - label.size() : 1, ' ');
         for (std::size_t start = 0; start <= text.size();) {
             const std::size_t end = std::min(text.find('\n', start), text.size());
             if (start > 0) stream << std::string(command_width + 2, ' ');
@@ -75,7 +77,8 @@ void print_usage(std::ostream& stream) {
               "\n"
               "commands:\n";
     for (const Command& command : commands) {
-        column(command.operands.empty() ? std::string(command.name) : api::concat(command.name, " ", command.operands),
+        column(command.operands.empty() ? std::string(command.name)
+                                        : api::concat(command.name, " ", command.operands),
                command.description);
     }
     column("--help", "print this help");
@@ -85,7 +88,8 @@ void print_usage(std::ostream& stream) {
               "scenario is a JSON merge patch (RFC 7396) onto the default scenario.\n"
               "analyses:\n";
     std::size_t name_width = command_width - 2;
-    for (const Analysis& analysis : analyses()) name_width = std::max(name_width, analysis.name.size());
+    for (const Analysis& analysis : analyses())
+        name_width = std::max(name_width, analysis.name.size());
     for (const Analysis& analysis : analyses()) {
         stream << "  " << analysis.name << std::string(name_width + 2 - analysis.name.size(), ' ')
                << analysis.summary << '\n';
@@ -129,7 +133,8 @@ int print_outcome(std::ostream& out, const Outcome& outcome) {
     return exit_status(outcome);
 }
 
-int run_request(std::string_view source, std::istream& in, std::ostream& out, bool csv, std::string_view table) {
+int run_request(std::string_view source, std::istream& in, std::ostream& out, bool csv,
+                std::string_view table) {
     std::optional<std::string> text;
     if (source == "-") {
         text = read_bounded(in);
@@ -138,9 +143,11 @@ int run_request(std::string_view source, std::istream& in, std::ostream& out, bo
         if (file) text = read_bounded(file);
     }
     if (!text) {
-        const std::string name = source == "-" ? std::string("standard input") : api::concat("'", source, "'");
-        return print_outcome(out, problem_outcome(api::make_problem(api::ProblemCode::unreadable_input,
-                                                                    api::concat("cannot read ", name))));
+        const std::string name =
+            source == "-" ? std::string("standard input") : api::concat("'", source, "'");
+        return print_outcome(out,
+                             problem_outcome(api::make_problem(api::ProblemCode::unreadable_input,
+                                                               api::concat("cannot read ", name))));
     }
     const Outcome outcome = evaluate_text(*text);
     if (!csv || !outcome.ok()) return print_outcome(out, outcome);
@@ -156,7 +163,8 @@ int run_request(std::string_view source, std::istream& in, std::ostream& out, bo
 // The admin listener answers whatever the public connections do, so the health check asks it.
 std::string default_healthcheck_url() {
     const char* port = std::getenv("ROLLGAP_ADMIN_PORT");
-    return "http://127.0.0.1:" + std::string(port != nullptr && *port != '\0' ? port : "8081") + "/readyz";
+    return "http://127.0.0.1:" + std::string(port != nullptr && *port != '\0' ? port : "8081") +
+           "/readyz";
 }
 
 }  // namespace
@@ -178,7 +186,8 @@ int run_cli(std::span<const std::string_view> arguments, std::istream& in, std::
     run->add_option("FILE", source, "the request, '-' for standard input")->required();
     std::string format = "json";
     std::string table;
-    run->add_option("--format", format, "json (default) or csv")->check(CLI::IsMember({"json", "csv"}));
+    run->add_option("--format", format, "json (default) or csv")
+        ->check(CLI::IsMember({"json", "csv"}));
     run->add_option("--table", table, "with --format csv: which table of the result");
     CLI::App* serve_command = add_command(app, "serve");
     ServerConfig config;
@@ -229,14 +238,16 @@ int run_cli(std::span<const std::string_view> arguments, std::istream& in, std::
         if (app.get_subcommands().empty()) {
             std::vector<std::string_view> names;
             for (const Command& command : commands) names.push_back(command.name);
-            return usage_error(err, api::concat("unknown command '", first, "'", api::did_you_mean(first, names)));
+            return usage_error(
+                err, api::concat("unknown command '", first, "'", api::did_you_mean(first, names)));
         }
         return usage_error(err, api::concat("unexpected argument '", first, "'"));
     }
     for (const CLI::App* command : {scenario, run, health, openapi, help}) {
         if (command->parsed() && !command->remaining().empty()) {
-            return usage_error(err, api::concat("unexpected argument '", command->remaining().front(), "' after '",
-                                                command->get_name(), "'"));
+            return usage_error(
+                err, api::concat("unexpected argument '", command->remaining().front(), "' after '",
+                                 command->get_name(), "'"));
         }
     }
     if (help->parsed()) {

@@ -25,20 +25,25 @@ constexpr std::array settings{
     ConfigSetting{"--bind", "ROLLGAP_BIND", "ADDRESS",
                   "address to listen on (default 127.0.0.1; the container image sets 0.0.0.0)"},
     ConfigSetting{"--port", "ROLLGAP_PORT", "N", "TCP port, 0 for any free port (default 8080)"},
-    ConfigSetting{"--admin-bind", "ROLLGAP_ADMIN_BIND", "ADDRESS",
-                  "address of the admin listener (/livez, /readyz, /metrics on threads of their own; "
-                  "default 127.0.0.1)"},
-    ConfigSetting{"--admin-port", "ROLLGAP_ADMIN_PORT", "N",
-                  "TCP port of the admin listener, 0 for any free port (default 8081; with --port 0, 0)"},
-    ConfigSetting{"--workers", "ROLLGAP_WORKERS", "N", "compute threads (default: the machine's cores)"},
+    ConfigSetting{
+        "--admin-bind", "ROLLGAP_ADMIN_BIND", "ADDRESS",
+        "address of the admin listener (/livez, /readyz, /metrics on threads of their own; "
+        "default 127.0.0.1)"},
+    ConfigSetting{
+        "--admin-port", "ROLLGAP_ADMIN_PORT", "N",
+        "TCP port of the admin listener, 0 for any free port (default 8081; with --port 0, 0)"},
+    ConfigSetting{"--workers", "ROLLGAP_WORKERS", "N",
+                  "compute threads (default: the machine's cores)"},
     ConfigSetting{"--queue-length", "ROLLGAP_QUEUE_LENGTH", "N",
                   "synchronous requests that may wait for a worker; beyond: 503 (default 64)"},
-    ConfigSetting{"--io-threads", "ROLLGAP_IO_THREADS", "N",
-                  "HTTP connection threads, one per open connection; keep above workers + queue-length "
-                  "(default 128)"},
-    ConfigSetting{"--analysis-threads", "ROLLGAP_ANALYSIS_THREADS", "N",
-                  "threads one analysis may spread its scan speeds or sweep points over "
-                  "(default 0: the machine's cores; with many workers, cores/workers avoids oversubscription)"},
+    ConfigSetting{
+        "--io-threads", "ROLLGAP_IO_THREADS", "N",
+        "HTTP connection threads, one per open connection; keep above workers + queue-length "
+        "(default 128)"},
+    ConfigSetting{
+        "--analysis-threads", "ROLLGAP_ANALYSIS_THREADS", "N",
+        "threads one analysis may spread its scan speeds or sweep points over "
+        "(default 0: the machine's cores; with many workers, cores/workers avoids oversubscription)"},
     ConfigSetting{"--deadline-ms", "ROLLGAP_DEADLINE_MS", "MS",
                   "time budget of a synchronous request; past it: 504 (default 30000)"},
     ConfigSetting{"--read-deadline-ms", "ROLLGAP_READ_DEADLINE_MS", "MS",
@@ -52,7 +57,8 @@ constexpr std::array settings{
                   "jobs stored at once, in any state; beyond: 503 (default 256)"},
     ConfigSetting{"--job-workers", "ROLLGAP_JOB_WORKERS", "N",
                   "workers that jobs may occupy at once (default max(1, workers/2))"},
-    ConfigSetting{"--retry-after", "ROLLGAP_RETRY_AFTER", "S", "Retry-After of a 503, seconds (default 1)"},
+    ConfigSetting{"--retry-after", "ROLLGAP_RETRY_AFTER", "S",
+                  "Retry-After of a 503, seconds (default 1)"},
     ConfigSetting{"--drain-timeout-ms", "ROLLGAP_DRAIN_TIMEOUT_MS", "MS",
                   "on SIGTERM/SIGINT, how long in-flight work may finish before it is cancelled "
                   "(default 25000)"},
@@ -90,12 +96,15 @@ constexpr std::array integer_settings{
                    }},
     IntegerSetting{"ROLLGAP_WORKERS", 0, 1024, "0..1024 (0: the machine's cores)",
                    [](ServerConfig& c, long long n) { c.workers = static_cast<std::size_t>(n); }},
-    IntegerSetting{"ROLLGAP_QUEUE_LENGTH", 0, 100000, "0..100000",
-                   [](ServerConfig& c, long long n) { c.queue_length = static_cast<std::size_t>(n); }},
-    IntegerSetting{"ROLLGAP_IO_THREADS", 1, 4096, "1..4096",
-                   [](ServerConfig& c, long long n) { c.io_threads = static_cast<std::size_t>(n); }},
-    IntegerSetting{"ROLLGAP_ANALYSIS_THREADS", 0, 1024, "0..1024 (0: the machine's cores)",
-                   [](ServerConfig& c, long long n) { c.analysis_threads = static_cast<std::size_t>(n); }},
+    IntegerSetting{
+        "ROLLGAP_QUEUE_LENGTH", 0, 100000, "0..100000",
+        [](ServerConfig& c, long long n) { c.queue_length = static_cast<std::size_t>(n); }},
+    IntegerSetting{
+        "ROLLGAP_IO_THREADS", 1, 4096, "1..4096",
+        [](ServerConfig& c, long long n) { c.io_threads = static_cast<std::size_t>(n); }},
+    IntegerSetting{
+        "ROLLGAP_ANALYSIS_THREADS", 0, 1024, "0..1024 (0: the machine's cores)",
+        [](ServerConfig& c, long long n) { c.analysis_threads = static_cast<std::size_t>(n); }},
     IntegerSetting{"ROLLGAP_DEADLINE_MS", 1, 3'600'000, "1..3600000 ms",
                    [](ServerConfig& c, long long n) { c.deadline = milliseconds(n); }},
     IntegerSetting{"ROLLGAP_READ_DEADLINE_MS", 100, 600'000, "100..600000 ms",
@@ -106,14 +115,16 @@ constexpr std::array integer_settings{
                    [](ServerConfig& c, long long n) { c.job_retention = milliseconds(n); }},
     IntegerSetting{"ROLLGAP_MAX_JOBS", 0, 1'000'000, "0..1000000",
                    [](ServerConfig& c, long long n) { c.max_jobs = static_cast<std::size_t>(n); }},
-    IntegerSetting{"ROLLGAP_JOB_WORKERS", 0, 1024, "0..1024 (0: max(1, workers/2))",
-                   [](ServerConfig& c, long long n) { c.job_workers = static_cast<std::size_t>(n); }},
+    IntegerSetting{
+        "ROLLGAP_JOB_WORKERS", 0, 1024, "0..1024 (0: max(1, workers/2))",
+        [](ServerConfig& c, long long n) { c.job_workers = static_cast<std::size_t>(n); }},
     IntegerSetting{"ROLLGAP_RETRY_AFTER", 0, 3600, "0..3600 s",
                    [](ServerConfig& c, long long n) { c.retry_after = seconds(n); }},
     IntegerSetting{"ROLLGAP_DRAIN_TIMEOUT_MS", 0, 3'600'000, "0..3600000 ms",
                    [](ServerConfig& c, long long n) { c.drain_timeout = milliseconds(n); }},
-    IntegerSetting{"ROLLGAP_MAX_BODY_BYTES", 1024, 64LL * 1024 * 1024, "1024..67108864 bytes",
-                   [](ServerConfig& c, long long n) { c.max_body_bytes = static_cast<std::size_t>(n); }},
+    IntegerSetting{
+        "ROLLGAP_MAX_BODY_BYTES", 1024, 64LL * 1024 * 1024, "1024..67108864 bytes",
+        [](ServerConfig& c, long long n) { c.max_body_bytes = static_cast<std::size_t>(n); }},
 };
 
 std::optional<long long> parse_integer(std::string_view text, long long min, long long max) {
@@ -130,15 +141,15 @@ std::string trim_trailing_newlines(std::string text) {
 }
 
 bool valid_log_level(std::string_view level) {
-    static constexpr std::array<std::string_view, 7> levels{"trace", "debug", "info", "warn",
+    static constexpr std::array<std::string_view, 7> levels{"trace", "debug",    "info", "warn",
                                                             "error", "critical", "off"};
     return std::find(levels.begin(), levels.end(), level) != levels.end();
 }
 
 // Applies one setting; returns an error message or nothing. `source` names where the value
 // came from, for the message.
-std::optional<std::string> apply(ServerConfig& config, const ConfigSetting& setting, const std::string& value,
-                                 std::string_view source) {
+std::optional<std::string> apply(ServerConfig& config, const ConfigSetting& setting,
+                                 const std::string& value, std::string_view source) {
     const auto bad = [&](std::string_view expected) {
         return concat("invalid ", source, " '", value, "': expected ", expected);
     };
@@ -200,13 +211,15 @@ void add_server_options(CLI::App& command, ServerConfig& config) {
     // argument, and a value after a mistyped "--token" is a secret (finish_server_config).
     command.allow_extras();
     for (const ConfigSetting& setting : settings) {
-        if (setting.flag.empty()) continue;  // environment only: its own rule in finish_server_config
+        if (setting.flag.empty())
+            continue;  // environment only: its own rule in finish_server_config
         const std::string source = concat(setting.flag, " (or ", setting.env, ")");
         command
             .add_option_function<std::string>(
                 std::string(setting.flag),
                 [&config, &setting, source](const std::string& value) {
-                    if (auto error = apply(config, setting, value, source)) throw CLI::ValidationError(*error);
+                    if (auto error = apply(config, setting, value, source))
+                        throw CLI::ValidationError(*error);
                 },
                 std::string(setting.help))
             ->envname(std::string(setting.env))
@@ -224,7 +237,8 @@ std::optional<std::string> finish_server_config(const CLI::App& command, ServerC
         for (const ConfigSetting& setting : settings) {
             if (!setting.flag.empty()) flags.push_back(setting.flag);
         }
-        return concat("unknown option '", name, "'", api::did_you_mean(name, flags), " (rollgap serve --help)");
+        return concat("unknown option '", name, "'", api::did_you_mean(name, flags),
+                      " (rollgap serve --help)");
     }
     // The token: a file (--token-file or ROLLGAP_TOKEN_FILE) wins over ROLLGAP_TOKEN, which has
     // no flag because a secret on the command line shows in ps.
@@ -237,7 +251,8 @@ std::optional<std::string> finish_server_config(const CLI::App& command, ServerC
     return std::nullopt;
 }
 
-std::variant<ServerConfig, ConfigHelp, std::string> parse_server_config(std::span<const std::string_view> arguments) {
+std::variant<ServerConfig, ConfigHelp, std::string> parse_server_config(
+    std::span<const std::string_view> arguments) {
     ServerConfig config;
     CLI::App command("rollgap serve", "rollgap serve");
     add_server_options(command, config);
@@ -263,9 +278,10 @@ std::string config_usage() {
             "SIGTERM or SIGINT drains: /readyz answers 503, in-flight work finishes, exit 0.\n"
             "\n";
     for (const ConfigSetting& setting : settings) {
-        const std::string flag =
-            setting.flag.empty() ? std::string("(env only)") : concat(setting.flag, " ", setting.value);
-        text << "  " << flag << std::string(flag.size() < 24 ? 24 - flag.size() : 1, ' ') << setting.env << "\n"
+        const std::string flag = setting.flag.empty() ? std::string("(env only)")
+                                                      : concat(setting.flag, " ", setting.value);
+        text << "  " << flag << std::string(flag.size() < 24 ? 24 - flag.size() : 1, ' ')
+             << setting.env << "\n"
              << "      " << setting.help << "\n";
     }
     return text.str();
@@ -273,10 +289,13 @@ std::string config_usage() {
 
 std::string describe(const ServerConfig& config) {
     std::ostringstream text;
-    text << "bind=" << config.bind_address << " port=" << config.port << " admin_bind=" << config.admin_bind_address
-         << " admin_port=" << config.admin_port << " workers=" << config.workers
-         << " queue_length=" << config.queue_length << " io_threads=" << config.io_threads << " analysis_threads=" << config.analysis_threads
-         << " deadline_ms=" << config.deadline.count() << " read_deadline_ms=" << config.read_deadline.count() << " job_deadline_ms=" << config.job_deadline.count()
+    text << "bind=" << config.bind_address << " port=" << config.port
+         << " admin_bind=" << config.admin_bind_address << " admin_port=" << config.admin_port
+         << " workers=" << config.workers << " queue_length=" << config.queue_length
+         << " io_threads=" << config.io_threads << " analysis_threads=" << config.analysis_threads
+         << " deadline_ms=" << config.deadline.count()
+         << " read_deadline_ms=" << config.read_deadline.count()
+         << " job_deadline_ms=" << config.job_deadline.count()
          << " job_retention_ms=" << config.job_retention.count() << " max_jobs=" << config.max_jobs
          << " job_workers=" << config.job_workers << " max_body_bytes=" << config.max_body_bytes
          << " log_level=" << config.log_level << " instance=" << config.instance

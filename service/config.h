@@ -19,38 +19,40 @@ class App;
 namespace rollgap::service {
 
 struct ServerConfig {
-    std::string bind_address = "127.0.0.1";  // the container image sets ROLLGAP_BIND=0.0.0.0
-    int port = 8080;                          // 0: any free port (tests)
+    std::string bind_address = "127.0.0.1";        // the container image sets ROLLGAP_BIND=0.0.0.0
+    int port = 8080;                               // 0: any free port (tests)
     std::string admin_bind_address = "127.0.0.1";  // /livez, /readyz, /metrics on their own threads
-    int admin_port = 8081;                    // 0: any free port (tests)
-    bool admin_port_set = false;              // given by flag or environment; else --port 0 makes it 0 too
-    std::size_t workers = 0;                  // compute threads; 0 means the machine's cores
-    std::size_t queue_length = 64;            // synchronous requests waiting for a worker
-    std::size_t io_threads = 128;             // HTTP connection threads (one per open connection);
-                                              // above workers + queue_length, so overload is a fast 503
-    std::size_t analysis_threads = 0;         // threads one analysis may spread over; 0: the machine's cores
-    std::chrono::milliseconds deadline{30'000};       // synchronous requests, from arrival
-    std::chrono::milliseconds read_deadline{10'000};  // a request's headers and body, from its first byte
-    std::chrono::milliseconds job_deadline{600'000};  // asynchronous jobs, from creation
+    int admin_port = 8081;                         // 0: any free port (tests)
+    bool admin_port_set = false;    // given by flag or environment; else --port 0 makes it 0 too
+    std::size_t workers = 0;        // compute threads; 0 means the machine's cores
+    std::size_t queue_length = 64;  // synchronous requests waiting for a worker
+    std::size_t io_threads = 128;   // HTTP connection threads (one per open connection);
+                                    // above workers + queue_length, so overload is a fast 503
+    std::size_t analysis_threads =
+        0;  // threads one analysis may spread over; 0: the machine's cores
+    std::chrono::milliseconds deadline{30'000};  // synchronous requests, from arrival
+    std::chrono::milliseconds read_deadline{
+        10'000};  // a request's headers and body, from its first byte
+    std::chrono::milliseconds job_deadline{600'000};   // asynchronous jobs, from creation
     std::chrono::milliseconds job_retention{600'000};  // finished jobs are kept this long
-    std::size_t max_jobs = 256;               // stored jobs, whatever their state
-    std::size_t job_workers = 0;              // workers jobs may occupy at once; 0: max(1, workers/2)
-    std::chrono::seconds retry_after{1};      // the Retry-After of 503 answers
+    std::size_t max_jobs = 256;                        // stored jobs, whatever their state
+    std::size_t job_workers = 0;          // workers jobs may occupy at once; 0: max(1, workers/2)
+    std::chrono::seconds retry_after{1};  // the Retry-After of 503 answers
     std::chrono::milliseconds drain_timeout{25'000};  // SIGTERM: how long in-flight work may take
     std::size_t max_body_bytes = 1024 * 1024;
-    std::string log_level = "info";           // trace debug info warn error critical off
-    std::optional<std::string> token;         // bearer token for the compute endpoints; never logged
-    std::string instance;                     // names this replica in job documents; default: host name
+    std::string log_level = "info";    // trace debug info warn error critical off
+    std::optional<std::string> token;  // bearer token for the compute endpoints; never logged
+    std::string instance;              // names this replica in job documents; default: host name
 
     // Resolved values (workers = cores, job_workers = ...); call after parsing.
     ServerConfig resolved() const;
 };
 
 struct ConfigSetting {
-    std::string_view flag;     // "--port"
-    std::string_view env;      // "ROLLGAP_PORT"
-    std::string_view value;    // "N", "ADDRESS", "MS", ...
-    std::string_view help;     // one line, with the default
+    std::string_view flag;   // "--port"
+    std::string_view env;    // "ROLLGAP_PORT"
+    std::string_view value;  // "N", "ADDRESS", "MS", ...
+    std::string_view help;   // one line, with the default
 };
 std::span<const ConfigSetting> config_settings();
 
@@ -65,7 +67,8 @@ void add_server_options(CLI::App& command, ServerConfig& config);
 std::optional<std::string> finish_server_config(const CLI::App& command, ServerConfig& config);
 
 // Parses `arguments` (after "serve") over the process environment: the two steps above.
-std::variant<ServerConfig, ConfigHelp, std::string> parse_server_config(std::span<const std::string_view> arguments);
+std::variant<ServerConfig, ConfigHelp, std::string> parse_server_config(
+    std::span<const std::string_view> arguments);
 
 std::string config_usage();
 

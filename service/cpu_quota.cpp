@@ -32,7 +32,8 @@ std::optional<long long> to_number(std::string_view text) {
     text = trim(text);
     long long value = 0;
     const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
-    if (text.empty() || error != std::errc{} || end != text.data() + text.size()) return std::nullopt;
+    if (text.empty() || error != std::errc{} || end != text.data() + text.size())
+        return std::nullopt;
     return value;
 }
 
@@ -40,7 +41,8 @@ std::vector<std::string_view> split(std::string_view text, char separator) {
     std::vector<std::string_view> parts;
     for (std::size_t start = 0;;) {
         const auto at = text.find(separator, start);
-        parts.push_back(text.substr(start, at == std::string_view::npos ? std::string_view::npos : at - start));
+        parts.push_back(
+            text.substr(start, at == std::string_view::npos ? std::string_view::npos : at - start));
         if (at == std::string_view::npos) return parts;
         start = at + 1;
     }
@@ -82,9 +84,11 @@ std::optional<std::string> find_group(const std::string& proc_self_cgroup, bool 
     std::istringstream lines(proc_self_cgroup);
     for (std::string line; std::getline(lines, line);) {
         const auto first = line.find(':');
-        const auto second = first == std::string::npos ? std::string::npos : line.find(':', first + 1);
+        const auto second =
+            first == std::string::npos ? std::string::npos : line.find(':', first + 1);
         if (second == std::string::npos) continue;
-        const std::string_view controllers = std::string_view(line).substr(first + 1, second - first - 1);
+        const std::string_view controllers =
+            std::string_view(line).substr(first + 1, second - first - 1);
         const std::string path = line.substr(second + 1);
         if (v2 && line.compare(0, first, "0") == 0 && controllers.empty()) return path;
         if (!v2) {
@@ -100,13 +104,16 @@ std::vector<std::filesystem::path> group_directories(const Mount& mount, const s
                                                      const std::filesystem::path& root) {
     std::string relative = group;
     // Inside a container the mount's root is the container's own group: strip it.
-    if (mount.root != "/" && relative.rfind(mount.root, 0) == 0) relative = relative.substr(mount.root.size());
+    if (mount.root != "/" && relative.rfind(mount.root, 0) == 0)
+        relative = relative.substr(mount.root.size());
     const std::filesystem::path top = root / std::filesystem::path(mount.point).relative_path();
     std::vector<std::filesystem::path> directories;
     std::filesystem::path directory = top / std::filesystem::path(relative).relative_path();
     for (int depth = 0; depth < 64; ++depth) {
         directories.push_back(directory);
-        if (directory.lexically_normal() == top.lexically_normal() || !directory.has_relative_path()) break;
+        if (directory.lexically_normal() == top.lexically_normal() ||
+            !directory.has_relative_path())
+            break;
         directory = directory.parent_path();
     }
     return directories;
@@ -131,7 +138,8 @@ std::optional<double> parse_cfs_quota(std::string_view quota, std::string_view p
 }
 
 std::optional<double> cgroup_cpu_limit(const std::filesystem::path& proc_self_cgroup,
-                                       const std::filesystem::path& mountinfo, const std::filesystem::path& root) {
+                                       const std::filesystem::path& mountinfo,
+                                       const std::filesystem::path& root) {
     const auto groups = read_text(proc_self_cgroup);
     const auto mounts = read_text(mountinfo);
     if (!groups || !mounts) return std::nullopt;
@@ -140,7 +148,8 @@ std::optional<double> cgroup_cpu_limit(const std::filesystem::path& proc_self_cg
     const auto v2_group = find_group(*groups, true);
     if (v2_mount && v2_group) {
         for (const auto& directory : group_directories(*v2_mount, *v2_group, root)) {
-            if (const auto text = read_text(directory / "cpu.max")) limit = tightest(limit, parse_cpu_max(*text));
+            if (const auto text = read_text(directory / "cpu.max"))
+                limit = tightest(limit, parse_cpu_max(*text));
         }
     }
     const auto v1_mount = find_mount(*mounts, false);
@@ -162,15 +171,16 @@ std::optional<int> affinity_cpu_count() {
     return CPU_COUNT(&set);
 }
 
-CpuBudget cpu_budget(const std::filesystem::path& proc_self_cgroup, const std::filesystem::path& mountinfo,
-                     const std::filesystem::path& root) {
+CpuBudget cpu_budget(const std::filesystem::path& proc_self_cgroup,
+                     const std::filesystem::path& mountinfo, const std::filesystem::path& root) {
     CpuBudget budget;
     budget.cgroup_limit = cgroup_cpu_limit(proc_self_cgroup, mountinfo, root);
     budget.affinity = affinity_cpu_count();
     budget.hardware = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
     int effective = budget.hardware;
     // A fractional quota (1.5 CPUs) still lets 2 threads make progress, throttled.
-    if (budget.cgroup_limit) effective = std::min(effective, static_cast<int>(std::ceil(*budget.cgroup_limit)));
+    if (budget.cgroup_limit)
+        effective = std::min(effective, static_cast<int>(std::ceil(*budget.cgroup_limit)));
     if (budget.affinity) effective = std::min(effective, *budget.affinity);
     budget.effective = std::max(1, effective);
     return budget;

@@ -11,7 +11,8 @@
 
 namespace rollgap::service {
 
-// `cpu.max` text ("max 100000", "150000 100000"): CPUs allowed, nothing when unlimited or malformed.
+// `cpu.max` text ("max 100000", "150000 100000"): CPUs allowed, nothing when unlimited or
+// malformed.
 std::optional<double> parse_cpu_max(std::string_view text);
 // cgroup v1 `cpu.cfs_quota_us` and `cpu.cfs_period_us` texts (quota -1 = unlimited).
 std::optional<double> parse_cfs_quota(std::string_view quota, std::string_view period);
@@ -19,7 +20,8 @@ std::optional<double> parse_cfs_quota(std::string_view quota, std::string_view p
 // The cgroup CPU limit of the process described by `proc_self_cgroup` and `mountinfo`, with
 // every mount point read under `root` (fixtures use a directory; the real system "/").
 std::optional<double> cgroup_cpu_limit(const std::filesystem::path& proc_self_cgroup,
-                                       const std::filesystem::path& mountinfo, const std::filesystem::path& root);
+                                       const std::filesystem::path& mountinfo,
+                                       const std::filesystem::path& root);
 
 // CPUs in the calling thread's affinity mask, nothing if it cannot be read.
 std::optional<int> affinity_cpu_count();

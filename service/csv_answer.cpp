@@ -12,14 +12,17 @@ namespace rollgap::service {
 namespace {
 
 std::string_view trim(std::string_view text) {
-    while (!text.empty() && std::isspace(static_cast<unsigned char>(text.front())) != 0) text.remove_prefix(1);
-    while (!text.empty() && std::isspace(static_cast<unsigned char>(text.back())) != 0) text.remove_suffix(1);
+    while (!text.empty() && std::isspace(static_cast<unsigned char>(text.front())) != 0)
+        text.remove_prefix(1);
+    while (!text.empty() && std::isspace(static_cast<unsigned char>(text.back())) != 0)
+        text.remove_suffix(1);
     return text;
 }
 
 std::string lower(std::string_view text) {
     std::string out(text);
-    std::transform(out.begin(), out.end(), out.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    std::transform(out.begin(), out.end(), out.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
     return out;
 }
 
@@ -35,18 +38,26 @@ double quality(std::string_view accept, std::string_view type) {
         const std::size_t semicolon = item.find(';');
         const std::string range = lower(trim(item.substr(0, semicolon)));
         double q = 1.0;
-        for (std::string_view parameters = semicolon == std::string_view::npos ? "" : item.substr(semicolon + 1);
+        for (std::string_view parameters =
+                 semicolon == std::string_view::npos ? "" : item.substr(semicolon + 1);
              !parameters.empty();) {
             const std::size_t next = parameters.find(';');
             const std::string_view parameter = trim(parameters.substr(0, next));
-            parameters = next == std::string_view::npos ? std::string_view() : parameters.substr(next + 1);
-            if (parameter.size() > 2 && (parameter[0] == 'q' || parameter[0] == 'Q') && parameter[1] == '=') {
+            parameters =
+                next == std::string_view::npos ? std::string_view() : parameters.substr(next + 1);
+            if (parameter.size() > 2 && (parameter[0] == 'q' || parameter[0] == 'Q') &&
+                parameter[1] == '=') {
                 const std::string_view value = parameter.substr(2);
                 double parsed = 0.0;
-                if (std::from_chars(value.data(), value.data() + value.size(), parsed).ec == std::errc()) q = parsed;
+                if (std::from_chars(value.data(), value.data() + value.size(), parsed).ec ==
+                    std::errc())
+                    q = parsed;
             }
         }
-        const int specificity = range == type ? 2 : range == api::concat(major, "/*") ? 1 : range == "*/*" ? 0 : -1;
+        const int specificity = range == type                       ? 2
+                                : range == api::concat(major, "/*") ? 1
+                                : range == "*/*"                    ? 0
+                                                                    : -1;
         if (specificity > best_specificity) {
             best_specificity = specificity;
             best = q;
@@ -56,9 +67,12 @@ double quality(std::string_view accept, std::string_view type) {
 }
 
 CsvAnswer not_acceptable(std::string detail) {
-    const api::Problem problem = api::make_problem(api::ProblemCode::not_acceptable, std::move(detail));
-    return {problem.http_status(), api::problem_json(problem).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace),
-            api::problem_media_type};
+    const api::Problem problem =
+        api::make_problem(api::ProblemCode::not_acceptable, std::move(detail));
+    return {
+        problem.http_status(),
+        api::problem_json(problem).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace),
+        api::problem_media_type};
 }
 
 }  // namespace
@@ -76,13 +90,15 @@ CsvAnswer csv_answer(const nlohmann::json& answer, std::string_view table) {
     if (answer.contains("state")) {  // a job document
         const std::string state = answer.value("state", std::string());
         if (!answer.contains("result")) {
-            return not_acceptable(api::concat("job ", answer.value("id", std::string()), " is ", state,
-                                              ": only a succeeded job has a result to give as CSV"));
+            return not_acceptable(
+                api::concat("job ", answer.value("id", std::string()), " is ", state,
+                            ": only a succeeded job has a result to give as CSV"));
         }
         response = &answer.at("result");
     }
     const std::string analysis = response->value("analysis", std::string());
-    const api::CsvOutcome csv = api::result_csv(analysis, response->value("result", nlohmann::json()), table);
+    const api::CsvOutcome csv =
+        api::result_csv(analysis, response->value("result", nlohmann::json()), table);
     if (!csv.ok) return not_acceptable(csv.detail);
     return {200, csv.text, csv_content_type};
 }

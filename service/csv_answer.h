@@ -17,7 +17,7 @@ inline constexpr std::string_view csv_content_type = "text/csv; charset=utf-8; h
 bool wants_csv(std::string_view accept);
 
 struct CsvAnswer {
-    int status = 200;         // 200, or 406 with a problem
+    int status = 200;  // 200, or 406 with a problem
     std::string body;
     std::string_view media_type;
 };

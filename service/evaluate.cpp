@@ -20,13 +20,14 @@ namespace {
 
 Outcome internal_error(std::string_view what) {
     spdlog::error("internal error while evaluating a request: {}", what);
-    return problem_outcome(api::make_problem(
-        api::ProblemCode::internal, "the analysis failed unexpectedly; the service log has the cause"));
+    return problem_outcome(
+        api::make_problem(api::ProblemCode::internal,
+                          "the analysis failed unexpectedly; the service log has the cause"));
 }
 
 Outcome cancelled() {
-    return problem_outcome(api::make_problem(api::ProblemCode::cancelled,
-                                             "the analysis was stopped by its caller before it finished"));
+    return problem_outcome(api::make_problem(
+        api::ProblemCode::cancelled, "the analysis was stopped by its caller before it finished"));
 }
 
 // The request's envelope is valid and names an offered analysis.
@@ -35,13 +36,15 @@ struct Envelope {
     const Analysis* analysis = nullptr;
 };
 
-std::variant<Outcome, Envelope> check_envelope_of(const nlohmann::json& request, std::span<const Analysis> offered) {
+std::variant<Outcome, Envelope> check_envelope_of(const nlohmann::json& request,
+                                                  std::span<const Analysis> offered) {
     // Everything below walks the request recursively; text input was bounded by the parser
     // already, this covers JSON built in code.
     if (api::nests_deeper_than(request, api::max_json_depth)) {
-        return problem_outcome(api::make_problem(
-            api::ProblemCode::invalid_request,
-            api::concat("request nests deeper than ", std::to_string(api::max_json_depth), " levels")));
+        return problem_outcome(
+            api::make_problem(api::ProblemCode::invalid_request,
+                              api::concat("request nests deeper than ",
+                                          std::to_string(api::max_json_depth), " levels")));
     }
 
     api::FieldErrors envelope_errors;
@@ -66,7 +69,8 @@ struct Prepared {
     PreparedAnalysis prepared;
 };
 
-std::variant<Outcome, Prepared> prepare(const nlohmann::json& request, std::span<const Analysis> offered) {
+std::variant<Outcome, Prepared> prepare(const nlohmann::json& request,
+                                        std::span<const Analysis> offered) {
     auto checked = check_envelope_of(request, offered);
     if (auto* problem = std::get_if<Outcome>(&checked)) return std::move(*problem);
     const Envelope& envelope = std::get<Envelope>(checked);
@@ -76,15 +80,17 @@ std::variant<Outcome, Prepared> prepare(const nlohmann::json& request, std::span
     Prepared ready;
     ready.analysis = envelope.analysis;
     ready.scenario = api::scenario_from_patch(envelope.parsed.scenario_patch, "/scenario", errors);
-    ready.prepared = envelope.analysis->prepare(ready.scenario, envelope.parsed.options, "/options", errors);
+    ready.prepared =
+        envelope.analysis->prepare(ready.scenario, envelope.parsed.options, "/options", errors);
     // An analysis may add scenario violations of its own (tension_cycle: the sinusoid's limits).
     const bool scenario_valid = !errors.has_error_at_or_below("/scenario");
     if (!errors.empty()) {
-        const std::string detail = api::concat(std::to_string(errors.size()),
-                                               errors.size() == 1 ? " violation" : " violations",
-                                               scenario_valid ? " in the options" : " in the scenario and options");
+        const std::string detail = api::concat(
+            std::to_string(errors.size()), errors.size() == 1 ? " violation" : " violations",
+            scenario_valid ? " in the options" : " in the scenario and options");
         return problem_outcome(errors.to_problem(
-            scenario_valid ? api::ProblemCode::invalid_options : api::ProblemCode::invalid_scenario, detail));
+            scenario_valid ? api::ProblemCode::invalid_options : api::ProblemCode::invalid_scenario,
+            detail));
     }
     return ready;
 }
@@ -143,7 +149,8 @@ Outcome evaluate(const nlohmann::json& request, const core::Control& control) {
     return evaluate(request, analyses(), control);
 }
 
-Outcome evaluate(const nlohmann::json& request, std::span<const Analysis> offered, const core::Control& control) {
+Outcome evaluate(const nlohmann::json& request, std::span<const Analysis> offered,
+                 const core::Control& control) {
     try {
         return evaluate_unguarded(request, offered, control);
     } catch (const std::exception& error) {
@@ -174,8 +181,8 @@ Outcome evaluate_text(std::string_view text, const core::Control& control) {
         if (text.size() > max_request_bytes) {
             return problem_outcome(api::make_problem(
                 api::ProblemCode::payload_too_large,
-                api::concat("the request has ", std::to_string(text.size()), " bytes; the limit is ",
-                            std::to_string(max_request_bytes))));
+                api::concat("the request has ", std::to_string(text.size()),
+                            " bytes; the limit is ", std::to_string(max_request_bytes))));
         }
         auto parsed = api::parse_json_text(text);
         if (auto* problem = std::get_if<api::Problem>(&parsed)) return problem_outcome(*problem);

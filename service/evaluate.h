@@ -43,7 +43,8 @@ Outcome problem_outcome(const api::Problem& problem);
 //   `deadline_exceeded` (504), e.g.
 //       Outcome outcome = evaluate(request, control);
 //       if (outcome.problem == api::ProblemCode::cancelled && deadline_passed())
-//           outcome = problem_outcome(api::make_problem(api::ProblemCode::deadline_exceeded, "..."));
+//           outcome = problem_outcome(api::make_problem(api::ProblemCode::deadline_exceeded,
+//           "..."));
 //   Validation problems are returned as usual whatever the Control says; a Control that is
 //   already cancelled when the request is valid gives `cancelled` without computing.
 // - control.progress(fraction) reports 0..1 as core computes; it too may be called from
@@ -53,7 +54,8 @@ Outcome problem_outcome(const api::Problem& problem);
 Outcome evaluate(const nlohmann::json& request, const core::Control& control = {});
 
 // The same against another table of analyses (tests: an analysis that throws).
-Outcome evaluate(const nlohmann::json& request, std::span<const Analysis> offered, const core::Control& control = {});
+Outcome evaluate(const nlohmann::json& request, std::span<const Analysis> offered,
+                 const core::Control& control = {});
 
 // What evaluate() checks before it computes, without computing: the problem of an invalid
 // request, or nothing when evaluate() would compute. The HTTP server validates on its

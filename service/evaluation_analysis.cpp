@@ -7,13 +7,15 @@ namespace rollgap::service {
 
 PreparedAnalysis prepare_evaluation(const core::Scenario& scenario, const nlohmann::json& options,
                                     const std::string& options_pointer, api::FieldErrors& errors) {
-    api::EvaluationOptions parsed = api::evaluation_options_from_json(options, options_pointer, errors);
+    api::EvaluationOptions parsed =
+        api::evaluation_options_from_json(options, options_pointer, errors);
     return {
         api::evaluation_options_json(parsed),
         [scenario, parsed](const core::Control& control) {
             core::CriticalSpeedOptions search = parsed.critical_speed;
             search.threads = control.thread_budget();  // the scan speeds in parallel
-            const core::Evaluation evaluation = core::evaluate_scenario(scenario, search, parsed.amplitude, control);
+            const core::Evaluation evaluation =
+                core::evaluate_scenario(scenario, search, parsed.amplitude, control);
             if (evaluation.critical.status == core::CriticalSpeedStatus::cancelled ||
                 evaluation.amplitude.status == core::AmplitudeStatus::cancelled) {
                 throw AnalysisCancelled{};

@@ -67,7 +67,9 @@ ListenerLimits limits_for(const ServerConfig& config) {
 }  // namespace
 
 Evaluator facade_evaluator() {
-    return [](const json& request, const core::Control& control) { return call_facade(request, control); };
+    return [](const json& request, const core::Control& control) {
+        return call_facade(request, control);
+    };
 }
 
 // ==============================================================================================
@@ -105,7 +107,8 @@ struct HttpServer::Impl {
             context.id = request_id_from(request.get_header_value("X-Request-Id"));
             context.route = match_route(request.path);
             // The admin listener serves the health and metrics routes only.
-            if (on_admin && context.route != nullptr && !context.route->admin) context.route = nullptr;
+            if (on_admin && context.route != nullptr && !context.route->admin)
+                context.route = nullptr;
             context.in_bytes = 0;
         }
         response.set_header("X-Request-Id", context.id);
@@ -127,25 +130,30 @@ struct HttpServer::Impl {
             // Answered before routing (unparsable request line, refused headers).
             id = response.get_header_value("X-Request-Id");
         }
-        state.metrics.observe_request(method_label(request.method), route, response.status, seconds);
-        log_request(*request_logger, {id, method_label(request.method), route, request.path, response.status, seconds,
-                                      context.active ? context.in_bytes : 0, response.body.size(),
-                                      request.remote_addr});
+        state.metrics.observe_request(method_label(request.method), route, response.status,
+                                      seconds);
+        log_request(
+            *request_logger,
+            {id, method_label(request.method), route, request.path, response.status, seconds,
+             context.active ? context.in_bytes : 0, response.body.size(), request.remote_addr});
         context = RequestContext{};
     }
 
     // ---- handlers ----------------------------------------------------------------------------
 
-    httplib::Server::HandlerResponse pre_route(const httplib::Request& request, httplib::Response& response,
-                                               bool on_admin) {
+    httplib::Server::HandlerResponse pre_route(const httplib::Request& request,
+                                               httplib::Response& response, bool on_admin) {
         begin(request, response, on_admin);
-        if (refuse(t_context.route, request, response, config())) return httplib::Server::HandlerResponse::Handled;
-        if (request.method == "POST") return httplib::Server::HandlerResponse::Unhandled;  // → handle_post
+        if (refuse(t_context.route, request, response, config()))
+            return httplib::Server::HandlerResponse::Handled;
+        if (request.method == "POST")
+            return httplib::Server::HandlerResponse::Unhandled;  // → handle_post
         guarded(response, [&] { handle_get_or_delete(*t_context.route, request, response); });
         return httplib::Server::HandlerResponse::Handled;
     }
 
-    int expect_continue(const httplib::Request& request, httplib::Response& response, bool on_admin) {
+    int expect_continue(const httplib::Request& request, httplib::Response& response,
+                        bool on_admin) {
         begin(request, response, on_admin);
         if (refuse(t_context.route, request, response, config())) {
             response.set_header("Connection", "close");
@@ -160,14 +168,17 @@ struct HttpServer::Impl {
             handler();
         } catch (const std::exception& error) {
             spdlog::error("request {} failed: {}", t_context.id, error.what());
-            set_problem(response, api::ProblemCode::internal, "the request failed unexpectedly; the log has the cause");
+            set_problem(response, api::ProblemCode::internal,
+                        "the request failed unexpectedly; the log has the cause");
         } catch (...) {
             spdlog::error("request {} failed with a non-standard exception", t_context.id);
-            set_problem(response, api::ProblemCode::internal, "the request failed unexpectedly; the log has the cause");
+            set_problem(response, api::ProblemCode::internal,
+                        "the request failed unexpectedly; the log has the cause");
         }
     }
 
-    void handle_get_or_delete(const Route& route, const httplib::Request& request, httplib::Response& response) {
+    void handle_get_or_delete(const Route& route, const httplib::Request& request,
+                              httplib::Response& response) {
         switch (route.id) {
             case RouteId::scenarios_default:
                 response.status = 200;
@@ -184,7 +195,8 @@ struct HttpServer::Impl {
             case RouteId::static_file:
                 if (!serve_static_file(request, response)) {
                     set_problem(response, api::ProblemCode::not_found,
-                                concat("no file ", api::quoted_for_message(request.path), " in the workbench"));
+                                concat("no file ", api::quoted_for_message(request.path),
+                                       " in the workbench"));
                 }
                 return;
             case RouteId::job: {
@@ -193,7 +205,8 @@ struct HttpServer::Impl {
                     job_endpoints.cancel(id, response);
                 } else {
                     job_endpoints.get(id, response);
-                    if (response.status == 200) offer_csv(request, json::parse(response.body), response);
+                    if (response.status == 200)
+                        offer_csv(request, json::parse(response.body), response);
                 }
                 return;
             }
@@ -205,7 +218,8 @@ struct HttpServer::Impl {
     }
 
     // Accept: text/csv on a 200 answer that holds a result: its table, or 406 (csv_answer.h).
-    static void offer_csv(const httplib::Request& request, const json& answer, httplib::Response& response) {
+    static void offer_csv(const httplib::Request& request, const json& answer,
+                          httplib::Response& response) {
         if (response.status != 200 || !wants_csv(request.get_header_value("Accept"))) return;
         const CsvAnswer csv = csv_answer(answer, request.get_param_value("table"));
         response.status = csv.status;
@@ -241,7 +255,8 @@ struct HttpServer::Impl {
         }
         if (!read) {
             response.set_header("Connection", "close");
-            set_problem(response, api::ProblemCode::unreadable_input, "the request body could not be read");
+            set_problem(response, api::ProblemCode::unreadable_input,
+                        "the request body could not be read");
             return;
         }
         guarded(response, [&] {
@@ -258,7 +273,8 @@ struct HttpServer::Impl {
                 job_endpoints.create(std::move(document), response);
             } else {
                 run_route(*route, std::move(document), response);
-                if (response.status == 200) offer_csv(request, json::parse(response.body), response);
+                if (response.status == 200)
+                    offer_csv(request, json::parse(response.body), response);
             }
         });
     }
@@ -267,12 +283,15 @@ struct HttpServer::Impl {
     // here, computed on a worker.
     void run_route(const Route& route, json body, httplib::Response& response) {
         if (!body.is_object()) {
-            set_problem(response, api::ProblemCode::invalid_request, "the request body must be a JSON object",
-                        {{"", concat("must be an object, not ", api::json_type_name(body)), std::nullopt, std::nullopt}});
+            set_problem(response, api::ProblemCode::invalid_request,
+                        "the request body must be a JSON object",
+                        {{"", concat("must be an object, not ", api::json_type_name(body)),
+                          std::nullopt, std::nullopt}});
             return;
         }
         if (body.contains("analysis")) {
-            set_problem(response, api::ProblemCode::invalid_request, concat(route.pattern, " names its analysis itself"),
+            set_problem(response, api::ProblemCode::invalid_request,
+                        concat(route.pattern, " names its analysis itself"),
                         {{"/analysis",
                           concat("not a field of this endpoint: it runs '", route.analysis,
                                  "'; POST the full request to /v1/jobs to name the analysis"),
@@ -298,11 +317,14 @@ struct HttpServer::Impl {
         listener.set_payload_max_length(config().max_body_bytes);
         // What the Keep-Alive header announces; the listener's own loop enforces them.
         listener.set_keep_alive_max_count(ListenerLimits{}.max_requests_per_connection);
-        listener.set_keep_alive_timeout(std::chrono::duration_cast<std::chrono::seconds>(ListenerLimits{}.idle_timeout).count());
+        listener.set_keep_alive_timeout(
+            std::chrono::duration_cast<std::chrono::seconds>(ListenerLimits{}.idle_timeout)
+                .count());
         listener.set_tcp_nodelay(true);
-        listener.set_pre_routing_handler([this, on_admin](const httplib::Request& request, httplib::Response& response) {
-            return pre_route(request, response, on_admin);
-        });
+        listener.set_pre_routing_handler(
+            [this, on_admin](const httplib::Request& request, httplib::Response& response) {
+                return pre_route(request, response, on_admin);
+            });
         listener.set_expect_100_continue_handler(
             [this, on_admin](const httplib::Request& request, httplib::Response& response) {
                 return expect_continue(request, response, on_admin);
@@ -312,27 +334,34 @@ struct HttpServer::Impl {
                 if ((route.methods & post) == 0) continue;
                 listener.Post(std::string(route.pattern),
                               [this](const httplib::Request&, httplib::Response& response,
-                                     const httplib::ContentReader& reader) { handle_post(request, response, reader); });
+                                     const httplib::ContentReader& reader) {
+                                  handle_post(request, response, reader);
+                              });
             }
         }
-        listener.set_error_handler([](const httplib::Request& request, httplib::Response& response) {
-            if (const Refusal refusal = current_refusal(); refusal != Refusal::none) {
-                set_problem(response, problem_for_refusal(refusal));
-                response.set_header("Connection", "close");
-            } else if (response.status == 416) {
-                // httplib parsed part of the malformed Range before refusing it and would cut
-                // this answer to that part.
-                const_cast<httplib::Request&>(request).ranges.clear();
-            }
-            if (!response.has_header("X-Request-Id")) response.set_header("X-Request-Id", new_request_id());
-            if (!response.body.empty() || response.status == 204) return;
-            set_problem(response, problem_for_status(response.status));
-        });
-        listener.set_exception_handler([](const httplib::Request&, httplib::Response& response, std::exception_ptr) {
+        listener.set_error_handler(
+            [](const httplib::Request& request, httplib::Response& response) {
+                if (const Refusal refusal = current_refusal(); refusal != Refusal::none) {
+                    set_problem(response, problem_for_refusal(refusal));
+                    response.set_header("Connection", "close");
+                } else if (response.status == 416) {
+                    // httplib parsed part of the malformed Range before refusing it and would cut
+                    // this answer to that part.
+                    const_cast<httplib::Request&>(request).ranges.clear();
+                }
+                if (!response.has_header("X-Request-Id"))
+                    response.set_header("X-Request-Id", new_request_id());
+                if (!response.body.empty() || response.status == 204) return;
+                set_problem(response, problem_for_status(response.status));
+            });
+        listener.set_exception_handler([](const httplib::Request&, httplib::Response& response,
+                                          std::exception_ptr) {
             set_problem(response, api::ProblemCode::internal, "the request failed unexpectedly");
         });
         listener.set_request_logger(
-            [this](const httplib::Request& request, const httplib::Response& response) { end(request, response); });
+            [this](const httplib::Request& request, const httplib::Response& response) {
+                end(request, response);
+            });
         listener.set_refusal_renderer([](Refusal refusal, httplib::Response& response) {
             set_problem(response, problem_for_refusal(refusal));
             response.set_header("X-Request-Id", new_request_id());
@@ -351,17 +380,21 @@ struct HttpServer::Impl {
         configure(admin, admin_threads, true);
 
         bound_port = bind(server, config().bind_address, config().port);
-        if (bound_port > 0) admin_bound_port = bind(admin, config().admin_bind_address, config().admin_port);
+        if (bound_port > 0)
+            admin_bound_port = bind(admin, config().admin_bind_address, config().admin_port);
         if (bound_port <= 0 || admin_bound_port <= 0) {
             if (error != nullptr) {
                 const bool public_failed = bound_port <= 0;
-                *error = concat("cannot listen on ", public_failed ? config().bind_address : config().admin_bind_address,
-                                ":", std::to_string(public_failed ? config().port : config().admin_port),
-                                public_failed ? "" : " (admin)", " (address in use or not available)");
+                *error =
+                    concat("cannot listen on ",
+                           public_failed ? config().bind_address : config().admin_bind_address, ":",
+                           std::to_string(public_failed ? config().port : config().admin_port),
+                           public_failed ? "" : " (admin)", " (address in use or not available)");
             }
             return false;
         }
-        if (!server.raise_backlog(SOMAXCONN)) spdlog::warn("cannot raise the listen backlog; keeping httplib's");
+        if (!server.raise_backlog(SOMAXCONN))
+            spdlog::warn("cannot raise the listen backlog; keeping httplib's");
         server_thread = std::thread([this] { server.listen_after_bind(); });
         admin_thread = std::thread([this] { admin.listen_after_bind(); });
         started = true;
@@ -396,8 +429,10 @@ struct HttpServer::Impl {
 
 // ==============================================================================================
 
-HttpServer::HttpServer(ServerConfig config, Evaluator evaluator, std::shared_ptr<spdlog::logger> request_logger)
-    : impl_(std::make_unique<Impl>(config.resolved(), std::move(evaluator), std::move(request_logger))) {}
+HttpServer::HttpServer(ServerConfig config, Evaluator evaluator,
+                       std::shared_ptr<spdlog::logger> request_logger)
+    : impl_(std::make_unique<Impl>(config.resolved(), std::move(evaluator),
+                                   std::move(request_logger))) {}
 
 HttpServer::~HttpServer() { shutdown(); }
 

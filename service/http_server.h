@@ -27,7 +27,8 @@
 namespace rollgap::service {
 
 // What computes an outcome. The default is the facade; tests inject slow or blocking ones.
-using Evaluator = std::function<Outcome(const nlohmann::json& request, const core::Control& control)>;
+using Evaluator =
+    std::function<Outcome(const nlohmann::json& request, const core::Control& control)>;
 Evaluator facade_evaluator();
 
 // How long after the drain timeout connections may still take their answers.

@@ -34,7 +34,8 @@ std::string random_job_id() {
 std::string rfc3339(std::chrono::system_clock::time_point time) {
     const auto since_epoch = time.time_since_epoch();
     const auto seconds = std::chrono::floor<std::chrono::seconds>(since_epoch);
-    const auto millis = std::chrono::duration_cast<std::chrono::milliseconds>(since_epoch - seconds).count();
+    const auto millis =
+        std::chrono::duration_cast<std::chrono::milliseconds>(since_epoch - seconds).count();
     const std::time_t t = static_cast<std::time_t>(seconds.count());
     std::tm utc{};
     gmtime_r(&t, &utc);
@@ -45,7 +46,8 @@ std::string rfc3339(std::chrono::system_clock::time_point time) {
 
 JobStore::JobStore(std::size_t max_jobs, std::chrono::milliseconds retention, std::string instance,
                    SteadyClock clock)
-    : max_jobs_(max_jobs), retention_(retention), instance_(std::move(instance)), clock_(std::move(clock)) {}
+    : max_jobs_(max_jobs), retention_(retention), instance_(std::move(instance)),
+      clock_(std::move(clock)) {}
 
 void JobStore::purge_expired() {
     const auto now = clock_();
@@ -69,7 +71,8 @@ bool JobStore::evict_cancelled() {
     return true;
 }
 
-std::shared_ptr<Job> JobStore::create(std::string analysis, nlohmann::json request, Job::SteadyTime deadline) {
+std::shared_ptr<Job> JobStore::create(std::string analysis, nlohmann::json request,
+                                      Job::SteadyTime deadline) {
     std::lock_guard lock(mutex_);
     purge_expired();
     if (jobs_.size() >= max_jobs_ && !evict_cancelled()) return nullptr;
@@ -102,7 +105,8 @@ void JobStore::set_finished(Job& job, JobState state) {
     job.state = state;
     job.finished_at = std::chrono::system_clock::now();
     job.expires = clock_() + retention_;
-    job.request = nullptr;  // the scenario is echoed in the result; the request is not needed any more
+    job.request =
+        nullptr;  // the scenario is echoed in the result; the request is not needed any more
 }
 
 void JobStore::finish(const std::shared_ptr<Job>& job, Outcome outcome) {
@@ -155,7 +159,8 @@ std::optional<nlohmann::json> JobStore::document(const std::string& id) {
     return document_of(*found->second);
 }
 
-CancelResult JobStore::cancel(const std::string& id, nlohmann::json* document, std::shared_ptr<Job>* cancelled) {
+CancelResult JobStore::cancel(const std::string& id, nlohmann::json* document,
+                              std::shared_ptr<Job>* cancelled) {
     std::lock_guard lock(mutex_);
     purge_expired();
     const auto found = jobs_.find(id);
@@ -175,9 +180,7 @@ CancelResult JobStore::cancel(const std::string& id, nlohmann::json* document, s
             break;
         case JobState::succeeded:
         case JobState::failed:
-        case JobState::cancelled:
-            jobs_.erase(found);
-            return CancelResult::deleted;
+        case JobState::cancelled: jobs_.erase(found); return CancelResult::deleted;
     }
     if (document != nullptr) *document = document_of(job);
     return result;

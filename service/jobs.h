@@ -45,7 +45,7 @@ struct Job {
     std::optional<WallTime> started_at;
     std::optional<WallTime> finished_at;
     std::optional<SteadyTime> expires;  // set when finished
-    std::optional<Outcome> outcome;      // set when succeeded or failed
+    std::optional<Outcome> outcome;     // set when succeeded or failed
 };
 
 struct JobCounts {
@@ -56,21 +56,23 @@ struct JobCounts {
 
 enum class CancelResult {
     not_found,
-    cancelled,          // it was queued: cancelled now, it will not run
-    cancel_requested,   // it is running: its computation is told to stop
-    deleted,            // it had finished: removed from the store
+    cancelled,         // it was queued: cancelled now, it will not run
+    cancel_requested,  // it is running: its computation is told to stop
+    deleted,           // it had finished: removed from the store
 };
 
 class JobStore {
 public:
     using SteadyClock = std::function<Job::SteadyTime()>;
 
-    JobStore(std::size_t max_jobs, std::chrono::milliseconds retention, std::string instance,
-             SteadyClock clock = [] { return std::chrono::steady_clock::now(); });
+    JobStore(
+        std::size_t max_jobs, std::chrono::milliseconds retention, std::string instance,
+        SteadyClock clock = [] { return std::chrono::steady_clock::now(); });
 
     // A new queued job, or nullptr when the store is full (after purging expired jobs and,
     // oldest first, jobs cancelled by DELETE: a client that cancelled a job gave up its slot).
-    std::shared_ptr<Job> create(std::string analysis, nlohmann::json request, Job::SteadyTime deadline);
+    std::shared_ptr<Job> create(std::string analysis, nlohmann::json request,
+                                Job::SteadyTime deadline);
 
     // Removes a job that could not be queued after all.
     void remove(const std::string& id);
@@ -96,10 +98,10 @@ public:
     std::size_t capacity() const { return max_jobs_; }
 
 private:
-    void purge_expired();  // under mutex_
+    void purge_expired();    // under mutex_
     bool evict_cancelled();  // under mutex_: the cancelled job that finished first
     nlohmann::json document_of(const Job& job) const;  // under mutex_
-    void set_finished(Job& job, JobState state);        // under mutex_
+    void set_finished(Job& job, JobState state);       // under mutex_
 
     std::size_t max_jobs_;
     std::chrono::milliseconds retention_;

@@ -15,7 +15,8 @@ std::string number_text(double value) {
     if (std::isinf(value)) return value > 0 ? "+Inf" : "-Inf";
     std::array<char, 64> text{};
     // Shortest round trip, %g style: 0.0005 rather than 5e-04.
-    const auto written = std::to_chars(text.data(), text.data() + text.size(), value, std::chars_format::general);
+    const auto written =
+        std::to_chars(text.data(), text.data() + text.size(), value, std::chars_format::general);
     return std::string(text.data(), written.ptr);
 }
 
@@ -36,14 +37,16 @@ std::string join_labels(std::string_view a, std::string_view b) {
     return text;
 }
 
-void write_histogram(std::ostream& out, std::string_view name, const std::string& labels, const Histogram& histogram) {
+void write_histogram(std::ostream& out, std::string_view name, const std::string& labels,
+                     const Histogram& histogram) {
     std::uint64_t cumulative = 0;
     const auto bounds = histogram.upper_bounds();
     const auto& counts = histogram.bucket_counts();
     for (std::size_t i = 0; i <= bounds.size(); ++i) {
         cumulative += counts[i];
         const std::string le = i < bounds.size() ? number_text(bounds[i]) : std::string("+Inf");
-        out << name << "_bucket{" << join_labels(labels, label("le", le)) << "} " << cumulative << '\n';
+        out << name << "_bucket{" << join_labels(labels, label("le", le)) << "} " << cumulative
+            << '\n';
     }
     const std::string braces = labels.empty() ? std::string() : "{" + labels + "}";
     out << name << "_sum" << braces << ' ' << number_text(histogram.sum()) << '\n';
@@ -62,11 +65,13 @@ std::string compiler_text() {
 
 }  // namespace
 
-Histogram::Histogram(std::span<const double> upper_bounds) : bounds_(upper_bounds), counts_(upper_bounds.size() + 1, 0) {}
+Histogram::Histogram(std::span<const double> upper_bounds)
+    : bounds_(upper_bounds), counts_(upper_bounds.size() + 1, 0) {}
 
 void Histogram::observe(double value) {
     if (!std::isfinite(value)) return;
-    const auto bucket = std::lower_bound(bounds_.begin(), bounds_.end(), value);  // le: value <= bound
+    const auto bucket =
+        std::lower_bound(bounds_.begin(), bounds_.end(), value);  // le: value <= bound
     ++counts_[static_cast<std::size_t>(bucket - bounds_.begin())];
     ++count_;
     sum_ += value;
@@ -89,17 +94,19 @@ std::string escape_label_value(std::string_view value) {
     return text;
 }
 
-void Metrics::observe_request(std::string_view method, std::string_view route, int status, double seconds) {
+void Metrics::observe_request(std::string_view method, std::string_view route, int status,
+                              double seconds) {
     std::lock_guard lock(mutex_);
-    auto [entry, inserted] = requests_.try_emplace(RequestKey{std::string(method), std::string(route), status},
-                                                   request_duration_buckets);
+    auto [entry, inserted] = requests_.try_emplace(
+        RequestKey{std::string(method), std::string(route), status}, request_duration_buckets);
     entry->second.observe(seconds);
 }
 
-void Metrics::observe_analysis(std::string_view analysis, std::string_view outcome, double seconds) {
+void Metrics::observe_analysis(std::string_view analysis, std::string_view outcome,
+                               double seconds) {
     std::lock_guard lock(mutex_);
-    auto [entry, inserted] =
-        analyses_.try_emplace(AnalysisKey{std::string(analysis), std::string(outcome)}, analysis_duration_buckets);
+    auto [entry, inserted] = analyses_.try_emplace(
+        AnalysisKey{std::string(analysis), std::string(outcome)}, analysis_duration_buckets);
     entry->second.observe(seconds);
 }
 
@@ -113,7 +120,8 @@ void Metrics::count_skipped(std::string_view reason) {
     ++skipped_[std::string(reason)];
 }
 
-std::uint64_t Metrics::request_count(std::string_view method, std::string_view route, int status) const {
+std::uint64_t Metrics::request_count(std::string_view method, std::string_view route,
+                                     int status) const {
     std::lock_guard lock(mutex_);
     const auto found = requests_.find(RequestKey{std::string(method), std::string(route), status});
     return found == requests_.end() ? 0 : found->second.count();
@@ -128,8 +136,9 @@ std::string Metrics::render(std::span<const GaugeSample> gauges) const {
                "# TYPE rollgap_http_requests_total counter\n";
         for (const auto& [key, histogram] : requests_) {
             const auto& [method, route, status] = key;
-            out << "rollgap_http_requests_total{" << label("method", method) << ',' << label("route", route) << ','
-                << label("status", std::to_string(status)) << "} " << histogram.count() << '\n';
+            out << "rollgap_http_requests_total{" << label("method", method) << ','
+                << label("route", route) << ',' << label("status", std::to_string(status)) << "} "
+                << histogram.count() << '\n';
         }
 
         out << "# HELP rollgap_http_request_duration_seconds Time from routing to the response, by method, "
@@ -149,7 +158,8 @@ std::string Metrics::render(std::span<const GaugeSample> gauges) const {
         for (const auto& [key, histogram] : analyses_) {
             const auto& [analysis, outcome] = key;
             write_histogram(out, "rollgap_analysis_duration_seconds",
-                            join_labels(label("analysis", analysis), label("outcome", outcome)), histogram);
+                            join_labels(label("analysis", analysis), label("outcome", outcome)),
+                            histogram);
         }
 
         out << "# HELP rollgap_solver_failures_total Analyses whose solver failed or that raised an internal "
@@ -157,14 +167,15 @@ std::string Metrics::render(std::span<const GaugeSample> gauges) const {
                "# TYPE rollgap_solver_failures_total counter\n";
         for (const auto& [key, count] : solver_failures_) {
             const auto& [analysis, reason] = key;
-            out << "rollgap_solver_failures_total{" << label("analysis", analysis) << ',' << label("reason", reason)
-                << "} " << count << '\n';
+            out << "rollgap_solver_failures_total{" << label("analysis", analysis) << ','
+                << label("reason", reason) << "} " << count << '\n';
         }
 
         out << "# HELP rollgap_work_skipped_total Queued work dropped before it ran, by reason.\n"
                "# TYPE rollgap_work_skipped_total counter\n";
         for (const auto& [reason, count] : skipped_) {
-            out << "rollgap_work_skipped_total{" << label("reason", reason) << "} " << count << '\n';
+            out << "rollgap_work_skipped_total{" << label("reason", reason) << "} " << count
+                << '\n';
         }
     }
 
@@ -176,7 +187,8 @@ std::string Metrics::render(std::span<const GaugeSample> gauges) const {
     std::string_view previous;
     for (const GaugeSample* gauge : sorted) {
         if (gauge->name != previous) {
-            out << "# HELP " << gauge->name << ' ' << gauge->help << '\n' << "# TYPE " << gauge->name << " gauge\n";
+            out << "# HELP " << gauge->name << ' ' << gauge->help << '\n'
+                << "# TYPE " << gauge->name << " gauge\n";
             previous = gauge->name;
         }
         out << gauge->name;
@@ -186,8 +198,8 @@ std::string Metrics::render(std::span<const GaugeSample> gauges) const {
 
     out << "# HELP rollgap_build_info The running build; the value is always 1.\n"
            "# TYPE rollgap_build_info gauge\n"
-        << "rollgap_build_info{" << label("version", version()) << ',' << label("compiler", compiler_text())
-        << "} 1\n";
+        << "rollgap_build_info{" << label("version", version()) << ','
+        << label("compiler", compiler_text()) << "} 1\n";
     return out.str();
 }
 

@@ -40,7 +40,7 @@ private:
 };
 
 struct GaugeSample {
-    std::string name;    // rollgap_queue_depth
+    std::string name;  // rollgap_queue_depth
     std::string help;
     std::string labels;  // rendered: lane="interactive" (empty: none)
     double value = 0.0;
@@ -49,7 +49,8 @@ struct GaugeSample {
 class Metrics {
 public:
     // One finished HTTP request. `route` is a route-table pattern or "unmatched".
-    void observe_request(std::string_view method, std::string_view route, int status, double seconds);
+    void observe_request(std::string_view method, std::string_view route, int status,
+                         double seconds);
 
     // One computation that ran on a worker; `outcome`: succeeded, rejected (4xx problem),
     // deadline_exceeded, cancelled, failed (5xx problem).

@@ -61,8 +61,8 @@ json leaf_schema(const api::ScenarioField& field, const json& default_value, boo
             if (field.even) schema["multipleOf"] = 2;
             if (!integer) schema["x-unit"] = field.unit.code;
             description = concat(integer ? "Integer" : "Number", field.even ? ", even" : "", "; ",
-                                 integer ? std::string("dimensionless") : unit_text(field.unit), "; bounds ",
-                                 field.range.text(), ".");
+                                 integer ? std::string("dimensionless") : unit_text(field.unit),
+                                 "; bounds ", field.range.text(), ".");
             break;
         }
         case api::FieldKind::boolean:
@@ -90,7 +90,8 @@ json group_schema(std::string_view path, const json& defaults, bool patch) {
     json required = json::array();
     for (const std::string_view member : api::scenario_group_members(path)) {
         const std::string child = concat(path, "/", member);
-        const json& child_default = defaults.contains(member) ? defaults.at(std::string(member)) : json();
+        const json& child_default =
+            defaults.contains(member) ? defaults.at(std::string(member)) : json();
         if (api::is_scenario_group(child)) {
             properties[std::string(member)] = group_schema(child, child_default, patch);
         } else if (const api::ScenarioField* field = api::find_scenario_field(child)) {
@@ -125,8 +126,8 @@ void add_defaults(json& schemas, json& schema, const json& resolved) {
     json& properties = schema["properties"];
     for (const auto& [name, value] : resolved.items()) {
         // Defaults that depend on the request are described, not stated.
-        if (name == "speeds_m_per_s" || name == "parameter" || name == "values" || name == "range" ||
-            name == "parameters" || name == "observations") {
+        if (name == "speeds_m_per_s" || name == "parameter" || name == "values" ||
+            name == "range" || name == "parameters" || name == "observations") {
             continue;
         }
         const auto property = properties.find(name);
@@ -153,7 +154,8 @@ constexpr std::array<OptionsSchema, 9> options_schemas{{
     {"amplitude", "AmplitudeOptions", "{}"},
     {"sweep", "SweepOptions", R"({"parameter": "/rolls/speed_m_per_s", "values": [19]})"},
     {"sweep", "SweepAmplitudeOptions",
-     R"({"parameter": "/rolls/speed_m_per_s", "values": [19], "quantity": "amplitude"})", "amplitude"},
+     R"({"parameter": "/rolls/speed_m_per_s", "values": [19], "quantity": "amplitude"})",
+     "amplitude"},
     {"map", "MapOptions",
      R"({"parameters": [{"parameter": "/strip/reduction", "values": [0.15]},
                         {"parameter": "/strip/entry_thickness_mm", "values": [1.6]}]})"},
@@ -195,14 +197,16 @@ struct AnalysisRoute {
     std::vector<api::ResultSchema> (*schemas)();  // the components the result uses
 };
 const std::array<AnalysisRoute, 8> analysis_routes{{
-    {"roll_gap", "/v1/roll-gap", "RollGapResponse", "RollGapOptions", "RollGapResult", &api::bite_result_schemas},
-    {"tension_cycle", "/v1/tension-cycle", "TensionCycleResponse", "TensionCycleOptions", "TensionCycleResult",
-     &api::tension_cycle_result_schemas},
+    {"roll_gap", "/v1/roll-gap", "RollGapResponse", "RollGapOptions", "RollGapResult",
+     &api::bite_result_schemas},
+    {"tension_cycle", "/v1/tension-cycle", "TensionCycleResponse", "TensionCycleOptions",
+     "TensionCycleResult", &api::tension_cycle_result_schemas},
     {"stability", "/v1/stability", "StabilityResponse", "StabilityOptions", "StabilityResult",
      &api::stability_result_schemas},
     {"amplitude", "/v1/amplitude", "AmplitudeResponse", "AmplitudeOptions", "AmplitudeResult",
      &api::amplitude_result_schemas},
-    {"sweep", "/v1/sweeps", "SweepResponse", "SweepOptions", "SweepResult", &api::sweep_result_schemas},
+    {"sweep", "/v1/sweeps", "SweepResponse", "SweepOptions", "SweepResult",
+     &api::sweep_result_schemas},
     {"map", "/v1/maps", "MapResponse", "MapOptions", "MapResult", &api::map_result_schemas},
     {"evaluate", "/v1/evaluate", "EvaluateResponse", "EvaluateOptions", "EvaluateResult",
      &api::evaluation_result_schemas},
@@ -210,7 +214,9 @@ const std::array<AnalysisRoute, 8> analysis_routes{{
      &api::calibration_result_schemas},
 }};
 
-json component_ref(std::string_view component) { return {{"$ref", concat("#/components/schemas/", component)}}; }
+json component_ref(std::string_view component) {
+    return {{"$ref", concat("#/components/schemas/", component)}};
+}
 
 // Accept: text/csv on a response that holds a result of these analyses: the tables, the
 // ?table= parameter and the 406 when there is none.
@@ -219,15 +225,18 @@ void add_csv(json& operation, json& ok, const std::vector<std::string_view>& ana
     std::string list;
     for (const std::string_view analysis : analyses_here) {
         for (const api::CsvTable& table : api::csv_tables(analysis)) {
-            if (std::find(names.begin(), names.end(), table.name) == names.end()) names.push_back(table.name);
-            list += concat(list.empty() ? "" : "; ", analysis, " `", table.name, "`: ", table.description);
+            if (std::find(names.begin(), names.end(), table.name) == names.end())
+                names.push_back(table.name);
+            list += concat(list.empty() ? "" : "; ", analysis, " `", table.name,
+                           "`: ", table.description);
         }
     }
     operation["responses"]["406"] = {{"$ref", "#/components/responses/NotAcceptable"}};
     if (names.empty()) return;
     ok["content"][std::string(api::csv_media_type)] = {
         {"schema", {{"type", "string"}}},
-        {"example", "speed_m_per_s,stable,max_growth_rate_per_s,steady_status\r\n10,true,-19.09,ok\r\n"}};
+        {"example",
+         "speed_m_per_s,stable,max_growth_rate_per_s,steady_status\r\n10,true,-19.09,ok\r\n"}};
     ok["description"] = concat(
         ok.value("description", std::string()),
         " With `Accept: text/csv`: one table of the result as RFC 4180 CSV (header row of column names with their "
@@ -237,7 +246,8 @@ void add_csv(json& operation, json& ok, const std::vector<std::string_view>& ana
         {"name", "table"},
         {"in", "query"},
         {"required", false},
-        {"description", "With Accept: text/csv, the table of the result to return (default: the analysis' first)."},
+        {"description",
+         "With Accept: text/csv, the table of the result to return (default: the analysis' first)."},
         {"schema", {{"enum", std::move(names)}}},
     });
 }
@@ -253,8 +263,9 @@ void add_result_schemas(json& document) {
         }
         schemas[std::string(route.response)] = {
             {"type", "object"},
-            {"description", concat("The ", route.analysis, " analysis' answer: the complete scenario and the options "
-                                                          "it used (so it can be rerun) and the result.")},
+            {"description", concat("The ", route.analysis,
+                                   " analysis' answer: the complete scenario and the options "
+                                   "it used (so it can be rerun) and the result.")},
             {"required", {"analysis", "scenario", "options", "result"}},
             {"additionalProperties", false},
             {"properties",
@@ -273,8 +284,9 @@ void add_result_schemas(json& document) {
         add_csv(operation, ok, {route.analysis});
     }
     schemas["AnalysisResponse"] = {
-        {"description", "An analysis' answer (a job's result): the analysis, the complete scenario and the options "
-                        "it used, and the result typed per analysis."},
+        {"description",
+         "An analysis' answer (a job's result): the analysis, the complete scenario and the options "
+         "it used, and the result typed per analysis."},
         {"oneOf", std::move(responses)},
         {"discriminator", {{"propertyName", "analysis"}, {"mapping", std::move(mapping)}}},
     };
@@ -287,12 +299,13 @@ void add_result_schemas(json& document) {
 json scenario_json_schema(bool patch) {
     json schema = group_schema("", api::default_scenario_json(), patch);
     schema["description"] =
-        patch ? "A JSON merge patch (RFC 7396) onto the default scenario (GET /v1/scenarios/default): give only "
-                "the fields that differ, in the same nesting; null restores a default. Unknown fields are errors. "
-                "Cross-field rules (tension below the flow stress, a small bite angle, Rayleigh frequencies in "
-                "order, ...) are checked on the merged scenario."
-              : "A complete scenario: every field with its unit in its name (SI prefixes, UCUM codes in x-unit). "
-                "The defaults are those of GET /v1/scenarios/default.";
+        patch
+            ? "A JSON merge patch (RFC 7396) onto the default scenario (GET /v1/scenarios/default): give only "
+              "the fields that differ, in the same nesting; null restores a default. Unknown fields are errors. "
+              "Cross-field rules (tension below the flow stress, a small bite angle, Rayleigh frequencies in "
+              "order, ...) are checked on the merged scenario."
+            : "A complete scenario: every field with its unit in its name (SI prefixes, UCUM codes in x-unit). "
+              "The defaults are those of GET /v1/scenarios/default.";
     return schema;
 }
 

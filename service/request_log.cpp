@@ -9,11 +9,13 @@ namespace rollgap::service {
 namespace {
 
 bool id_character(char c) {
-    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '.' || c == '_' ||
-           c == ':' || c == '-';
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '.' ||
+           c == '_' || c == ':' || c == '-';
 }
 
-bool bare_character(char c) { return id_character(c) || c == '/' || c == '{' || c == '}' || c == '?'; }
+bool bare_character(char c) {
+    return id_character(c) || c == '/' || c == '{' || c == '}' || c == '?';
+}
 
 }  // namespace
 
@@ -56,16 +58,18 @@ std::string logfmt_value(std::string_view text, std::size_t max_chars) {
 }
 
 std::string format_request_line(const RequestLogEntry& entry) {
-    return fmt::format("request id={} method={} route={} path={} status={} duration_ms={:.3f} in_bytes={} "
-                       "out_bytes={} remote={}",
-                       logfmt_value(entry.id), logfmt_value(entry.method, 16), logfmt_value(entry.route),
-                       logfmt_value(entry.path), entry.status, entry.seconds * 1e3, entry.in_bytes,
-                       entry.out_bytes, logfmt_value(entry.remote, 64));
+    return fmt::format(
+        "request id={} method={} route={} path={} status={} duration_ms={:.3f} in_bytes={} "
+        "out_bytes={} remote={}",
+        logfmt_value(entry.id), logfmt_value(entry.method, 16), logfmt_value(entry.route),
+        logfmt_value(entry.path), entry.status, entry.seconds * 1e3, entry.in_bytes,
+        entry.out_bytes, logfmt_value(entry.remote, 64));
 }
 
 void log_request(spdlog::logger& logger, const RequestLogEntry& entry) {
     // Server errors are worth a warning; everything else is routine.
-    const auto level = entry.status >= 500 && entry.status != 503 ? spdlog::level::warn : spdlog::level::info;
+    const auto level =
+        entry.status >= 500 && entry.status != 503 ? spdlog::level::warn : spdlog::level::info;
     if (!logger.should_log(level)) return;
     logger.log(level, "{}", format_request_line(entry));  // the line has braces: not a format
 }

@@ -8,7 +8,8 @@ namespace rollgap::service {
 
 PreparedAnalysis prepare_roll_gap(const core::Scenario& scenario, const nlohmann::json& options,
                                   const std::string& options_pointer, api::FieldErrors& errors) {
-    const core::BiteOptions bite_options = api::bite_options_from_json(options, options_pointer, errors);
+    const core::BiteOptions bite_options =
+        api::bite_options_from_json(options, options_pointer, errors);
     return {
         api::bite_options_json(bite_options),
         [scenario, bite_options] {

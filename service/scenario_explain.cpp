@@ -51,7 +51,8 @@ void append_wrapped(std::string& out, std::string_view text) {
         const std::string_view word = text.substr(start, end - start);
         start = end + 1;
         if (word.empty()) continue;
-        const bool after_number = !words.empty() && std::isdigit(static_cast<unsigned char>(words.back().back()));
+        const bool after_number =
+            !words.empty() && std::isdigit(static_cast<unsigned char>(words.back().back()));
         if (after_number && word.size() <= 4) {
             words.back() += concat(" ", word);
         } else {

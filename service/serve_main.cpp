@@ -44,14 +44,15 @@ int serve(const ServerConfig& parsed) {
         spdlog::critical("msg=\"{}\"", error);
         return exit_failure;
     }
-    spdlog::info("msg=listening version={} address={}:{} admin_address={}:{} {}", version(), config.bind_address,
-                 server.port(), config.admin_bind_address, server.admin_port(), describe(config));
+    spdlog::info("msg=listening version={} address={}:{} admin_address={}:{} {}", version(),
+                 config.bind_address, server.port(), config.admin_bind_address, server.admin_port(),
+                 describe(config));
 
     int received = 0;
     while (sigwait(&signals, &received) != 0) {
     }
-    spdlog::info("msg=draining signal={} drain_timeout_ms={}", received == SIGTERM ? "SIGTERM" : "SIGINT",
-                 config.drain_timeout.count());
+    spdlog::info("msg=draining signal={} drain_timeout_ms={}",
+                 received == SIGTERM ? "SIGTERM" : "SIGINT", config.drain_timeout.count());
     server.shutdown();
     spdlog::info("msg=stopped");
     return exit_ok;
@@ -72,7 +73,8 @@ int healthcheck(const std::string& url, std::ostream& out, std::ostream& err) {
     client.set_read_timeout(5, 0);
     const auto response = client.Get(path.c_str());
     if (!response) {
-        err << "rollgap healthcheck: " << url << ": " << httplib::to_string(response.error()) << '\n';
+        err << "rollgap healthcheck: " << url << ": " << httplib::to_string(response.error())
+            << '\n';
         return exit_failure;
     }
     out << url << ": " << response->status << '\n';

@@ -2,7 +2,8 @@
 // The subcommands of `rollgap` that belong to the HTTP service, after the command line is parsed
 // (service/cli.cpp):
 //   rollgap serve [OPTION VALUE]...   run the service until SIGTERM/SIGINT, then drain, exit 0
-//   rollgap healthcheck [--url URL]   exit 0 iff URL (default http://127.0.0.1:$ROLLGAP_ADMIN_PORT/readyz,
+//   rollgap healthcheck [--url URL]   exit 0 iff URL (default
+//   http://127.0.0.1:$ROLLGAP_ADMIN_PORT/readyz,
 //                                     the admin listener)
 //                                     answers 200: the container's HEALTHCHECK, no curl needed
 // Exit status: 0 success, 1 failure (cannot listen, not healthy), 2 bad usage.

@@ -8,14 +8,16 @@ namespace rollgap::service {
 
 PreparedAnalysis prepare_stability(const core::Scenario& scenario, const nlohmann::json& options,
                                    const std::string& options_pointer, api::FieldErrors& errors) {
-    api::StabilityOptions parsed = api::stability_options_from_json(options, options_pointer, errors);
+    api::StabilityOptions parsed =
+        api::stability_options_from_json(options, options_pointer, errors);
     return {
         api::stability_options_json(parsed),
         [scenario, parsed](const core::Control& control) {
             api::StabilityReport report{core::stability_at(scenario), {}, {}, parsed.detail};
             const double k4 = report.at_speed.strip_stiffness;
             if (report.at_speed.steady_status == core::BiteStatus::ok && k4 > 0.0) {
-                core::ModalAnalysis modal = core::modal_analysis(core::mill_matrices(scenario.mill), k4);
+                core::ModalAnalysis modal =
+                    core::modal_analysis(core::mill_matrices(scenario.mill), k4);
                 if (modal.ok) report.modal = std::move(modal);
             }
             if (parsed.critical_speed) {
@@ -24,7 +26,8 @@ PreparedAnalysis prepare_stability(const core::Scenario& scenario, const nlohman
                 core::CriticalSpeedOptions search = parsed.search;
                 search.threads = control.thread_budget();
                 report.critical = core::critical_speed(scenario, search, control);
-                if (report.critical->status == core::CriticalSpeedStatus::cancelled) throw AnalysisCancelled{};
+                if (report.critical->status == core::CriticalSpeedStatus::cancelled)
+                    throw AnalysisCancelled{};
                 throw_if_cancelled(control);
             }
             return api::stability_result_json(report);

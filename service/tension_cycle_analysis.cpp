@@ -5,8 +5,10 @@
 
 namespace rollgap::service {
 
-PreparedAnalysis prepare_tension_cycle(const core::Scenario& scenario, const nlohmann::json& options,
-                                       const std::string& options_pointer, api::FieldErrors& errors) {
+PreparedAnalysis prepare_tension_cycle(const core::Scenario& scenario,
+                                       const nlohmann::json& options,
+                                       const std::string& options_pointer,
+                                       api::FieldErrors& errors) {
     const bool scenario_valid = errors.empty();  // analysis.h: only the scenario was read so far
     if (scenario_valid) api::check_tension_cycle_scenario(scenario, "/scenario", errors);
     const core::TensionCycleOptions parsed = api::tension_cycle_options_from_json(

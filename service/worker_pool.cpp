@@ -7,10 +7,9 @@
 
 namespace rollgap::service {
 
-WorkerPool::WorkerPool(std::size_t workers, std::size_t interactive_capacity, std::size_t batch_capacity,
-                       std::size_t batch_concurrency)
-    : interactive_capacity_(interactive_capacity),
-      batch_capacity_(batch_capacity),
+WorkerPool::WorkerPool(std::size_t workers, std::size_t interactive_capacity,
+                       std::size_t batch_capacity, std::size_t batch_concurrency)
+    : interactive_capacity_(interactive_capacity), batch_capacity_(batch_capacity),
       batch_concurrency_(std::max<std::size_t>(1, batch_concurrency)) {
     workers = std::max<std::size_t>(1, workers);
     threads_.reserve(workers);
@@ -24,7 +23,8 @@ bool WorkerPool::try_submit(Lane lane, Task task, const void* key) {
         std::lock_guard lock(mutex_);
         if (stopping_) return false;
         auto& queue = lane == Lane::interactive ? interactive_ : batch_;
-        const std::size_t capacity = lane == Lane::interactive ? interactive_capacity_ : batch_capacity_;
+        const std::size_t capacity =
+            lane == Lane::interactive ? interactive_capacity_ : batch_capacity_;
         // A task is refused only when it would have to wait: an idle worker takes it at once
         // even with a zero-length queue.
         const std::size_t free_workers = threads_.size() - busy_;
@@ -45,8 +45,8 @@ bool WorkerPool::withdraw(const void* key) {
     Task removed;  // destroyed outside the lock: it may hold the last reference to what it captured
     std::lock_guard lock(mutex_);
     for (auto* queue : {&interactive_, &batch_}) {
-        const auto found =
-            std::find_if(queue->begin(), queue->end(), [key](const Queued& queued) { return queued.key == key; });
+        const auto found = std::find_if(queue->begin(), queue->end(),
+                                        [key](const Queued& queued) { return queued.key == key; });
         if (found != queue->end()) {
             removed = std::move(found->task);
             queue->erase(found);
@@ -63,7 +63,9 @@ bool WorkerPool::can_take() const {
 void WorkerPool::work() {
     std::unique_lock lock(mutex_);
     for (;;) {
-        wake_.wait(lock, [this] { return can_take() || (stopping_ && interactive_.empty() && batch_.empty()); });
+        wake_.wait(lock, [this] {
+            return can_take() || (stopping_ && interactive_.empty() && batch_.empty());
+        });
         if (!can_take()) return;  // stopping and nothing left
         Task task;
         bool batch = false;

@@ -24,7 +24,7 @@ enum class Lane { interactive, batch };
 
 struct WorkerPoolStats {
     std::size_t workers = 0;
-    std::size_t busy = 0;                  // workers running a task
+    std::size_t busy = 0;  // workers running a task
     std::size_t interactive_queued = 0;
     std::size_t interactive_capacity = 0;
     std::size_t batch_queued = 0;

@@ -48,7 +48,8 @@ ScenarioCalibration bite_and_mode_setup() {
 }
 
 // Sets each observation to the model's prediction at `truth`, with relative uncertainties.
-void observe(ScenarioCalibration& setup, const Eigen::VectorXd& truth, const std::vector<double>& relative_uncertainty) {
+void observe(ScenarioCalibration& setup, const Eigen::VectorXd& truth,
+             const std::vector<double>& relative_uncertainty) {
     const auto predicted = predict_observations(setup, truth);
     for (std::size_t i = 0; i < setup.observations.size(); ++i) {
         REQUIRE_MESSAGE(std::isfinite(predicted[i].value), predicted[i].failure);
@@ -66,7 +67,8 @@ Eigen::VectorXd vector(std::initializer_list<double> values) {
 
 }  // namespace
 
-TEST_CASE("noise-free plant data: flow stress, asperity factor and Rayleigh ratio come back to 1e-4") {
+TEST_CASE(
+    "noise-free plant data: flow stress, asperity factor and Rayleigh ratio come back to 1e-4") {
     ScenarioCalibration setup = bite_and_mode_setup();
     const Eigen::VectorXd truth = vector({410e6, 0.7, 0.05});
     observe(setup, truth, {0.005, 0.01, 0.005, 0.02, 0.05});
@@ -111,20 +113,23 @@ TEST_CASE("seeded noise: the fitted values scatter around the truth by their sta
             ++count;
         }
     }
-    MESSAGE(beyond_two << " of " << count << " beyond 2 standard errors; mean squared normalised error "
+    MESSAGE(beyond_two << " of " << count
+                       << " beyond 2 standard errors; mean squared normalised error "
                        << sum_z2 / count);
     CHECK(beyond_two <= 4);
     CHECK(sum_z2 / count > 0.3);
     CHECK(sum_z2 / count < 2.0);
 }
 
-TEST_CASE("a prior pulls a parameter the observations do not see to the prior, with the prior's uncertainty") {
+TEST_CASE(
+    "a prior pulls a parameter the observations do not see to the prior, with the prior's uncertainty") {
     // The steady bite does not depend on the entry-span length (it enters the dynamics only).
     ScenarioCalibration setup;
     setup.conditions = {at_speed(5.0), at_speed(19.0)};
     setup.access = {flow_stress, span_length};
     setup.parameters = {{380e6, 100e6, 800e6}, {5.0, 1.0, 20.0, true, 7.0, 0.5}};
-    setup.observations = {{0, Observable::roll_force, 0.0, 0.0, {}}, {1, Observable::roll_force, 0.0, 0.0, {}}};
+    setup.observations = {{0, Observable::roll_force, 0.0, 0.0, {}},
+                          {1, Observable::roll_force, 0.0, 0.0, {}}};
     observe(setup, vector({410e6, 12.0}), {0.005, 0.005});
     const ScenarioCalibrationResult result = calibrate_scenario(setup);
     REQUIRE(result.fit.status == CalibrationStatus::converged);
@@ -170,13 +175,15 @@ TEST_CASE("a mode is followed by its shape, not its index, through an avoided cr
     Scenario lightened = base;
     lightened.mill.mass[1] = 30e3;
     const ModalAnalysis modal =
-        modal_analysis(mill_matrices(lightened.mill), reference_state(dynamics_scenario(lightened)).strip_stiffness);
+        modal_analysis(mill_matrices(lightened.mill),
+                       reference_state(dynamics_scenario(lightened)).strip_stiffness);
     REQUIRE(modal.ok);
     // The upper stack's mode is now index 3, the lower stack's index 2.
     CHECK(light[0].value == doctest::Approx(modal.natural[3].frequency_Hz));
     CHECK(light[1].value == doctest::Approx(modal.natural[2].frequency_Hz));
     CHECK(light[0].value > start[0].value + 5.0);
-    CHECK(light[1].value == doctest::Approx(start[1].value).epsilon(1e-3));  // the lower stack did not change
+    CHECK(light[1].value ==
+          doctest::Approx(start[1].value).epsilon(1e-3));  // the lower stack did not change
     CHECK(light[0].mode_mac > 0.8);
     CHECK(light[1].mode_mac > 0.95);
 }

@@ -39,7 +39,8 @@ json with(json object, const std::string& key, const json& value) {
 }
 
 json example_request() {
-    const auto path = std::filesystem::path(__FILE__).parent_path().parent_path() / "examples" / "calibrate.json";
+    const auto path =
+        std::filesystem::path(__FILE__).parent_path().parent_path() / "examples" / "calibrate.json";
     std::ifstream file(path);
     REQUIRE_MESSAGE(file, "cannot read " << path.string());
     return json::parse(file);
@@ -55,57 +56,74 @@ const std::map<std::string, double> example_truth{{"/strip/flow_stress_MPa", 410
 
 TEST_CASE("calibrate: bad parameters are refused with their pointer") {
     // Unknown pointer, with a suggestion.
-    const json unknown = test::refused_options("calibrate", options_with({{"field", "/strip/flow_stress_Pa"}}, force_at_5),
-                                               "/options/parameters/0/field");
+    const json unknown = test::refused_options(
+        "calibrate", options_with({{"field", "/strip/flow_stress_Pa"}}, force_at_5),
+        "/options/parameters/0/field");
     CHECK(unknown["detail"].get<std::string>().find("/strip/flow_stress_MPa") != std::string::npos);
     // A field that is not a continuous number.
     test::refused_options("calibrate", options_with({{"field", "/friction/model"}}, force_at_5),
                           "/options/parameters/0/field");
-    test::refused_options("calibrate", options_with({{"field", "/numerics/bite_intervals"}}, force_at_5),
+    test::refused_options("calibrate",
+                          options_with({{"field", "/numerics/bite_intervals"}}, force_at_5),
                           "/options/parameters/0/field");
     // Bounds outside the field's own, with its bound and unit.
     test::check_refused_options("calibrate", options_with(with(flow_stress, "min", 5), force_at_5),
                                 "/options/parameters/0/min", "[10, 3000]", "MPa");
-    test::refused_options("calibrate", options_with(with(with(flow_stress, "min", 400), "max", 390), force_at_5),
+    test::refused_options("calibrate",
+                          options_with(with(with(flow_stress, "min", 400), "max", 390), force_at_5),
                           "/options/parameters/0/max");
     // The start (the scenario's value, 380 MPa) must lie in the box.
     test::refused_options("calibrate", options_with(with(flow_stress, "min", 400), force_at_5),
                           "/options/parameters/0/min");
     // A prior needs a positive uncertainty.
-    test::refused_options("calibrate",
-                          options_with(with(flow_stress, "prior", {{"value", 380}, {"standard_uncertainty", 0}}), force_at_5),
-                          "/options/parameters/0/prior/standard_uncertainty");
+    test::refused_options(
+        "calibrate",
+        options_with(with(flow_stress, "prior", {{"value", 380}, {"standard_uncertainty", 0}}),
+                     force_at_5),
+        "/options/parameters/0/prior/standard_uncertainty");
     // The same field twice.
-    test::refused_options("calibrate", {{"parameters", {flow_stress, flow_stress}}, {"observations", {force_at_5}}},
-                          "/options/parameters/1/field");
-    test::refused_options("calibrate", {{"parameters", json::array()}, {"observations", {force_at_5}}},
+    test::refused_options(
+        "calibrate", {{"parameters", {flow_stress, flow_stress}}, {"observations", {force_at_5}}},
+        "/options/parameters/1/field");
+    test::refused_options("calibrate",
+                          {{"parameters", json::array()}, {"observations", {force_at_5}}},
                           "/options/parameters");
 }
 
 TEST_CASE("calibrate: bad observations are refused with their pointer") {
-    test::refused_options("calibrate", options_with(flow_stress, with(force_at_5, "standard_uncertainty", 0)),
+    test::refused_options("calibrate",
+                          options_with(flow_stress, with(force_at_5, "standard_uncertainty", 0)),
                           "/options/observations/0/standard_uncertainty");
-    test::refused_options("calibrate", options_with(flow_stress, with(force_at_5, "quantity", "strip_temperature_K")),
-                          "/options/observations/0/quantity");
-    test::refused_options("calibrate", options_with(flow_stress, with(force_at_5, "value", "12 MN")),
+    test::refused_options(
+        "calibrate", options_with(flow_stress, with(force_at_5, "quantity", "strip_temperature_K")),
+        "/options/observations/0/quantity");
+    test::refused_options("calibrate",
+                          options_with(flow_stress, with(force_at_5, "value", "12 MN")),
                           "/options/observations/0/value");
     // A modal quantity needs its mode; other quantities have none.
-    test::refused_options("calibrate", options_with(flow_stress, with(force_at_5, "quantity", "natural_frequency_Hz")),
-                          "/options/observations/0/mode");
-    test::refused_options("calibrate", options_with(flow_stress, with(force_at_5, "mode", {{"index", 1}})),
+    test::refused_options(
+        "calibrate",
+        options_with(flow_stress, with(force_at_5, "quantity", "natural_frequency_Hz")),
+        "/options/observations/0/mode");
+    test::refused_options("calibrate",
+                          options_with(flow_stress, with(force_at_5, "mode", {{"index", 1}})),
                           "/options/observations/0/mode");
     // The conditions are read like a scenario, at their own pointer.
-    const service::Outcome bad_condition = evaluate(
-        {{"analysis", "calibrate"},
-         {"options", options_with(flow_stress, with(force_at_5, "scenario", {{"strip", {{"reduction", 0.9}}}}))}});
+    const service::Outcome bad_condition =
+        evaluate({{"analysis", "calibrate"},
+                  {"options", options_with(flow_stress, with(force_at_5, "scenario",
+                                                             {{"strip", {{"reduction", 0.9}}}}))}});
     CHECK(bad_condition.http_status == 422);
-    CHECK(test::error_at(bad_condition, "/options/observations/0/scenario/strip/reduction").is_object());
+    CHECK(test::error_at(bad_condition, "/options/observations/0/scenario/strip/reduction")
+              .is_object());
     // The fit sets its parameters in every condition: a condition may not.
     const service::Outcome sets_parameter = evaluate(
         {{"analysis", "calibrate"},
-         {"options", options_with(flow_stress, with(force_at_5, "scenario", {{"strip", {{"flow_stress_MPa", 400}}}}))}});
+         {"options", options_with(flow_stress, with(force_at_5, "scenario",
+                                                    {{"strip", {{"flow_stress_MPa", 400}}}}))}});
     CHECK(sets_parameter.http_status == 422);
-    CHECK(test::error_at(sets_parameter, "/options/observations/0/scenario/strip/flow_stress_MPa").is_object());
+    CHECK(test::error_at(sets_parameter, "/options/observations/0/scenario/strip/flow_stress_MPa")
+              .is_object());
 }
 
 TEST_CASE("calibrate: the work is bounded before anything runs") {
@@ -118,15 +136,17 @@ TEST_CASE("calibrate: the work is bounded before anything runs") {
                                 {"value", 20},
                                 {"standard_uncertainty", 0.5}});
     }
-    const json options = {{"parameters", {flow_stress, {{"field", "/mill/rayleigh/damping_ratio"}}}},
-                          {"observations", observations},
-                          {"max_iterations", 100},
-                          {"critical_speed", {{"speed_step_m_per_s", 0.05}}}};
+    const json options = {
+        {"parameters", {flow_stress, {{"field", "/mill/rayleigh/damping_ratio"}}}},
+        {"observations", observations},
+        {"max_iterations", 100},
+        {"critical_speed", {{"speed_step_m_per_s", 0.05}}}};
     const json error = test::refused_options("calibrate", options, "/options/max_iterations");
     CHECK(error["detail"].get<std::string>().find("250000") != std::string::npos);
 }
 
-TEST_CASE("README example: the fit returns the plant's values, and its calibrated scenario reproduces them") {
+TEST_CASE(
+    "README example: the fit returns the plant's values, and its calibrated scenario reproduces them") {
     const json request = example_request();
     const service::Outcome outcome = evaluate(request);
     REQUIRE_MESSAGE(outcome.ok(), outcome.body.dump());
@@ -147,8 +167,8 @@ TEST_CASE("README example: the fit returns the plant's values, and its calibrate
     CHECK(result["warnings"].empty());
     // Sent back, the calibrated scenario carries the fitted values.
     const json patch = result["calibrated_scenario"];
-    const service::Outcome rerun = evaluate({{"analysis", "roll_gap"}, {"scenario", patch},
-                                             {"options", {{"distributions", false}}}});
+    const service::Outcome rerun = evaluate(
+        {{"analysis", "roll_gap"}, {"scenario", patch}, {"options", {{"distributions", false}}}});
     REQUIRE(rerun.ok());
     for (const json& parameter : result["parameters"]) {
         const json::json_pointer at(parameter["field"].get<std::string>());
@@ -162,15 +182,18 @@ TEST_CASE("README example: its observations are the model's predictions at the p
     for (const auto& [field, value] : example_truth) patch[json::json_pointer(field)] = value;
     api::FieldErrors errors;
     const core::Scenario plant = api::scenario_from_patch(patch, "/scenario", errors);
-    const api::CalibrationPlan plan = api::calibration_plan_from_json(request["options"], "/options", &plant, errors);
+    const api::CalibrationPlan plan =
+        api::calibration_plan_from_json(request["options"], "/options", &plant, errors);
     REQUIRE(errors.empty());
     Eigen::VectorXd x(static_cast<Eigen::Index>(plan.setup.parameters.size()));
-    for (std::size_t j = 0; j < plan.setup.parameters.size(); ++j) x(static_cast<Eigen::Index>(j)) = plan.setup.parameters[j].start;
+    for (std::size_t j = 0; j < plan.setup.parameters.size(); ++j)
+        x(static_cast<Eigen::Index>(j)) = plan.setup.parameters[j].start;
     const auto predicted = core::predict_observations(plan.setup, x);
     for (std::size_t i = 0; i < predicted.size(); ++i) {
         CAPTURE(i);
         // The file gives 8 significant digits.
-        CHECK(predicted[i].value == doctest::Approx(plan.setup.observations[i].value).epsilon(1e-7));
+        CHECK(predicted[i].value ==
+              doctest::Approx(plan.setup.observations[i].value).epsilon(1e-7));
     }
 }
 
@@ -184,8 +207,9 @@ TEST_CASE("README example with seeded noise: the fitted values scatter by their 
         std::mt19937 generator(seed);
         std::normal_distribution<double> normal(0.0, 1.0);
         for (json& observation : request["options"]["observations"]) {
-            observation["value"] = observation["value"].get<double>() +
-                                   observation["standard_uncertainty"].get<double>() * normal(generator);
+            observation["value"] =
+                observation["value"].get<double>() +
+                observation["standard_uncertainty"].get<double>() * normal(generator);
         }
         const service::Outcome outcome = evaluate(request);
         REQUIRE_MESSAGE(outcome.ok(), outcome.body.dump());
@@ -200,8 +224,9 @@ TEST_CASE("README example with seeded noise: the fitted values scatter by their 
             CAPTURE(z);
             CHECK(std::abs(z) < 4.0);
             beyond_two += std::abs(z) > 2.0 ? 1 : 0;
-            MESSAGE("seed " << seed << ": " << field << " = " << parameter["value"].get<double>() << " ± "
-                            << parameter["standard_error"].get<double>() << " (z = " << z << ")");
+            MESSAGE("seed " << seed << ": " << field << " = " << parameter["value"].get<double>()
+                            << " ± " << parameter["standard_error"].get<double>() << " (z = " << z
+                            << ")");
         }
     }
     CHECK(beyond_two <= 3);
@@ -214,11 +239,14 @@ TEST_CASE("merge_patch_between is the inverse of a merge patch") {
     CHECK(patch == json{{"b", {{"c", 5}}}, {"e", nullptr}, {"f", 6}});
 }
 
-TEST_CASE("calibrate: a parameter stopped by its bound and two inseparable parameters are warnings that name them") {
+TEST_CASE(
+    "calibrate: a parameter stopped by its bound and two inseparable parameters are warnings that name them") {
     // 7000 kN at 19 m/s needs more than 390 MPa (the default 380 MPa gives ~6480 kN).
-    const json force = {{"quantity", "roll_force_kN"}, {"value", 7000}, {"standard_uncertainty", 50}};
+    const json force = {
+        {"quantity", "roll_force_kN"}, {"value", 7000}, {"standard_uncertainty", 50}};
     const json capped = with(with(flow_stress, "min", 300), "max", 390);
-    const service::Outcome bounded = evaluate({{"analysis", "calibrate"}, {"options", options_with(capped, force)}});
+    const service::Outcome bounded =
+        evaluate({{"analysis", "calibrate"}, {"options", options_with(capped, force)}});
     REQUIRE_MESSAGE(bounded.ok(), bounded.body.dump());
     const json& fit = bounded.body["result"];
     CHECK(fit["status"] == "converged");
@@ -229,15 +257,19 @@ TEST_CASE("calibrate: a parameter stopped by its bound and two inseparable param
     CHECK(fit["warnings"][0]["fields"] == json::array({"/strip/flow_stress_MPa"}));
 
     // One natural frequency fixes k/m of the crosshead, not k and m.
-    const json frequency = {
-        {"quantity", "natural_frequency_Hz"}, {"mode", {{"index", 0}}}, {"value", 66}, {"standard_uncertainty", 0.5}};
-    const json parameters = json::array({{{"field", "/mill/stiffness_GN_per_m/k1"}}, {{"field", "/mill/masses_t/m1"}}});
+    const json frequency = {{"quantity", "natural_frequency_Hz"},
+                            {"mode", {{"index", 0}}},
+                            {"value", 66},
+                            {"standard_uncertainty", 0.5}};
+    const json parameters =
+        json::array({{{"field", "/mill/stiffness_GN_per_m/k1"}}, {{"field", "/mill/masses_t/m1"}}});
     const json options = {{"parameters", parameters}, {"observations", json::array({frequency})}};
     const service::Outcome pair = evaluate({{"analysis", "calibrate"}, {"options", options}});
     REQUIRE_MESSAGE(pair.ok(), pair.body.dump());
     const json& warnings = pair.body["result"]["warnings"];
     REQUIRE(warnings.size() == 1);
     CHECK(warnings[0]["code"] == "inseparable");
-    CHECK(warnings[0]["fields"] == json::array({"/mill/stiffness_GN_per_m/k1", "/mill/masses_t/m1"}));
+    CHECK(warnings[0]["fields"] ==
+          json::array({"/mill/stiffness_GN_per_m/k1", "/mill/masses_t/m1"}));
     CHECK(pair.body["result"]["degrees_of_freedom"] == -1);
 }

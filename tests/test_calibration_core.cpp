@@ -37,7 +37,8 @@ bool rosenbrock(const Eigen::VectorXd& x, Eigen::VectorXd& r, const Control&) {
 
 }  // namespace
 
-TEST_CASE("Misra1a from NIST's first start: the certified parameters, residual sum and standard errors") {
+TEST_CASE(
+    "Misra1a from NIST's first start: the certified parameters, residual sum and standard errors") {
     const std::vector<CalibrationParameter> parameters{{500.0, 0.0, 1e4}, {1e-4, 0.0, 1.0}};
     const CalibrationResult fit = calibrate(parameters, 14, misra);
     REQUIRE(fit.status == CalibrationStatus::converged);
@@ -54,7 +55,8 @@ TEST_CASE("Misra1a from NIST's first start: the certified parameters, residual s
     CHECK(fit.inseparable.empty());
 }
 
-TEST_CASE("Rosenbrock as least squares: from (-1.2, 1) to (1, 1); with x1 <= 0.5 to (0.5, 0.25) on the bound") {
+TEST_CASE(
+    "Rosenbrock as least squares: from (-1.2, 1) to (1, 1); with x1 <= 0.5 to (0.5, 0.25) on the bound") {
     const CalibrationResult free = calibrate({{-1.2, -5.0, 5.0}, {1.0, -5.0, 5.0}}, 2, rosenbrock);
     REQUIRE(free.status == CalibrationStatus::converged);
     CHECK(free.values(0) == doctest::Approx(1.0).epsilon(1e-8));
@@ -62,7 +64,8 @@ TEST_CASE("Rosenbrock as least squares: from (-1.2, 1) to (1, 1); with x1 <= 0.5
     CHECK(free.bounds[0] == BoundState::inside);
 
     // Constrained minimum: x2 = x1² makes r1 vanish, then (1 − x1)² is least at the bound.
-    const CalibrationResult bounded = calibrate({{-1.2, -5.0, 0.5}, {1.0, -5.0, 5.0}}, 2, rosenbrock);
+    const CalibrationResult bounded =
+        calibrate({{-1.2, -5.0, 0.5}, {1.0, -5.0, 5.0}}, 2, rosenbrock);
     REQUIRE(bounded.status == CalibrationStatus::converged);
     CHECK(bounded.values(0) == 0.5);
     CHECK(bounded.values(1) == doctest::Approx(0.25).epsilon(1e-8));
@@ -70,7 +73,8 @@ TEST_CASE("Rosenbrock as least squares: from (-1.2, 1) to (1, 1); with x1 <= 0.5
     CHECK(bounded.bounds[1] == BoundState::inside);
 }
 
-TEST_CASE("a prior is a residual row: an unobserved parameter lands on its prior with the prior's uncertainty") {
+TEST_CASE(
+    "a prior is a residual row: an unobserved parameter lands on its prior with the prior's uncertainty") {
     // y = a with one observation 3 ± 0.5; b does not enter the model at all.
     auto model = [](const Eigen::VectorXd& x, Eigen::VectorXd& r, const Control&) {
         r.resize(1);
@@ -120,7 +124,12 @@ TEST_CASE("parameters that enter only as a product are reported inseparable") {
         for (int i = 0; i < 3; ++i) r(i) = (x(0) * x(1) * (i + 1) - 6.0 * (i + 1)) / 0.1;
         return true;
     };
-    const CalibrationResult fit = calibrate({{1.0, 0.1, 100.0}, {1.0, 0.1, 100.0}, }, 3, model);
+    const CalibrationResult fit = calibrate(
+        {
+            {1.0, 0.1, 100.0},
+            {1.0, 0.1, 100.0},
+        },
+        3, model);
     REQUIRE(fit.inseparable.size() == 1);
     CHECK(fit.inseparable[0] == std::vector<int>{0, 1});
     CHECK(fit.reciprocal_condition < 1e-6);
@@ -138,7 +147,8 @@ TEST_CASE("a model failure at the start is a status; a cancelled fit stops and s
         ++calls;
         return !c.should_stop() && rosenbrock(x, r, c);
     };
-    const CalibrationResult stopped = calibrate({{-1.2, -5.0, 5.0}, {1.0, -5.0, 5.0}}, 2, counting, {}, control);
+    const CalibrationResult stopped =
+        calibrate({{-1.2, -5.0, 5.0}, {1.0, -5.0, 5.0}}, 2, counting, {}, control);
     CHECK(stopped.status == CalibrationStatus::cancelled);
     CHECK(calls.load() <= 4);
 }

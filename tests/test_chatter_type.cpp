@@ -30,14 +30,16 @@ NaturalMode nearest_mode(const Mill& mill, double strip_stiffness, double freque
     REQUIRE(modal.natural.size() == 6);
     NaturalMode best = modal.natural.front();
     for (const NaturalMode& m : modal.natural) {
-        if (std::abs(m.frequency_Hz - frequency_Hz) < std::abs(best.frequency_Hz - frequency_Hz)) best = m;
+        if (std::abs(m.frequency_Hz - frequency_Hz) < std::abs(best.frequency_Hz - frequency_Hz))
+            best = m;
     }
     return best;
 }
 
 }  // namespace
 
-TEST_CASE("synthetic shapes: the roll packages against each other are third-octave, work rolls against back-up rolls fifth-octave") {
+TEST_CASE(
+    "synthetic shapes: the roll packages against each other are third-octave, work rolls against back-up rolls fifth-octave") {
     // upper half down, lower half up, each work roll riding on its back-up roll
     const Vector6c stack = shape_of({-0.8, -1.0, -0.45, 0.45, 1.0, 0.8});
     const ChatterClassification third = classify_chatter(stack, 104.0);
@@ -56,17 +58,22 @@ TEST_CASE("synthetic shapes: the roll packages against each other are third-octa
     CHECK(fifth.shape.backup_follow == doctest::Approx(-0.09));
 
     // both work rolls together against their back-up rolls: the gap keeps its size
-    CHECK(classify_chatter(shape_of({0.06, -0.22, 1.0, 1.0, -0.22, 0.06}), 313.0).type == ChatterType::other);
+    CHECK(classify_chatter(shape_of({0.06, -0.22, 1.0, 1.0, -0.22, 0.06}), 313.0).type ==
+          ChatterType::other);
     // the whole stack as one body
-    CHECK(classify_chatter(shape_of({0.6, 0.95, 1.0, 1.0, 0.95, 0.6}), 64.0).type == ChatterType::other);
+    CHECK(classify_chatter(shape_of({0.6, 0.95, 1.0, 1.0, 0.95, 0.6}), 64.0).type ==
+          ChatterType::other);
     // a crosshead against its back-up roll, the work rolls almost still
-    CHECK(classify_chatter(shape_of({1.0, -0.3, -0.05, 0.04, 0.0, 0.0}), 200.0).type == ChatterType::other);
+    CHECK(classify_chatter(shape_of({1.0, -0.3, -0.05, 0.04, 0.0, 0.0}), 200.0).type ==
+          ChatterType::other);
     // no shape at all (a non-oscillatory eigenvalue)
     CHECK(classify_chatter(Vector6c::Zero(), 0.0).type == ChatterType::other);
 }
 
-TEST_CASE("the type depends on the relative motion only: a common complex factor does not change it") {
-    const Vector6c base = shape_of({{-0.79, 0.02}, -1.0, {-0.44, -0.08}, {0.44, 0.07}, 1.0, {0.79, -0.03}});
+TEST_CASE(
+    "the type depends on the relative motion only: a common complex factor does not change it") {
+    const Vector6c base =
+        shape_of({{-0.79, 0.02}, -1.0, {-0.44, -0.08}, {0.44, 0.07}, 1.0, {0.79, -0.03}});
     const ChatterClassification reference = classify_chatter(base, 104.0);
     for (double phase : {0.3, 1.7, 3.1, -2.2}) {
         const Vector6c turned = base * std::polar(3.5e-6, phase);
@@ -76,19 +83,24 @@ TEST_CASE("the type depends on the relative motion only: a common complex factor
         CHECK(c.shape.backup_follow == doctest::Approx(reference.shape.backup_follow));
     }
     // one side only: the lower work roll moving against its still back-up roll
-    CHECK(classify_chatter(shape_of({0.0, 0.0, 0.0, -1.0, 0.05, 0.0}), 550.0).type == ChatterType::fifth_octave);
+    CHECK(classify_chatter(shape_of({0.0, 0.0, 0.0, -1.0, 0.05, 0.0}), 550.0).type ==
+          ChatterType::fifth_octave);
     // a back-up roll following its work roll by 40 % (in phase) still leaves the work roll
     // vibrating mostly on its own spring: fifth-octave; by 60 %: it carries the work roll
-    CHECK(classify_chatter(shape_of({0.0, 0.4, 1.0, -1.0, -0.4, 0.0}), 550.0).type == ChatterType::fifth_octave);
-    CHECK(classify_chatter(shape_of({0.0, 0.6, 1.0, -1.0, -0.6, 0.0}), 250.0).type == ChatterType::third_octave);
+    CHECK(classify_chatter(shape_of({0.0, 0.4, 1.0, -1.0, -0.4, 0.0}), 550.0).type ==
+          ChatterType::fifth_octave);
+    CHECK(classify_chatter(shape_of({0.0, 0.6, 1.0, -1.0, -0.6, 0.0}), 250.0).type ==
+          ChatterType::third_octave);
 }
 
 TEST_CASE("where shape and band disagree the shape decides and the band is reported beside it") {
-    const ChatterClassification c = classify_chatter(shape_of({0.0, 0.1, -1.0, 1.0, -0.1, 0.0}), 435.0);
+    const ChatterClassification c =
+        classify_chatter(shape_of({0.0, 0.1, -1.0, 1.0, -0.1, 0.0}), 435.0);
     CHECK(c.type == ChatterType::fifth_octave);
     CHECK(c.band == ChatterType::other);
     CHECK_FALSE(c.agrees());
-    const ChatterClassification d = classify_chatter(shape_of({-0.8, -1.0, -0.45, 0.45, 1.0, 0.8}), 520.0);
+    const ChatterClassification d =
+        classify_chatter(shape_of({-0.8, -1.0, -0.45, 0.45, 1.0, 0.8}), 520.0);
     CHECK(d.type == ChatterType::third_octave);
     CHECK(d.band == ChatterType::fifth_octave);
 }
@@ -106,7 +118,8 @@ TEST_CASE("the frequency bands are closed intervals") {
     CHECK(std::string(to_string(ChatterType::other)) == "other");
 }
 
-TEST_CASE("stacks that allow one kind only: back-up rolls held still give fifth-octave, rigid work-roll springs third-octave") {
+TEST_CASE(
+    "stacks that allow one kind only: back-up rolls held still give fifth-octave, rigid work-roll springs third-octave") {
     const double k4 = 20e9;
     // back-up rolls a thousand times heavier: the work rolls can only vibrate against them
     Mill heavy;
@@ -114,10 +127,12 @@ TEST_CASE("stacks that allow one kind only: back-up rolls held still give fifth-
     const ModalAnalysis modal = modal_analysis(mill_matrices(heavy), k4);
     REQUIRE(modal.ok);
     // the gap mode of the work rolls on k3, k5 and the strip: omega^2 = (k3 + 2 k4) / m3
-    const double expected = std::sqrt((heavy.k3 + 2.0 * k4) / heavy.mass[2]) / (2.0 * 3.141592653589793);
+    const double expected =
+        std::sqrt((heavy.k3 + 2.0 * k4) / heavy.mass[2]) / (2.0 * 3.141592653589793);
     const NaturalMode work_rolls = nearest_mode(heavy, k4, expected);
     CHECK(work_rolls.frequency_Hz == doctest::Approx(expected).epsilon(1e-3));
-    CHECK(classify_chatter(real_shape(work_rolls.shape), work_rolls.frequency_Hz).type == ChatterType::fifth_octave);
+    CHECK(classify_chatter(real_shape(work_rolls.shape), work_rolls.frequency_Hz).type ==
+          ChatterType::fifth_octave);
 
     // work rolls welded to their back-up rolls: each roll package moves as one body
     Mill welded;
@@ -145,7 +160,8 @@ TEST_CASE("the default stand's crossing at 104 Hz is third-octave") {
     CHECK(at.least_damped.chatter.type == ChatterType::third_octave);
 }
 
-TEST_CASE("a rough strip moves the crossing to the work-roll mode near 500 Hz: fifth-octave by shape, and the sweep flags the change") {
+TEST_CASE(
+    "a rough strip moves the crossing to the work-roll mode near 500 Hz: fifth-octave by shape, and the sweep flags the change") {
     std::vector<Scenario> scenarios(3);
     scenarios[0].roughness.strip_rq = 8e-6;
     scenarios[1].roughness.strip_rq = 9e-6;

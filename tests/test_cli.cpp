@@ -75,30 +75,35 @@ TEST_CASE("the result echoes the resolved scenario and follows the patch") {
                                    {"options", {{"distributions", false}}}});
     REQUIRE(slow.ok());
     CHECK(slow.body["scenario"]["rolls"]["speed_m_per_s"] == 5.0);
-    CHECK(slow.body["scenario"]["rolls"]["radius_mm"] == api::default_scenario_json()["rolls"]["radius_mm"]);
+    CHECK(slow.body["scenario"]["rolls"]["radius_mm"] ==
+          api::default_scenario_json()["rolls"]["radius_mm"]);
     CHECK_FALSE(slow.body["result"].contains("distribution"));
     // Rerunning the echoed scenario reproduces the result.
-    const Outcome again = evaluate({{"analysis", "roll_gap"}, {"scenario", slow.body["scenario"]},
+    const Outcome again = evaluate({{"analysis", "roll_gap"},
+                                    {"scenario", slow.body["scenario"]},
                                     {"options", {{"distributions", false}}}});
     REQUIRE(again.ok());
     CHECK(again.body == slow.body);
 }
 
 TEST_CASE("null scenario and options mean the defaults") {
-    const Outcome outcome = evaluate({{"analysis", "roll_gap"}, {"scenario", nullptr}, {"options", nullptr}});
+    const Outcome outcome =
+        evaluate({{"analysis", "roll_gap"}, {"scenario", nullptr}, {"options", nullptr}});
     REQUIRE(outcome.ok());
     CHECK(outcome.body["scenario"] == api::default_scenario_json());
 }
 
 TEST_CASE("a bite that cannot be driven is a result with a status, not a problem") {
     // Skidding (or a failed solve) is still an answer about the scenario: 200, not 4xx/5xx.
-    const Outcome outcome = evaluate({{"analysis", "roll_gap"},
-                                      {"scenario", {{"lubricant", {{"limiting_shear", false}}},
-                                                    {"rolls", {{"speed_m_per_s", 60}}}}},
-                                      {"options", {{"distributions", false}}}});
+    const Outcome outcome = evaluate(
+        {{"analysis", "roll_gap"},
+         {"scenario",
+          {{"lubricant", {{"limiting_shear", false}}}, {"rolls", {{"speed_m_per_s", 60}}}}},
+         {"options", {{"distributions", false}}}});
     REQUIRE(outcome.ok());
     const std::string status = outcome.body["result"]["status"];
-    CHECK((status == "ok" || status == "skidding" || status == "contact_lost" || status == "solver_failure"));
+    CHECK((status == "ok" || status == "skidding" || status == "contact_lost" ||
+           status == "solver_failure"));
     if (status == "skidding") {
         CHECK(outcome.body["result"].contains("skidding"));
         CHECK(outcome.body["result"]["force_kN"].is_null());
@@ -113,9 +118,11 @@ TEST_CASE("an unknown analysis is a problem that lists the offered ones") {
     CHECK(outcome.media_type() == "application/problem+json");
     CHECK(outcome.body["type"] == "https://rollgap.dev/problems/unknown_analysis");
     CHECK(outcome.body["errors"][0]["pointer"] == "/analysis");
-    CHECK(outcome.body["errors"][0]["bound"].get<std::string>().find("roll_gap") != std::string::npos);
+    CHECK(outcome.body["errors"][0]["bound"].get<std::string>().find("roll_gap") !=
+          std::string::npos);
     const Outcome typo = evaluate({{"analysis", "roll-gap"}});
-    CHECK(typo.body["errors"][0]["detail"].get<std::string>().find("did you mean 'roll_gap'") != std::string::npos);
+    CHECK(typo.body["errors"][0]["detail"].get<std::string>().find("did you mean 'roll_gap'") !=
+          std::string::npos);
 }
 
 TEST_CASE("the request envelope is strict") {
@@ -123,7 +130,8 @@ TEST_CASE("the request envelope is strict") {
         const Outcome outcome = evaluate({{"analysis", "roll_gap"}, {"scenarios", json::object()}});
         CHECK(outcome.problem == api::ProblemCode::invalid_request);
         CHECK(outcome.body["errors"][0]["pointer"] == "/scenarios");
-        CHECK(outcome.body["errors"][0]["detail"].get<std::string>().find("did you mean 'scenario'") != std::string::npos);
+        CHECK(outcome.body["errors"][0]["detail"].get<std::string>().find(
+                  "did you mean 'scenario'") != std::string::npos);
     }
     SUBCASE("missing analysis") {
         const Outcome outcome = evaluate(json::object());
@@ -157,7 +165,8 @@ TEST_CASE("scenario and options violations are reported together") {
     CHECK(outcome.body["errors"][0]["pointer"] == "/scenario/strip/reduction");
     CHECK(outcome.body["errors"][1]["pointer"] == "/options/distribution");
 
-    const Outcome options_only = evaluate({{"analysis", "roll_gap"}, {"options", {{"distributions", "yes"}}}});
+    const Outcome options_only =
+        evaluate({{"analysis", "roll_gap"}, {"options", {{"distributions", "yes"}}}});
     CHECK(options_only.problem == api::ProblemCode::invalid_options);
     CHECK(options_only.body["errors"][0]["pointer"] == "/options/distributions");
 }
@@ -165,7 +174,8 @@ TEST_CASE("scenario and options violations are reported together") {
 TEST_CASE("request text: syntax, size") {
     CHECK(evaluate_text("{\"analysis\": ").problem == api::ProblemCode::invalid_json);
     CHECK(evaluate_text("{\"analysis\": ").http_status == 400);
-    const std::string huge = "{\"analysis\": \"roll_gap\", \"pad\": \"" + std::string(max_request_bytes, 'x') + "\"}";
+    const std::string huge =
+        "{\"analysis\": \"roll_gap\", \"pad\": \"" + std::string(max_request_bytes, 'x') + "\"}";
     const Outcome too_large = evaluate_text(huge);
     CHECK(too_large.problem == api::ProblemCode::payload_too_large);
     CHECK(too_large.http_status == 413);
@@ -176,10 +186,12 @@ TEST_CASE("an exception inside an analysis becomes the problem 'internal'") {
     const std::array<Analysis, 2> throwing{
         Analysis{"throws_when_run", "test",
                  [](const core::Scenario&, const json&, const std::string&, api::FieldErrors&) {
-                     return PreparedAnalysis{json::object(), []() -> json { throw std::runtime_error("boom"); }};
+                     return PreparedAnalysis{json::object(),
+                                             []() -> json { throw std::runtime_error("boom"); }};
                  }},
         Analysis{"throws_when_prepared", "test",
-                 [](const core::Scenario&, const json&, const std::string&, api::FieldErrors&) -> PreparedAnalysis {
+                 [](const core::Scenario&, const json&, const std::string&,
+                    api::FieldErrors&) -> PreparedAnalysis {
                      throw 42;  // not even a std::exception
                  }},
     };
@@ -191,7 +203,8 @@ TEST_CASE("an exception inside an analysis becomes the problem 'internal'") {
         const Outcome outcome = evaluate({{"analysis", name}}, throwing);
         CHECK(outcome.problem == api::ProblemCode::internal);
         CHECK(outcome.http_status == 500);
-        CHECK(outcome.body["detail"].get<std::string>().find("boom") == std::string::npos);  // no internals leak
+        CHECK(outcome.body["detail"].get<std::string>().find("boom") ==
+              std::string::npos);  // no internals leak
     }
     spdlog::set_level(level);
 }
@@ -204,7 +217,8 @@ TEST_CASE("cli: scenario prints the default scenario") {
 }
 
 TEST_CASE("cli: run reads a request from standard input") {
-    const CliRun result = run({"run", "-"}, R"({"analysis": "roll_gap", "options": {"distributions": false}})");
+    const CliRun result =
+        run({"run", "-"}, R"({"analysis": "roll_gap", "options": {"distributions": false}})");
     CHECK(result.exit_status == exit_success);
     const json body = json::parse(result.out);
     CHECK(body["result"]["status"] == "ok");
@@ -230,7 +244,8 @@ TEST_CASE("cli: a bad request prints problem details on stdout and exits 2") {
         CHECK(json::parse(result.out)["type"] == "https://rollgap.dev/problems/invalid_json");
     }
     SUBCASE("invalid scenario") {
-        const CliRun result = run({"run", "-"}, R"({"analysis": "roll_gap", "scenario": {"strip": {"reduction": 2}}})");
+        const CliRun result = run(
+            {"run", "-"}, R"({"analysis": "roll_gap", "scenario": {"strip": {"reduction": 2}}})");
         CHECK(result.exit_status == exit_bad_input);
         CHECK(json::parse(result.out)["errors"][0]["pointer"] == "/scenario/strip/reduction");
     }
@@ -251,8 +266,9 @@ TEST_CASE("cli: help, version and usage errors") {
     CHECK(version_run.exit_status == exit_success);
     CHECK(version_run.out == "rollgap " + std::string(version()) + "\n");
 
-    for (const auto& arguments : {std::vector<std::string_view>{}, std::vector<std::string_view>{"frobnicate"},
-                                  std::vector<std::string_view>{"run"}, std::vector<std::string_view>{"scenario", "x"}}) {
+    for (const auto& arguments :
+         {std::vector<std::string_view>{}, std::vector<std::string_view>{"frobnicate"},
+          std::vector<std::string_view>{"run"}, std::vector<std::string_view>{"scenario", "x"}}) {
         const CliRun usage = run(arguments);
         CHECK(usage.exit_status == exit_bad_input);
         CHECK(usage.out.empty());
@@ -264,7 +280,8 @@ TEST_CASE("cli: every command is parsed by one command line, and misuse names th
     SUBCASE("a mistyped command is suggested") {
         const CliRun usage = run({"scenaro"});
         CHECK(usage.exit_status == exit_bad_input);
-        CHECK(usage.err.find("unknown command 'scenaro'; did you mean 'scenario'?") != std::string::npos);
+        CHECK(usage.err.find("unknown command 'scenaro'; did you mean 'scenario'?") !=
+              std::string::npos);
     }
     SUBCASE("too many operands") {
         const CliRun usage = run({"run", "a.json", "b.json"});
@@ -297,7 +314,8 @@ TEST_CASE("cli: every command is parsed by one command line, and misuse names th
     SUBCASE("without the HTTP layer, serve and healthcheck say so") {
         std::istringstream in;
         std::ostringstream out, err;
-        CHECK(run_cli(std::vector<std::string_view>{"healthcheck"}, in, out, err) == exit_internal_error);
+        CHECK(run_cli(std::vector<std::string_view>{"healthcheck"}, in, out, err) ==
+              exit_internal_error);
         CHECK(err.str().find("no HTTP layer") != std::string::npos);
     }
     SUBCASE("openapi prints the document") {

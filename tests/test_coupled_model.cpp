@@ -77,11 +77,12 @@ TEST_CASE("coupled model: the equilibrium is a steady state, f(z0) = 0 component
         const double v = s.rolls.speed;
 
         // the reference film is the Wilson-Walowit film of the reference bite
-        const double h00 = wilson_walowit_film(s.lubricant.viscosity, s.lubricant.pressure_viscosity,
-                                               0.5 * (ref.bite.entry_speed + v), ref.bite.inlet_angle,
-                                               s.strip.flow_stress, s.tensions.back.stress);
+        const double h00 = wilson_walowit_film(
+            s.lubricant.viscosity, s.lubricant.pressure_viscosity, 0.5 * (ref.bite.entry_speed + v),
+            ref.bite.inlet_angle, s.strip.flow_stress, s.tensions.back.stress);
         CHECK(rel(ref.bite.inlet_film, h00) < 1e-12);
-        CHECK(rel(ref.bite.inlet_angle, std::sqrt(s.strip.entry_thickness * s.strip.reduction / s.rolls.radius)) < 1e-12);
+        CHECK(rel(ref.bite.inlet_angle,
+                  std::sqrt(s.strip.entry_thickness * s.strip.reduction / s.rolls.radius)) < 1e-12);
 
         const CoupledModel model(s, ref);
         visit_elsewhere(model);  // f(z0) must not depend on what was evaluated before
@@ -94,7 +95,8 @@ TEST_CASE("coupled model: the equilibrium is a steady state, f(z0) = 0 component
         // m_i q''_i is a force: against the rolling force, to the bite's repeatability (1e-9)
         for (int i = 0; i < 6; ++i) {
             CAPTURE(i);
-            CHECK(std::abs(s.mill.mass[static_cast<std::size_t>(i)] * f(6 + i)) <= 1e-9 * ref.bite.force);
+            CHECK(std::abs(s.mill.mass[static_cast<std::size_t>(i)] * f(6 + i)) <=
+                  1e-9 * ref.bite.force);
         }
         // h0': against the supply term theta u1bar
         const double supply = ref.bite.inlet_angle * 0.5 * (ref.bite.entry_speed + v);
@@ -142,7 +144,9 @@ TEST_CASE("coupled model: k4 is -dP/dy2 at the steady film, about 20 GN/m at the
     // k4 is defined with the steady film (the check guards against a frozen-film k4)
     BiteState flo = lo, fhi = hi;
     flo.inlet_film = fhi.inlet_film = ref.bite.inlet_film;
-    const double frozen = -(solve_roll_bite(s, fhi, {false}).force - solve_roll_bite(s, flo, {false}).force) / (2.0 * delta);
+    const double frozen =
+        -(solve_roll_bite(s, fhi, {false}).force - solve_roll_bite(s, flo, {false}).force) /
+        (2.0 * delta);
     MESSAGE("dP/dy2 with the film frozen at h00: " << -frozen << " N/m");
     CHECK(rel(frozen, ref.strip_stiffness) > 1e-3);
 
@@ -182,9 +186,10 @@ TEST_CASE("coupled model: M q'' + C q' + (K_s + k4 b b^T) q = b (P - P_ref + k4 
         state.exit_thickness = ref.exit_thickness + (z(2) - z(3));
         state.gap_rate = z(8) - z(9);
         state.inlet_film = z(CoupledModel::kFilm);
-        state.back_tension = model.back_tension_index() >= 0 ? z(model.back_tension_index()) : s.tensions.back.stress;
-        state.front_tension =
-            model.front_tension_index() >= 0 ? z(model.front_tension_index()) : s.tensions.front.stress;
+        state.back_tension = model.back_tension_index() >= 0 ? z(model.back_tension_index())
+                                                             : s.tensions.back.stress;
+        state.front_tension = model.front_tension_index() >= 0 ? z(model.front_tension_index())
+                                                               : s.tensions.front.stress;
         const BiteResult bite = solve_roll_bite(s, state, {false});
         REQUIRE(bite.status == BiteStatus::ok);
 
@@ -196,7 +201,8 @@ TEST_CASE("coupled model: M q'' + C q' + (K_s + k4 b b^T) q = b (P - P_ref + k4 
             CAPTURE(i);
             CHECK(f(i) == qdot(i));
             // to the bite's repeatability: 1e-9 of the rolling force on mass i
-            CHECK(std::abs(f(6 + i) - qddot(i)) <= 1e-9 * ref.bite.force / s.mill.mass[static_cast<std::size_t>(i)]);
+            CHECK(std::abs(f(6 + i) - qddot(i)) <=
+                  1e-9 * ref.bite.force / s.mill.mass[static_cast<std::size_t>(i)]);
         }
         // the same state seen through the bite_state mapping
         const BiteState mapped = model.bite_state(0.0, z.data());
@@ -227,16 +233,17 @@ TEST_CASE("coupled model: M q'' + C q' + (K_s + k4 b b^T) q = b (P - P_ref + k4 
         in.flow_stress = s.strip.flow_stress;
         in.back_tension = state.back_tension;
         const double film_rate = inlet_film_rate(s.inlet_film, in);
-        CHECK(std::abs(f(CoupledModel::kFilm) - film_rate) <= 1e-9 * in.inlet_angle * in.mean_inlet_speed);
+        CHECK(std::abs(f(CoupledModel::kFilm) - film_rate) <=
+              1e-9 * in.inlet_angle * in.mean_inlet_speed);
         if (model.back_tension_index() >= 0) {
-            const double expected =
-                s.strip.youngs_modulus / s.tensions.back.span_length * (bite.entry_speed - ref.bite.entry_speed);
+            const double expected = s.strip.youngs_modulus / s.tensions.back.span_length *
+                                    (bite.entry_speed - ref.bite.entry_speed);
             CHECK(std::abs(f(model.back_tension_index()) - expected) <=
                   1e-9 * s.strip.youngs_modulus / s.tensions.back.span_length * s.rolls.speed);
         }
         if (model.front_tension_index() >= 0) {
-            const double expected =
-                s.strip.youngs_modulus / s.tensions.front.span_length * (ref.bite.exit_speed - bite.exit_speed);
+            const double expected = s.strip.youngs_modulus / s.tensions.front.span_length *
+                                    (ref.bite.exit_speed - bite.exit_speed);
             CHECK(std::abs(f(model.front_tension_index()) - expected) <=
                   1e-9 * s.strip.youngs_modulus / s.tensions.front.span_length * s.rolls.speed);
         }
@@ -350,12 +357,13 @@ TEST_CASE("coupled model: the film models differ only in the squeeze / theta-dot
     BiteState lo = mp.bite_state(0.0, mp.equilibrium().data()), hi = lo;
     lo.gap_rate = -d;
     hi.gap_rate = +d;
-    const BiteResult bl = solve_roll_bite(paper, lo, {false}), bh = solve_roll_bite(paper, hi, {false});
+    const BiteResult bl = solve_roll_bite(paper, lo, {false}),
+                     bh = solve_roll_bite(paper, hi, {false});
     REQUIRE(bl.status == BiteStatus::ok);
     REQUIRE(bh.status == BiteStatus::ok);
     const double common = 0.5 * theta * (bh.entry_speed - bl.entry_speed) / (2.0 * d);
-    MESSAGE("d(h0')/dg': paper " << jp.jacobian(12, 8) << ", eulerian " << je.jacobian(12, 8) << ", common part "
-                                 << common);
+    MESSAGE("d(h0')/dg': paper " << jp.jacobian(12, 8) << ", eulerian " << je.jacobian(12, 8)
+                                 << ", common part " << common);
 
     const int q3dot = 8, q4dot = 9;
     CHECK(jp.jacobian(12, q3dot) == doctest::Approx(common + paper_term).epsilon(1e-6));
@@ -366,17 +374,21 @@ TEST_CASE("coupled model: the film models differ only in the squeeze / theta-dot
     CHECK(std::abs((je.jacobian(12, q3dot) - jp.jacobian(12, q3dot)) - (-0.5 - paper_term)) < 1e-9);
 
     // docs/model.md §2: the eulerian squeeze term is a negative damping of order
-    // |dP/dh0| h0 / (2 theta u1bar) ~ 1.8 MN s/m at the defaults (dP/dh0 by an independent difference)
+    // |dP/dh0| h0 / (2 theta u1bar) ~ 1.8 MN s/m at the defaults (dP/dh0 by an independent
+    // difference)
     BiteState flo = mp.bite_state(0.0, mp.equilibrium().data()), fhi = flo;
     flo.inlet_film *= 1.0 - 3e-6;
     fhi.inlet_film *= 1.0 + 3e-6;
-    const double dP_dh0 = (solve_roll_bite(paper, fhi, {false}).force - solve_roll_bite(paper, flo, {false}).force) /
-                          (fhi.inlet_film - flo.inlet_film);
+    const double dP_dh0 =
+        (solve_roll_bite(paper, fhi, {false}).force - solve_roll_bite(paper, flo, {false}).force) /
+        (fhi.inlet_film - flo.inlet_film);
     const double u1bar = 0.5 * (ref.bite.entry_speed + paper.rolls.speed);
     const double squeeze_damping = std::abs(dP_dh0) * h0 / (2.0 * theta * u1bar);
-    MESSAGE("dP/dh0 = " << dP_dh0 << " N/m; |dP/dh0| h0 / (2 theta u1bar) = " << squeeze_damping << " N s/m");
+    MESSAGE("dP/dh0 = " << dP_dh0 << " N/m; |dP/dh0| h0 / (2 theta u1bar) = " << squeeze_damping
+                        << " N s/m");
     CHECK(dP_dh0 < 0.0);  // a thicker film lowers the asperity friction and the force
-    CHECK(squeeze_damping == doctest::Approx(1.8e6).epsilon(0.05 / 1.8));  // "1.8 MN s/m", to its two digits
+    CHECK(squeeze_damping ==
+          doctest::Approx(1.8e6).epsilon(0.05 / 1.8));  // "1.8 MN s/m", to its two digits
 
     // every other entry of the h0 row, and every other row, is the same for both models
     const double row_scale = jp.jacobian.row(12).cwiseAbs().maxCoeff();
@@ -393,11 +405,13 @@ TEST_CASE("coupled model: the film models differ only in the squeeze / theta-dot
     }
 }
 
-TEST_CASE("coupled model: with the structure still, h0 relaxes to Wilson-Walowit at the rate of eq. (11)") {
+TEST_CASE(
+    "coupled model: with the structure still, h0 relaxes to Wilson-Walowit at the rate of eq. (11)") {
     // Structure held still by huge masses, constant tension, h0(0) = 2 h00, CVODE. CVODE's error
-    // on h0 is set by the model document's absolute tolerance 1e-12 m (h0 ~ 3.4e-6 m, so the relative
-    // tolerance does not bind): the trajectories are compared to 30 x that tolerance, a global
-    // error budget for ~50-200 steps. (Observed: 1.5e-11 m, the same for rtol 1e-8 ... 1e-11.)
+    // on h0 is set by the model document's absolute tolerance 1e-12 m (h0 ~ 3.4e-6 m, so the
+    // relative tolerance does not bind): the trajectories are compared to 30 x that tolerance, a
+    // global error budget for ~50-200 steps. (Observed: 1.5e-11 m, the same for rtol 1e-8 ...
+    // 1e-11.)
     const double huge = 1e30;
     const double h0_tolerance = 30 * 1e-12;
     IntegrationOptions options;
@@ -419,15 +433,18 @@ TEST_CASE("coupled model: with the structure still, h0 relaxes to Wilson-Walowit
         std::vector<double> times;
         for (int k = 1; k <= 40; ++k) times.push_back(k * 0.5e-6);  // 20 us ~ 3 time constants
         double worst = 0.0, at5 = 0.0, at15 = 0.0;
-        const IntegrationResult run = integrate(model, z, 0.0, times, [&](const Sample& smp) {
-            const double h0 = smp.z(CoupledModel::kFilm);
-            worst = std::max(worst, std::abs(h0 - h00 * (1.0 + std::exp(-r * smp.t))));
-            if (std::abs(smp.t - 5e-6) < 1e-12) at5 = h0 - h00;
-            if (std::abs(smp.t - 15e-6) < 1e-12) at15 = h0 - h00;
-        }, options);
+        const IntegrationResult run = integrate(
+            model, z, 0.0, times,
+            [&](const Sample& smp) {
+                const double h0 = smp.z(CoupledModel::kFilm);
+                worst = std::max(worst, std::abs(h0 - h00 * (1.0 + std::exp(-r * smp.t))));
+                if (std::abs(smp.t - 5e-6) < 1e-12) at5 = h0 - h00;
+                if (std::abs(smp.t - 15e-6) < 1e-12) at15 = h0 - h00;
+            },
+            options);
         REQUIRE(run.status == DynamicsStatus::ok);
-        MESSAGE("coulomb: max |h0 - h00 (1 + e^{-rt})| = " << worst << " m (" << worst / h00 << " of h00), "
-                                                           << run.steps << " steps");
+        MESSAGE("coulomb: max |h0 - h00 (1 + e^{-rt})| = "
+                << worst << " m (" << worst / h00 << " of h00), " << run.steps << " steps");
         CHECK(worst < h0_tolerance);
         REQUIRE(at5 > 0.0);
         REQUIRE(at15 > 0.0);
@@ -473,13 +490,16 @@ TEST_CASE("coupled model: with the structure still, h0 relaxes to Wilson-Walowit
         Eigen::VectorXd z = model.equilibrium();
         z(CoupledModel::kFilm) = 2.0 * h00;
         std::vector<double> h0s;
-        const IntegrationResult run =
-            integrate(model, z, 0.0, times, [&](const Sample& smp) { h0s.push_back(smp.z(CoupledModel::kFilm)); }, options);
+        const IntegrationResult run = integrate(
+            model, z, 0.0, times,
+            [&](const Sample& smp) { h0s.push_back(smp.z(CoupledModel::kFilm)); }, options);
         REQUIRE(run.status == DynamicsStatus::ok);
         REQUIRE(h0s.size() == times.size());
         double worst = 0.0;
-        for (std::size_t i = 0; i < compared; ++i) worst = std::max(worst, std::abs(h0s[i] - reference[i]));
-        MESSAGE("mixed: max |h0_cvode - h0_rk4| = " << worst << " m (" << worst / h00 << " of h00)");
+        for (std::size_t i = 0; i < compared; ++i)
+            worst = std::max(worst, std::abs(h0s[i] - reference[i]));
+        MESSAGE("mixed: max |h0_cvode - h0_rk4| = " << worst << " m (" << worst / h00
+                                                    << " of h00)");
         CHECK(worst < h0_tolerance);
         // it ends at the Wilson-Walowit film
         CHECK(std::abs(h0s.back() - h00) < h0_tolerance);
@@ -492,13 +512,16 @@ TEST_CASE("coupled model: with the structure still, h0 relaxes to Wilson-Walowit
         BiteState lo = base, hi = base;
         lo.inlet_film = h00 - eps;
         hi.inlet_film = h00 + eps;
-        const double du1 = (solve_roll_bite(s, hi, {false}).entry_speed - solve_roll_bite(s, lo, {false}).entry_speed) /
+        const double du1 = (solve_roll_bite(s, hi, {false}).entry_speed -
+                            solve_roll_bite(s, lo, {false}).entry_speed) /
                            (2.0 * eps);
         const double expected_rate = r - 0.5 * theta * du1;
-        const double measured = std::log((reference[compared - 21] - h00) / (reference[compared - 1] - h00)) / 20e-6;
+        const double measured =
+            std::log((reference[compared - 21] - h00) / (reference[compared - 1] - h00)) / 20e-6;
         REQUIRE(std::abs(times[compared - 21] - 40e-6) < 1e-12);
-        MESSAGE("decay rate: measured " << measured << " 1/s, eq. (11) alone " << r << ", with the u1 feedback "
-                                        << expected_rate << " (du1/dh0 = " << du1 << " 1/s)");
+        MESSAGE("decay rate: measured " << measured << " 1/s, eq. (11) alone " << r
+                                        << ", with the u1 feedback " << expected_rate
+                                        << " (du1/dh0 = " << du1 << " 1/s)");
         CHECK(measured == doctest::Approx(expected_rate).epsilon(1e-3));
         // and the Jacobian's film entry is the same rate
         const Linearisation lin = linearise(model, model.equilibrium());

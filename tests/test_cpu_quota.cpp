@@ -16,7 +16,8 @@ namespace {
 using rollgap::service::cgroup_cpu_limit;
 using rollgap::service::cpu_budget;
 
-const std::filesystem::path fixtures = std::filesystem::path(__FILE__).parent_path() / "fixtures" / "cgroup";
+const std::filesystem::path fixtures =
+    std::filesystem::path(__FILE__).parent_path() / "fixtures" / "cgroup";
 
 std::optional<double> fixture_limit(const std::string& name) {
     const auto dir = fixtures / name;
@@ -33,7 +34,8 @@ int allowed_cpus_from_status() {
         std::size_t start = 0;
         while (start < list.size()) {
             const auto comma = list.find(',', start);
-            const std::string range = list.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+            const std::string range =
+                list.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
             const auto dash = range.find('-');
             const int from = std::stoi(range.substr(0, dash));
             const int to = dash == std::string::npos ? from : std::stoi(range.substr(dash + 1));
@@ -66,14 +68,16 @@ TEST_CASE("cpu quota: the tightest limit from the process's group up to the moun
     CHECK(fixture_limit("v2-nested") == 1.5);
     // v2 in a container whose cgroup namespace shows its own group as the mount's root.
     CHECK(fixture_limit("v2-container") == 2.0);
-    // v1: cpu,cpuacct hierarchy found through mountinfo; the group's 0.5 binds, the parent is unlimited.
+    // v1: cpu,cpuacct hierarchy found through mountinfo; the group's 0.5 binds, the parent is
+    // unlimited.
     CHECK(fixture_limit("v1-quota") == 0.5);
     // v1 without a quota (this machine's layout).
     CHECK_FALSE(fixture_limit("v1-unlimited"));
-    CHECK_FALSE(cgroup_cpu_limit(fixtures / "missing" / "cgroup", fixtures / "missing" / "mountinfo", fixtures));
+    CHECK_FALSE(cgroup_cpu_limit(fixtures / "missing" / "cgroup",
+                                 fixtures / "missing" / "mountinfo", fixtures));
 
-    const auto budget = cpu_budget(fixtures / "v1-quota" / "cgroup", fixtures / "v1-quota" / "mountinfo",
-                                   fixtures / "v1-quota");
+    const auto budget = cpu_budget(fixtures / "v1-quota" / "cgroup",
+                                   fixtures / "v1-quota" / "mountinfo", fixtures / "v1-quota");
     CHECK(budget.effective == 1);  // half a CPU still needs one thread
 }
 
@@ -93,11 +97,13 @@ TEST_CASE("cpu quota: affinity mask as the kernel reports it") {
 TEST_CASE("cpu quota: under taskset -c 0 the budget is one CPU") {
     if (std::getenv("ROLLGAP_EXPECT_AFFINITY") != nullptr) return;  // the child run below
     const std::string self = std::filesystem::read_symlink("/proc/self/exe").string();
-    const std::string command = "ROLLGAP_EXPECT_AFFINITY=1 taskset -c 0 " + self +
-                                " -tc='cpu quota: affinity mask as the kernel reports it' >/dev/null 2>&1";
+    const std::string command =
+        "ROLLGAP_EXPECT_AFFINITY=1 taskset -c 0 " + self +
+        " -tc='cpu quota: affinity mask as the kernel reports it' >/dev/null 2>&1";
     CHECK(std::system(command.c_str()) == 0);
     // The check is real: claiming two CPUs under taskset -c 0 fails.
-    const std::string wrong = "ROLLGAP_EXPECT_AFFINITY=2 taskset -c 0 " + self +
-                              " -tc='cpu quota: affinity mask as the kernel reports it' >/dev/null 2>&1";
+    const std::string wrong =
+        "ROLLGAP_EXPECT_AFFINITY=2 taskset -c 0 " + self +
+        " -tc='cpu quota: affinity mask as the kernel reports it' >/dev/null 2>&1";
     CHECK(std::system(wrong.c_str()) != 0);
 }

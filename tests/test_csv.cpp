@@ -97,15 +97,18 @@ Rows table(const json& body, const std::string& name = "") {
 void check_row_table(const Rows& rows, const json& elements, std::size_t leading = 0) {
     REQUIRE(rows.size() == elements.size() + 1);
     for (std::size_t r = 0; r < elements.size(); ++r) {
-        for (std::size_t c = leading; c < rows[0].size(); ++c) check_cell(rows[r + 1][c], elements[r].at(rows[0][c]));
+        for (std::size_t c = leading; c < rows[0].size(); ++c)
+            check_cell(rows[r + 1][c], elements[r].at(rows[0][c]));
     }
 }
 
 // Rows of a columnar object (equal-length arrays) from `first`: record i is element i of each.
-void check_columnar(const Rows& rows, std::size_t first, const json& columns, std::size_t leading = 0) {
+void check_columnar(const Rows& rows, std::size_t first, const json& columns,
+                    std::size_t leading = 0) {
     const std::size_t n = columns.begin()->size();
     for (std::size_t i = 0; i < n; ++i) {
-        for (std::size_t c = leading; c < rows[0].size(); ++c) check_cell(rows[first + i][c], columns.at(rows[0][c])[i]);
+        for (std::size_t c = leading; c < rows[0].size(); ++c)
+            check_cell(rows[first + i][c], columns.at(rows[0][c])[i]);
     }
 }
 
@@ -148,8 +151,8 @@ TEST_CASE("csv: the roll-gap distribution is the JSON's columns, row by row") {
 }
 
 TEST_CASE("csv: the stability scan, its branches and the eigenvalues") {
-    const json body =
-        answer({{"analysis", "stability"}, {"options", {{"speed_min_m_per_s", 15}, {"speed_max_m_per_s", 25}}}});
+    const json body = answer({{"analysis", "stability"},
+                              {"options", {{"speed_min_m_per_s", 15}, {"speed_max_m_per_s", 25}}}});
     const json& search = body["result"]["critical_speed"];
     check_row_table(table(body), search["scan"]);
     check_row_table(table(body, "eigenvalues"), body["result"]["eigenvalues"]);
@@ -160,25 +163,32 @@ TEST_CASE("csv: the stability scan, its branches and the eigenvalues") {
     for (std::size_t b = 0; b < search["damping_branches"].size(); ++b) {
         const json& branch = search["damping_branches"][b];
         check_columnar(branches, first, branch, 1);
-        for (std::size_t i = 0; i < branch["speed_m_per_s"].size(); ++i) CHECK(branches[first + i][0] == std::to_string(b));
+        for (std::size_t i = 0; i < branch["speed_m_per_s"].size(); ++i)
+            CHECK(branches[first + i][0] == std::to_string(b));
         first += branch["speed_m_per_s"].size();
     }
     CHECK(first == branches.size());
 
     SUBCASE("a summary has no scan: 406 naming the table") {
-        const json summary = answer({{"analysis", "stability"},
-                                     {"options", {{"speed_min_m_per_s", 15}, {"speed_max_m_per_s", 25}, {"detail", "summary"}}}});
+        const json summary = answer(
+            {{"analysis", "stability"},
+             {"options",
+              {{"speed_min_m_per_s", 15}, {"speed_max_m_per_s", 25}, {"detail", "summary"}}}});
         const service::CsvAnswer refused = service::csv_answer(summary, "");
         CHECK(refused.status == 406);
         CHECK(json::parse(refused.body)["code"] == "not_acceptable");
-        CHECK(json::parse(refused.body)["detail"].get<std::string>().find("'scan'") != std::string::npos);
+        CHECK(json::parse(refused.body)["detail"].get<std::string>().find("'scan'") !=
+              std::string::npos);
     }
 }
 
 TEST_CASE("csv: amplitude points and time series, led by the speed") {
     const json body = answer({{"analysis", "amplitude"},
-                              {"options", {{"speeds_m_per_s", {10, 15}}, {"window_s", 0.2}, {"time_series", true},
-                                           {"time_series_points", 20}}}});
+                              {"options",
+                               {{"speeds_m_per_s", {10, 15}},
+                                {"window_s", 0.2},
+                                {"time_series", true},
+                                {"time_series_points", 20}}}});
     const json& points = body["result"]["points"];
     check_row_table(table(body), points);
     const Rows series = table(body, "time_series");
@@ -188,24 +198,29 @@ TEST_CASE("csv: amplitude points and time series, led by the speed") {
     for (const json& point : points) {
         check_columnar(series, first, point["time_series"], 1);
         const std::size_t n = point["time_series"]["time_s"].size();
-        for (std::size_t i = 0; i < n; ++i) check_cell(series[first + i][0], point["speed_m_per_s"]);
+        for (std::size_t i = 0; i < n; ++i)
+            check_cell(series[first + i][0], point["speed_m_per_s"]);
         first += n;
     }
     CHECK(first == series.size());
 }
 
 TEST_CASE("csv: sweep points, the value first under its unit-carrying name") {
-    const json body = answer({{"analysis", "sweep"},
-                              {"options", {{"parameter", "/lubricant/viscosity_Pa_s"}, {"values", {4e-4, 7e-4}},
-                                           {"critical_speed", {{"speed_min_m_per_s", 10}, {"speed_max_m_per_s", 35}}}}}});
+    const json body =
+        answer({{"analysis", "sweep"},
+                {"options",
+                 {{"parameter", "/lubricant/viscosity_Pa_s"},
+                  {"values", {4e-4, 7e-4}},
+                  {"critical_speed", {{"speed_min_m_per_s", 10}, {"speed_max_m_per_s", 35}}}}}});
     const Rows rows = table(body);
-    CHECK(rows[0] == std::vector<std::string>{"value_Pa_s", "status", "critical_speed_m_per_s", "frequency_Hz",
-                                               "chatter_type", "chatter_band"});
+    CHECK(rows[0] == std::vector<std::string>{"value_Pa_s", "status", "critical_speed_m_per_s",
+                                              "frequency_Hz", "chatter_type", "chatter_band"});
     check_row_table(rows, body["result"]["points"]);
 }
 
 TEST_CASE("csv: tension-cycle distributions, led by the phase") {
-    const json body = answer({{"analysis", "tension_cycle"}, {"options", {{"phases", {0.25, 0.75}}}}});
+    const json body =
+        answer({{"analysis", "tension_cycle"}, {"options", {{"phases", {0.25, 0.75}}}}});
     const json& phases = body["result"]["phases"];
     const Rows rows = table(body);
     CHECK(rows[0][0] == "phase");
@@ -222,12 +237,15 @@ TEST_CASE("csv: tension-cycle distributions, led by the phase") {
 }
 
 TEST_CASE("csv: no table, an unknown table, an unfinished job: 406") {
-    const json evaluation = answer({{"analysis", "evaluate"}, {"options", {{"detail", "summary"}, {"amplitude", {{"window_s", 0.2}}}}}});
+    const json evaluation =
+        answer({{"analysis", "evaluate"},
+                {"options", {{"detail", "summary"}, {"amplitude", {{"window_s", 0.2}}}}}});
     CHECK(service::csv_answer(evaluation, "").status == 406);
     const json roll_gap = answer({{"analysis", "roll_gap"}});
     CHECK(service::csv_answer(roll_gap, "scan").status == 406);
     CHECK(service::csv_answer({{"id", "x"}, {"state", "running"}}, "").status == 406);
     // A succeeded job's result gives the same table as the answer itself.
-    CHECK(service::csv_answer({{"id", "x"}, {"state", "succeeded"}, {"result", roll_gap}}, "").body ==
-          service::csv_answer(roll_gap, "").body);
+    CHECK(
+        service::csv_answer({{"id", "x"}, {"state", "succeeded"}, {"result", roll_gap}}, "").body ==
+        service::csv_answer(roll_gap, "").body);
 }

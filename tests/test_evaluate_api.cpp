@@ -26,8 +26,8 @@ using namespace rollgap::service;
 
 namespace {
 
-void check_rejected(const json& options, const std::string& pointer, std::optional<std::string> bound,
-                    std::optional<std::string> unit) {
+void check_rejected(const json& options, const std::string& pointer,
+                    std::optional<std::string> bound, std::optional<std::string> unit) {
     test::check_refused_options("evaluate", options, pointer, bound, unit);
 }
 
@@ -41,37 +41,44 @@ const json fast_options = {
 
 TEST_CASE("evaluate options: the defaults are resolved and echoed") {
     api::FieldErrors errors;
-    const PreparedAnalysis prepared = prepare_evaluation(core::Scenario{}, json::object(), "/options", errors);
+    const PreparedAnalysis prepared =
+        prepare_evaluation(core::Scenario{}, json::object(), "/options", errors);
     CHECK(errors.empty());
-    CHECK(prepared.resolved_options == json{{"critical_speed", {{"speed_min_m_per_s", 1.0},
-                                                                {"speed_max_m_per_s", 60.0},
-                                                                {"speed_step_m_per_s", 0.5},
-                                                                {"relative_tolerance", 1e-4}}},
-                                            {"amplitude", {{"window_s", 2.0},
-                                                           {"excitation_amplitude_MPa", 1.0},
-                                                           {"excitation_frequency_Hz", 0.0},
-                                                           {"relative_tolerance", 1e-6},
-                                                           {"time_series", false},
-                                                           {"time_series_points", 2000}}},
+    CHECK(prepared.resolved_options == json{{"critical_speed",
+                                             {{"speed_min_m_per_s", 1.0},
+                                              {"speed_max_m_per_s", 60.0},
+                                              {"speed_step_m_per_s", 0.5},
+                                              {"relative_tolerance", 1e-4}}},
+                                            {"amplitude",
+                                             {{"window_s", 2.0},
+                                              {"excitation_amplitude_MPa", 1.0},
+                                              {"excitation_frequency_Hz", 0.0},
+                                              {"relative_tolerance", 1e-6},
+                                              {"time_series", false},
+                                              {"time_series_points", 2000}}},
                                             {"detail", "full"}});
 }
 
 TEST_CASE("evaluate options: nested bounds are reported at their own pointers") {
-    check_rejected({{"critical_speed", {{"speed_min_m_per_s", 0}}}}, "/options/critical_speed/speed_min_m_per_s",
-                   "[0.01, 100]", "m/s");
-    check_rejected({{"critical_speed", {{"speed_step_m_per_s", 1}}}}, "/options/critical_speed/speed_step_m_per_s",
-                   "(0, 0.5]", "m/s");
-    check_rejected({{"amplitude", {{"window_s", 30}}}}, "/options/amplitude/window_s", "(0, 20]", "s");
-    check_rejected({{"amplitude", {{"excitation_amplitude_MPa", 500}}}}, "/options/amplitude/excitation_amplitude_MPa",
-                   "[0, 100]", "MPa");
+    check_rejected({{"critical_speed", {{"speed_min_m_per_s", 0}}}},
+                   "/options/critical_speed/speed_min_m_per_s", "[0.01, 100]", "m/s");
+    check_rejected({{"critical_speed", {{"speed_step_m_per_s", 1}}}},
+                   "/options/critical_speed/speed_step_m_per_s", "(0, 0.5]", "m/s");
+    check_rejected({{"amplitude", {{"window_s", 30}}}}, "/options/amplitude/window_s", "(0, 20]",
+                   "s");
+    check_rejected({{"amplitude", {{"excitation_amplitude_MPa", 500}}}},
+                   "/options/amplitude/excitation_amplitude_MPa", "[0, 100]", "MPa");
     // evaluate runs at the scenario's speed: no speed list.
-    check_rejected({{"amplitude", {{"speeds_m_per_s", {10}}}}}, "/options/amplitude/speeds_m_per_s", std::nullopt,
+    check_rejected({{"amplitude", {{"speeds_m_per_s", {10}}}}}, "/options/amplitude/speeds_m_per_s",
+                   std::nullopt, std::nullopt);
+    check_rejected({{"critical_speed", true}}, "/options/critical_speed", std::nullopt,
                    std::nullopt);
-    check_rejected({{"critical_speed", true}}, "/options/critical_speed", std::nullopt, std::nullopt);
-    check_rejected({{"stability", json::object()}}, "/options/stability", std::nullopt, std::nullopt);
+    check_rejected({{"stability", json::object()}}, "/options/stability", std::nullopt,
+                   std::nullopt);
 }
 
-TEST_CASE("evaluate on the default scenario: roll gap, stable at 19 m/s, critical speed above, finite amplitude") {
+TEST_CASE(
+    "evaluate on the default scenario: roll gap, stable at 19 m/s, critical speed above, finite amplitude") {
     const Outcome outcome = evaluate({{"analysis", "evaluate"}, {"options", fast_options}});
     REQUIRE_MESSAGE(outcome.ok(), outcome.body.dump());
     const json& result = outcome.body["result"];
@@ -101,23 +108,30 @@ TEST_CASE("evaluate on the default scenario: roll gap, stable at 19 m/s, critica
     CHECK(amplitude["windows"].size() == 10);
 }
 
-TEST_CASE("evaluate without a steady bite: a 200 result, the dynamics at that speed marked no_steady_state") {
-    const Outcome outcome = evaluate({{"analysis", "evaluate"},
-                                      {"scenario", {{"lubricant", {{"limiting_shear", false}}}, {"rolls", {{"speed_m_per_s", 60}}}}},
-                                      {"options", fast_options}});
+TEST_CASE(
+    "evaluate without a steady bite: a 200 result, the dynamics at that speed marked no_steady_state") {
+    const Outcome outcome = evaluate(
+        {{"analysis", "evaluate"},
+         {"scenario",
+          {{"lubricant", {{"limiting_shear", false}}}, {"rolls", {{"speed_m_per_s", 60}}}}},
+         {"options", fast_options}});
     REQUIRE(outcome.ok());
     const json& result = outcome.body["result"];
     CHECK(result["roll_gap"]["status"] == "skidding");
     CHECK(result["stability"]["status"] == "no_steady_state");
     CHECK(result["stability"]["steady_status"] == "skidding");
     CHECK(result["stability"]["stable"].is_null());
-    // the chatter limit is a search over speed: it is still answered, the same as the stability analysis's
-    const Outcome search = evaluate({{"analysis", "stability"},
-                                     {"scenario", {{"lubricant", {{"limiting_shear", false}}}, {"rolls", {{"speed_m_per_s", 60}}}}},
-                                     {"options", fast_options["critical_speed"]}});
+    // the chatter limit is a search over speed: it is still answered, the same as the stability
+    // analysis's
+    const Outcome search = evaluate(
+        {{"analysis", "stability"},
+         {"scenario",
+          {{"lubricant", {{"limiting_shear", false}}}, {"rolls", {{"speed_m_per_s", 60}}}}},
+         {"options", fast_options["critical_speed"]}});
     REQUIRE(search.ok());
     CHECK(result["critical_speed"]["status"] == search.body["result"]["critical_speed"]["status"]);
-    CHECK(result["critical_speed"]["critical_speed_m_per_s"] == search.body["result"]["critical_speed"]["critical_speed_m_per_s"]);
+    CHECK(result["critical_speed"]["critical_speed_m_per_s"] ==
+          search.body["result"]["critical_speed"]["critical_speed_m_per_s"]);
     CHECK(result["amplitude"]["status"] == "no_steady_state");
     CHECK(result["amplitude"]["speed_m_per_s"] == 60.0);
     CHECK(result["amplitude"]["upper_roll_amplitude_um"].is_null());
@@ -128,7 +142,8 @@ TEST_CASE("the facade's Control: cancellation is the problem 'cancelled' (409)")
         int polls = 0;
         core::Control control;
         control.cancelled = [&polls] { return ++polls > 0; };
-        const Outcome outcome = evaluate({{"analysis", "evaluate"}, {"options", fast_options}}, control);
+        const Outcome outcome =
+            evaluate({{"analysis", "evaluate"}, {"options", fast_options}}, control);
         CHECK(outcome.problem == api::ProblemCode::cancelled);
         CHECK(outcome.http_status == 409);
         CHECK(outcome.media_type() == "application/problem+json");
@@ -139,14 +154,16 @@ TEST_CASE("the facade's Control: cancellation is the problem 'cancelled' (409)")
         std::atomic<int> polls{0};
         core::Control control;
         control.cancelled = [&polls] { return ++polls > 5; };
-        const Outcome outcome = evaluate({{"analysis", "stability"}, {"options", fast_options["critical_speed"]}}, control);
+        const Outcome outcome = evaluate(
+            {{"analysis", "stability"}, {"options", fast_options["critical_speed"]}}, control);
         CHECK(outcome.problem == api::ProblemCode::cancelled);
     }
     SUBCASE("cancelled during a time integration, through evaluate_text") {
         std::atomic<int> polls{0};
         core::Control control;
         control.cancelled = [&polls] { return ++polls > 50; };
-        const Outcome outcome = evaluate_text(R"({"analysis": "amplitude", "options": {"window_s": 0.2}})", control);
+        const Outcome outcome =
+            evaluate_text(R"({"analysis": "amplitude", "options": {"window_s": 0.2}})", control);
         CHECK(outcome.problem == api::ProblemCode::cancelled);
     }
     SUBCASE("cancelled during a tension cycle") {
@@ -154,7 +171,8 @@ TEST_CASE("the facade's Control: cancellation is the problem 'cancelled' (409)")
         std::atomic<int> polls{0};
         core::Control control;
         control.cancelled = [&polls] { return ++polls > 1; };
-        CHECK(evaluate({{"analysis", "tension_cycle"}}, control).problem == api::ProblemCode::cancelled);
+        CHECK(evaluate({{"analysis", "tension_cycle"}}, control).problem ==
+              api::ProblemCode::cancelled);
     }
     SUBCASE("an invalid request is reported as such, whatever the Control says") {
         core::Control control;
@@ -172,7 +190,8 @@ TEST_CASE("the facade's Control: progress is reported between 0 and 1") {
         const std::lock_guard lock(mutex);
         reported.push_back(fraction);
     };
-    const Outcome outcome = evaluate({{"analysis", "evaluate"}, {"options", fast_options}}, control);
+    const Outcome outcome =
+        evaluate({{"analysis", "evaluate"}, {"options", fast_options}}, control);
     REQUIRE(outcome.ok());
     REQUIRE_FALSE(reported.empty());
     for (const double fraction : reported) {
@@ -195,7 +214,8 @@ TEST_CASE("cli: the new analyses run from the command line and are listed by --h
     std::ostringstream help, help_err;
     const std::vector<std::string_view> help_arguments{"--help"};
     CHECK(run_cli(help_arguments, no_input, help, help_err) == exit_success);
-    for (const char* name : {"roll_gap", "tension_cycle", "stability", "amplitude", "sweep", "evaluate"}) {
+    for (const char* name :
+         {"roll_gap", "tension_cycle", "stability", "amplitude", "sweep", "evaluate"}) {
         CHECK(help.str().find(std::string("  ") + name + " ") != std::string::npos);
     }
 }

@@ -23,43 +23,50 @@ struct Corner {
 
 std::vector<Corner> corners() {
     return {
-        {"light, stiff stack (modes near 500 kHz)", [](Scenario& s) {
+        {"light, stiff stack (modes near 500 kHz)",
+         [](Scenario& s) {
              s.mill.mass = {1.0, 1.0, 1.0, 1.0, 1.0, 1.0};
              s.mill.k1 = s.mill.k2 = s.mill.k3 = s.mill.k5 = s.mill.k6 = s.mill.k7 = 1e13;
          }},
-        {"heavy, soft stack", [](Scenario& s) {
+        {"heavy, soft stack",
+         [](Scenario& s) {
              s.mill.mass = {1e7, 1e7, 1e7, 1e7, 1e7, 1e7};
              s.mill.k1 = s.mill.k2 = s.mill.k3 = s.mill.k5 = s.mill.k6 = s.mill.k7 = 1e6;
          }},
-        {"no damping at all", [](Scenario& s) {
+        {"no damping at all",
+         [](Scenario& s) {
              s.mill.c1 = s.mill.c2 = 0.0;
              s.mill.rayleigh = false;
          }},
         {"crawling speed", [](Scenario& s) { s.rolls.speed = 0.01; }},
         {"100 m/s", [](Scenario& s) { s.rolls.speed = 100.0; }},
-        {"foil, small rolls", [](Scenario& s) {
+        {"foil, small rolls",
+         [](Scenario& s) {
              s.strip.entry_thickness = 0.05e-3;
              s.strip.reduction = 0.5;
              s.rolls.radius = 0.01;
          }},
-        {"thick plate, big reduction", [](Scenario& s) {
+        {"thick plate, big reduction",
+         [](Scenario& s) {
              s.strip.entry_thickness = 20e-3;
              s.strip.reduction = 0.7;
              s.rolls.radius = 2.0;
          }},
-        {"isoviscous lubricant, thick oil", [](Scenario& s) {
+        {"isoviscous lubricant, thick oil",
+         [](Scenario& s) {
              s.lubricant.pressure_viscosity = 0.0;
              s.lubricant.viscosity = 10.0;
          }},
-        {"tensions near the flow stress", [](Scenario& s) {
+        {"tensions near the flow stress",
+         [](Scenario& s) {
              s.tensions.back.stress = 0.95 * s.strip.flow_stress;
              s.tensions.front.stress = 0.9 * s.strip.flow_stress;
          }},
         {"zero back tension, span mode", [](Scenario& s) { s.tensions.back.stress = 0.0; }},
-        {"rough, boundary lubrication", [](Scenario& s) {
-             s.roughness.roll_rq = s.roughness.strip_rq = 50e-6;
-         }},
-        {"paper fit, eulerian film, coulomb", [](Scenario& s) {
+        {"rough, boundary lubrication",
+         [](Scenario& s) { s.roughness.roll_rq = s.roughness.strip_rq = 50e-6; }},
+        {"paper fit, eulerian film, coulomb",
+         [](Scenario& s) {
              s.friction.contact = ContactModel::paper_fit;
              s.inlet_film = InletFilmModel::eulerian;
              s.friction.model = FrictionModel::coulomb;
@@ -91,7 +98,8 @@ TEST_CASE("extreme scenarios end every analysis with a status and finite numbers
         range.speed_max = range.speed_min + 1.0;
         range.threads = 2;
         const CriticalSpeedResult critical = critical_speed(s, range);
-        if (critical.status == CriticalSpeedStatus::found) CHECK(std::isfinite(critical.critical_speed));
+        if (critical.status == CriticalSpeedStatus::found)
+            CHECK(std::isfinite(critical.critical_speed));
 
         AmplitudeOptions amplitude;
         amplitude.window = 0.02;
@@ -101,6 +109,7 @@ TEST_CASE("extreme scenarios end every analysis with a status and finite numbers
         TensionCycleOptions cycle;
         cycle.cycles = 1;
         const TensionCycleResult distributions = tension_cycle(s, cycle);
-        for (const PhaseDistribution& p : distributions.phases) CHECK(std::isfinite(p.back_tension));
+        for (const PhaseDistribution& p : distributions.phases)
+            CHECK(std::isfinite(p.back_tension));
     }
 }

@@ -22,7 +22,9 @@ using namespace rollgap;
 
 namespace {
 
-bool contains(std::string_view text, std::string_view part) { return text.find(part) != std::string_view::npos; }
+bool contains(std::string_view text, std::string_view part) {
+    return text.find(part) != std::string_view::npos;
+}
 
 std::string cli_output(std::vector<std::string_view> arguments, int& status) {
     std::istringstream in;
@@ -45,7 +47,8 @@ const json& property_at(const json& schema, std::string_view path) {
 }
 
 // Every leaf property below `schema` (nested objects and array items included), with its path.
-void collect_option_properties(const json& schema, const std::string& path, std::vector<std::pair<std::string, json>>& out) {
+void collect_option_properties(const json& schema, const std::string& path,
+                               std::vector<std::pair<std::string, json>>& out) {
     if (!schema.contains("properties")) return;
     for (const auto& [name, property] : schema.at("properties").items()) {
         const std::string at = path + "/" + name;
@@ -72,7 +75,8 @@ TEST_CASE("glossary: every scenario field has a description a plant engineer can
             CHECK((contains(text, "dimensionless") || contains(text, "fraction")));
         }
         if (field.kind == api::FieldKind::choice) {
-            for (const std::string_view choice : field.choices) CHECK(contains(text, std::string(choice) + " ="));
+            for (const std::string_view choice : field.choices)
+                CHECK(contains(text, std::string(choice) + " ="));
         }
     }
     const api::ScenarioField* reduction = api::find_scenario_field("/strip/reduction");
@@ -94,10 +98,12 @@ TEST_CASE("glossary: the served OpenAPI document carries each field's descriptio
         for (const api::ScenarioField& field : api::scenario_fields()) {
             CAPTURE(schema_name);
             CAPTURE(field.path);
-            const std::string description = property_at(schema, field.path).at("description").get<std::string>();
+            const std::string description =
+                property_at(schema, field.path).at("description").get<std::string>();
             // the glossary first, then the generated type, unit and bounds
             CHECK(description.starts_with(field.description + " "));
-            if (field.kind == api::FieldKind::number) CHECK(contains(description, field.range.text()));
+            if (field.kind == api::FieldKind::number)
+                CHECK(contains(description, field.range.text()));
         }
     }
 }
@@ -124,7 +130,8 @@ TEST_CASE("glossary: every option of every analysis is described in the served O
     CHECK(described >= 30);
 }
 
-TEST_CASE("glossary: rollgap scenario --explain lists every field with unit, bounds, default and description") {
+TEST_CASE(
+    "glossary: rollgap scenario --explain lists every field with unit, bounds, default and description") {
     int status = -1;
     const std::string text = cli_output({"scenario", "--explain"}, status);
     CHECK(status == service::exit_success);
@@ -146,7 +153,8 @@ TEST_CASE("glossary: rollgap scenario --explain lists every field with unit, bou
         // the description follows, wrapped: its words in order
         std::string words;
         const std::size_t next_field = text.find("\n/", at + 1);
-        std::istringstream body(text.substr(at + 1 + line.size(), next_field - at - 1 - line.size()));
+        std::istringstream body(
+            text.substr(at + 1 + line.size(), next_field - at - 1 - line.size()));
         for (std::string word; body >> word;) words += (words.empty() ? "" : " ") + word;
         CHECK(words == field.description);
     }
@@ -155,21 +163,26 @@ TEST_CASE("glossary: rollgap scenario --explain lists every field with unit, bou
     CHECK(status == service::exit_bad_input);
 }
 
-TEST_CASE("glossary: a fraction given as a percentage gets the hint, other bound violations do not") {
+TEST_CASE(
+    "glossary: a fraction given as a percentage gets the hint, other bound violations do not") {
     const auto detail_of = [](const std::string& request) {
         const service::Outcome outcome = service::evaluate_text(request);
         REQUIRE(outcome.problem.has_value());
         REQUIRE(outcome.body.at("errors").size() == 1);
         return outcome.body.at("errors").at(0).at("detail").get<std::string>();
     };
-    const std::string percent = detail_of(R"({"analysis":"roll_gap","scenario":{"strip":{"reduction":25}}})");
+    const std::string percent =
+        detail_of(R"({"analysis":"roll_gap","scenario":{"strip":{"reduction":25}}})");
     CHECK(contains(percent, "25 is outside (0, 0.7]"));
     CHECK(contains(percent, "fraction, 0.25 = 25 %"));
     CHECK(contains(percent, "write 0.25"));
     // 0.8 and 80 (0.8 as a fraction is out of range too) are plain violations
-    CHECK(!contains(detail_of(R"({"analysis":"roll_gap","scenario":{"strip":{"reduction":0.8}}})"), "fraction"));
-    CHECK(!contains(detail_of(R"({"analysis":"roll_gap","scenario":{"strip":{"reduction":80}}})"), "fraction"));
-    // a field with a unit is never a fraction
-    CHECK(!contains(detail_of(R"({"analysis":"roll_gap","scenario":{"strip":{"entry_thickness_mm":50}}})"),
+    CHECK(!contains(detail_of(R"({"analysis":"roll_gap","scenario":{"strip":{"reduction":0.8}}})"),
                     "fraction"));
+    CHECK(!contains(detail_of(R"({"analysis":"roll_gap","scenario":{"strip":{"reduction":80}}})"),
+                    "fraction"));
+    // a field with a unit is never a fraction
+    CHECK(!contains(
+        detail_of(R"({"analysis":"roll_gap","scenario":{"strip":{"entry_thickness_mm":50}}})"),
+        "fraction"));
 }

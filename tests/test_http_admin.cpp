@@ -52,8 +52,9 @@ TEST_CASE("admin: /livez, /readyz and /metrics on the admin port; nothing else t
     CHECK(openapi->status == 404);
 }
 
-TEST_CASE("admin: slow clients on every public connection thread are cut off at the read deadline; "
-          "/livez answers on the admin port throughout") {
+TEST_CASE(
+    "admin: slow clients on every public connection thread are cut off at the read deadline; "
+    "/livez answers on the admin port throughout") {
     service::ServerConfig config = test_config();
     config.io_threads = 2;
     config.read_deadline = milliseconds(1500);
@@ -61,7 +62,8 @@ TEST_CASE("admin: slow clients on every public connection thread are cut off at 
 
     constexpr int slow_clients = 2;  // one per public connection thread
     std::vector<std::unique_ptr<RawConnection>> connections;
-    for (int i = 0; i < slow_clients; ++i) connections.push_back(std::make_unique<RawConnection>(server.port()));
+    for (int i = 0; i < slow_clients; ++i)
+        connections.push_back(std::make_unique<RawConnection>(server.port()));
     std::vector<SteadyClock::duration> held(slow_clients);
     std::vector<std::string> answers(slow_clients);
     std::vector<std::unique_ptr<Background>> senders;
@@ -69,7 +71,8 @@ TEST_CASE("admin: slow clients on every public connection thread are cut off at 
     for (int i = 0; i < slow_clients; ++i) {
         senders.push_back(std::make_unique<Background>([&, i] {
             // One header byte every 400 ms, for at most 12 s: never a whole request.
-            const std::string request = "GET /livez HTTP/1.1\r\nHost: x\r\nX-Slow: " + std::string(60, 'a');
+            const std::string request =
+                "GET /livez HTTP/1.1\r\nHost: x\r\nX-Slow: " + std::string(60, 'a');
             for (char byte : request) {
                 if (!connections[i]->send(std::string(1, byte))) break;
                 if (connections[i]->closed_by_server(milliseconds(400))) break;

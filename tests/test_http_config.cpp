@@ -28,7 +28,8 @@ public:
         for (const ConfigSetting& setting : config_settings()) {
             const std::string name(setting.env);
             const char* previous = std::getenv(name.c_str());
-            saved_.emplace_back(name, previous ? std::optional<std::string>(previous) : std::nullopt);
+            saved_.emplace_back(name,
+                                previous ? std::optional<std::string>(previous) : std::nullopt);
             ::unsetenv(name.c_str());
         }
         for (const auto& [name, value] : values) ::setenv(name.c_str(), value.c_str(), 1);
@@ -49,8 +50,8 @@ private:
     std::vector<std::pair<std::string, std::optional<std::string>>> saved_;
 };
 
-std::variant<ServerConfig, ConfigHelp, std::string> parse(std::vector<std::string_view> arguments,
-                                                           const std::map<std::string, std::string>& env = {}) {
+std::variant<ServerConfig, ConfigHelp, std::string> parse(
+    std::vector<std::string_view> arguments, const std::map<std::string, std::string>& env = {}) {
     const ScopedEnvironment scope(env);
     return parse_server_config(arguments);
 }
@@ -73,7 +74,8 @@ TEST_CASE("serve config: defaults") {
     CHECK_FALSE(resolved.instance.empty());
 }
 
-TEST_CASE("serve config: the defaults keep the README's capacity rule, workers + queue-length < io-threads") {
+TEST_CASE(
+    "serve config: the defaults keep the README's capacity rule, workers + queue-length < io-threads") {
     // Overload shows as fast 503s only if a connection thread is left to answer them while every
     // worker is busy and the queue is full. The default workers are the machine's cores: the
     // rule must hold on this machine and on any machine with up to 63 cores.
@@ -87,8 +89,11 @@ TEST_CASE("serve config: the defaults keep the README's capacity rule, workers +
 
 TEST_CASE("serve config: environment, then flags (both --flag value and --flag=value)") {
     const auto parsed = parse({"--port", "9000", "--workers=3", "--deadline-ms", "1500"},
-                              {{"ROLLGAP_PORT", "7000"}, {"ROLLGAP_BIND", "0.0.0.0"}, {"ROLLGAP_QUEUE_LENGTH", "5"},
-                               {"ROLLGAP_LOG_LEVEL", "warn"}, {"ROLLGAP_JOB_RETENTION_MS", "1000"},
+                              {{"ROLLGAP_PORT", "7000"},
+                               {"ROLLGAP_BIND", "0.0.0.0"},
+                               {"ROLLGAP_QUEUE_LENGTH", "5"},
+                               {"ROLLGAP_LOG_LEVEL", "warn"},
+                               {"ROLLGAP_JOB_RETENTION_MS", "1000"},
                                {"ROLLGAP_ANALYSIS_THREADS", "1"}});
     REQUIRE(std::holds_alternative<ServerConfig>(parsed));
     const ServerConfig config = std::get<ServerConfig>(parsed);
@@ -103,7 +108,8 @@ TEST_CASE("serve config: environment, then flags (both --flag value and --flag=v
 }
 
 TEST_CASE("serve config: bad values and unknown options are errors naming the option") {
-    for (const auto& [arguments, expected] : std::vector<std::pair<std::vector<std::string_view>, std::string>>{
+    for (const auto& [arguments, expected] :
+         std::vector<std::pair<std::vector<std::string_view>, std::string>>{
              {{"--port", "70000"}, "--port"},
              {{"--workers", "many"}, "--workers"},
              {{"--log-level", "loud"}, "--log-level"},
@@ -135,7 +141,8 @@ TEST_CASE("serve config: the token comes from the environment or a file and is n
     CHECK(describe(std::get<ServerConfig>(from_env)).find(secret) == std::string::npos);
     CHECK(describe(std::get<ServerConfig>(from_env)).find("token=set") != std::string::npos);
 
-    const auto path = std::filesystem::temp_directory_path() / ("rollgap-token-" + std::to_string(::getpid()));
+    const auto path =
+        std::filesystem::temp_directory_path() / ("rollgap-token-" + std::to_string(::getpid()));
     std::ofstream(path) << "file-token\n";
     const auto from_file = parse({"--token-file", path.string()}, {{"ROLLGAP_TOKEN", secret}});
     std::filesystem::remove(path);
@@ -161,7 +168,8 @@ TEST_CASE("serve config: --help lists every setting with its environment variabl
     }
 }
 
-TEST_CASE("serve config: the admin listener's port is 8081 unless set; with --port 0 it is any free port too") {
+TEST_CASE(
+    "serve config: the admin listener's port is 8081 unless set; with --port 0 it is any free port too") {
     const auto resolved = [](std::vector<std::string_view> arguments) {
         const auto parsed = parse(std::move(arguments));
         REQUIRE(std::holds_alternative<ServerConfig>(parsed));
@@ -171,5 +179,6 @@ TEST_CASE("serve config: the admin listener's port is 8081 unless set; with --po
     CHECK(resolved({}).admin_bind_address == "127.0.0.1");
     CHECK(resolved({"--port", "0"}).admin_port == 0);
     CHECK(resolved({"--port", "0", "--admin-port", "9091"}).admin_port == 9091);
-    CHECK(resolved({"--admin-port", "0", "--admin-bind", "0.0.0.0"}).admin_bind_address == "0.0.0.0");
+    CHECK(resolved({"--admin-port", "0", "--admin-bind", "0.0.0.0"}).admin_bind_address ==
+          "0.0.0.0");
 }

@@ -15,9 +15,10 @@ TEST_CASE("connection: three pipelined requests in one packet get three answers 
     TestServer server;
     RawConnection connection(server.port());
     const std::string body = "{}";
-    connection.send("GET /livez HTTP/1.1\r\nHost: x\r\n\r\n"
-                    "POST /v1/roll-gap HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\nContent-Length: 2\r\n\r\n" +
-                    body + "GET /v1/nothing HTTP/1.1\r\nHost: x\r\n\r\n");
+    connection.send(
+        "GET /livez HTTP/1.1\r\nHost: x\r\n\r\n"
+        "POST /v1/roll-gap HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\nContent-Length: 2\r\n\r\n" +
+        body + "GET /v1/nothing HTTP/1.1\r\nHost: x\r\n\r\n");
     const std::string received =
         connection.receive([](const std::string& r) { return complete_responses(r) >= 3; });
     CAPTURE(received.substr(0, 600));
@@ -33,10 +34,12 @@ TEST_CASE("connection: three pipelined requests in one packet get three answers 
 TEST_CASE("connection: a client that half-closes after its request gets the answer") {
     TestServer server;
     RawConnection connection(server.port());
-    connection.send("POST /v1/roll-gap HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\n"
-                    "Content-Length: 2\r\n\r\n{}");
+    connection.send(
+        "POST /v1/roll-gap HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\n"
+        "Content-Length: 2\r\n\r\n{}");
     connection.shutdown_write();
-    const std::string received = connection.receive([](const std::string& r) { return response_complete(r); });
+    const std::string received =
+        connection.receive([](const std::string& r) { return response_complete(r); });
     CAPTURE(received.substr(0, 300));
     CHECK(raw_status(received) == 200);
     CHECK(json::parse(raw_body(received))["analysis"] == "roll_gap");

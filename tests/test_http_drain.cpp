@@ -23,7 +23,8 @@ constexpr milliseconds drain_margin{2000};
 
 }  // namespace
 
-TEST_CASE("drain: running and queued requests all get a 503 problem at the drain timeout, none waits for its deadline") {
+TEST_CASE(
+    "drain: running and queued requests all get a 503 problem at the drain timeout, none waits for its deadline") {
     Gate gate;  // never opened: each computation runs until cancelled
     service::ServerConfig config = test_config();
     config.workers = 1;
@@ -40,10 +41,13 @@ TEST_CASE("drain: running and queued requests all get a 503 problem at the drain
             auto client = server.client();
             const auto result = post_json(client, "/v1/roll-gap", json::object());
             statuses[i] = result ? result->status : -1;
-            if (result && !result->body.empty()) codes[i] = json::parse(result->body).value("code", "");
+            if (result && !result->body.empty())
+                codes[i] = json::parse(result->body).value("code", "");
         }));
     }
-    REQUIRE(eventually([&] { return gate.started() == 1 && server.server->pool_stats().interactive_queued == 3; }));
+    REQUIRE(eventually([&] {
+        return gate.started() == 1 && server.server->pool_stats().interactive_queued == 3;
+    }));
 
     const auto start = SteadyClock::now();
     server.server->shutdown();
@@ -88,7 +92,8 @@ TEST_CASE("drain: a client sending one byte at a time does not hold the shutdown
     std::atomic<bool> stop_sending{false};
     RawConnection slow(server.port());
     Background sender([&] {
-        const std::string request = "GET /livez HTTP/1.1\r\nHost: x\r\nX-Slow: " + std::string(400, 'a') + "\r\n\r\n";
+        const std::string request =
+            "GET /livez HTTP/1.1\r\nHost: x\r\nX-Slow: " + std::string(400, 'a') + "\r\n\r\n";
         for (std::size_t i = 0; i < request.size() && !stop_sending; ++i) {
             if (!slow.send(request.substr(i, 1))) break;
             std::this_thread::sleep_for(milliseconds(100));

@@ -31,7 +31,8 @@ constexpr std::size_t header_line_limit = 8192;             // large_client_head
 constexpr std::size_t body_limit = 1048576;                 // client_max_body_size 1m
 
 void skipped_without_nginx() {
-    MESSAGE("nginx is not installed (scripts/install-deps.sh installs it): front proxy test skipped");
+    MESSAGE(
+        "nginx is not installed (scripts/install-deps.sh installs it): front proxy test skipped");
 }
 
 // A socket connected to 127.0.0.1:port, or -1.
@@ -144,9 +145,9 @@ struct FrontProxy {
 
     explicit FrontProxy(const std::string& name, service::ServerConfig service_config = config(4),
                         service::Evaluator evaluator = service::facade_evaluator())
-        : service(service_config, std::move(evaluator)),
-          port(free_loopback_port()),
-          nginx(std::filesystem::temp_directory_path() / ("rollgap-front-" + name + "-" + std::to_string(::getpid())),
+        : service(service_config, std::move(evaluator)), port(free_loopback_port()),
+          nginx(std::filesystem::temp_directory_path() /
+                    ("rollgap-front-" + name + "-" + std::to_string(::getpid())),
                 product_proxy_config(port, service.port())) {
         httplib::Client probe = client();
         const bool up = eventually([&] {
@@ -171,19 +172,24 @@ struct FrontProxy {
     }
 
     // The service's request log lines that mention `text`.
-    bool service_logged(const std::string& text) { return service.log_text().find(text) != std::string::npos; }
+    bool service_logged(const std::string& text) {
+        return service.log_text().find(text) != std::string::npos;
+    }
 };
 
 const json quick_request = {{"options", {{"distributions", false}}}};
 
-std::string post_request(const std::string& path, const std::string& body, const std::string& extra_headers = "") {
-    return "POST " + path + " HTTP/1.1\r\nHost: rollgap\r\nContent-Type: application/json\r\nContent-Length: " +
+std::string post_request(const std::string& path, const std::string& body,
+                         const std::string& extra_headers = "") {
+    return "POST " + path +
+           " HTTP/1.1\r\nHost: rollgap\r\nContent-Type: application/json\r\nContent-Length: " +
            std::to_string(body.size()) + "\r\n" + extra_headers + "\r\n" + body;
 }
 
 }  // namespace
 
-TEST_CASE("front proxy: a slow-loris client is cut off by nginx's header deadline, and the service never sees it") {
+TEST_CASE(
+    "front proxy: a slow-loris client is cut off by nginx's header deadline, and the service never sees it") {
     if (!nginx_installed()) return skipped_without_nginx();
     FrontProxy proxy("slowloris");
     // Twice as many slow clients as the service has connection threads: had nginx passed them
@@ -203,7 +209,8 @@ TEST_CASE("front proxy: a slow-loris client is cut off by nginx's header deadlin
             clients.push_back(std::make_unique<Background>([&, i] {
                 Outcome& outcome = outcomes[static_cast<std::size_t>(i)];
                 Connection connection(proxy.port);
-                const std::string request = "GET /livez HTTP/1.1\r\nHost: rollgap\r\nX-Slow: " + std::string(64, 'a');
+                const std::string request =
+                    "GET /livez HTTP/1.1\r\nHost: rollgap\r\nX-Slow: " + std::string(64, 'a');
                 // One byte every 2 s, for at most 24 s (a header that never ends).
                 for (std::size_t k = 0; k < 12; ++k) {
                     if (!connection.send(request.substr(k, 1))) break;
@@ -213,7 +220,8 @@ TEST_CASE("front proxy: a slow-loris client is cut off by nginx's header deadlin
                         break;
                     }
                 }
-                outcome.closed_after = std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - start);
+                outcome.closed_after =
+                    std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - start);
             }));
         }
         // Meanwhile normal requests through the same port are answered at once.
@@ -246,7 +254,8 @@ TEST_CASE("front proxy: a slow-loris client is cut off by nginx's header deadlin
     CHECK(alive->status == 200);
 }
 
-TEST_CASE("front proxy: header floods get 431 problem details early, and nginx's memory stays bounded") {
+TEST_CASE(
+    "front proxy: header floods get 431 problem details early, and nginx's memory stays bounded") {
     if (!nginx_installed()) return skipped_without_nginx();
     FrontProxy proxy("flood");
     const pid_t worker = proxy.nginx.worker_pid();
@@ -256,7 +265,8 @@ TEST_CASE("front proxy: header floods get 431 problem details early, and nginx's
     // Sends `head` and then `filler` repeatedly (never the end of the header) until `total`
     // bytes are offered or nginx closes; stops at nginx's answer unless `past_answer`. Returns
     // the answer and the bytes sent before it arrived.
-    const auto flood = [&](const std::string& head, const std::string& filler, std::size_t total, bool past_answer) {
+    const auto flood = [&](const std::string& head, const std::string& filler, std::size_t total,
+                           bool past_answer) {
         Connection connection(proxy.port);
         std::size_t sent = 0;
         std::size_t sent_before_answer = 0;
@@ -270,12 +280,15 @@ TEST_CASE("front proxy: header floods get 431 problem details early, and nginx's
             sent += filler.size();
         }
         if (sent_before_answer == 0) sent_before_answer = sent;
-        return std::make_pair(connection.receive(std::chrono::milliseconds(3000), response_complete), sent_before_answer);
+        return std::make_pair(
+            connection.receive(std::chrono::milliseconds(3000), response_complete),
+            sent_before_answer);
     };
     const std::string request_line = "GET /livez HTTP/1.1\r\nHost: rollgap\r\n";
 
     SUBCASE("one header line of up to 16 MiB") {
-        const auto answer = flood(request_line + "X-Flood: ", std::string(65536, 'a'), 16u << 20, false);
+        const auto answer =
+            flood(request_line + "X-Flood: ", std::string(65536, 'a'), 16u << 20, false);
         check_problem(answer.first, 431, "headers_too_large");
         MESSAGE("one huge header line: 431 after " << answer.second << " bytes");
         // The header never ended: nginx answered as soon as the line outgrew its buffer.
@@ -291,12 +304,14 @@ TEST_CASE("front proxy: header floods get 431 problem details early, and nginx's
         CHECK(answer.second < 2000 * headers.size());
     }
     SUBCASE("a request line longer than a header buffer: 414") {
-        const std::string line = "GET /" + std::string(header_line_limit + 100, 'a') + " HTTP/1.1\r\nHost: rollgap\r\n\r\n";
+        const std::string line = "GET /" + std::string(header_line_limit + 100, 'a') +
+                                 " HTTP/1.1\r\nHost: rollgap\r\n\r\n";
         check_problem(raw_exchange(proxy.port, line), 414, "uri_too_long");
     }
     SUBCASE("a header line just under the limit still passes") {
         const std::string request = "GET /readyz HTTP/1.1\r\nHost: rollgap\r\nX-Long: " +
-                                    std::string(header_line_limit - 100, 'a') + "\r\nConnection: close\r\n\r\n";
+                                    std::string(header_line_limit - 100, 'a') +
+                                    "\r\nConnection: close\r\n\r\n";
         CHECK(raw_status(raw_exchange(proxy.port, request)) == 200);
     }
     SUBCASE("a NUL byte in a header value: 400") {
@@ -309,14 +324,16 @@ TEST_CASE("front proxy: header floods get 431 problem details early, and nginx's
         for (int i = 0; i < 16; ++i) {
             clients.push_back(std::make_unique<Background>([&, i] {
                 // The whole 4 MiB, also after the answer: nginx reads and discards it.
-                statuses[static_cast<std::size_t>(i)] =
-                    raw_status(flood(request_line + "X-Flood: ", std::string(65536, 'b'), 4u << 20, true).first);
+                statuses[static_cast<std::size_t>(i)] = raw_status(
+                    flood(request_line + "X-Flood: ", std::string(65536, 'b'), 4u << 20, true)
+                        .first);
             }));
         }
         clients.clear();
         CHECK(std::count(statuses.begin(), statuses.end(), 431) == 16);
         const long rss_after = resident_kib(worker);
-        MESSAGE("nginx worker RSS: " << rss_before << " KiB before, " << rss_after << " KiB after 16 floods");
+        MESSAGE("nginx worker RSS: " << rss_before << " KiB before, " << rss_after
+                                     << " KiB after 16 floods");
         // 64 MiB offered; each connection holds at most 1 KiB + 4 x 8 KiB of header buffers.
         CHECK(rss_after - rss_before < 4096);
     }
@@ -348,8 +365,9 @@ TEST_CASE("front proxy: a multi-range Range gets the whole answer, never multipa
     CHECK(ranged->body == whole->body);
 
     // An error answered to a request with a Range stays a problem.
-    const auto refused = client.Post("/v1/roll-gap", {{"Range", "bytes=0-0,1-1"}}, R"({"scenario":{"strip":{"reduction":5}}})",
-                                     "application/json");
+    const auto refused =
+        client.Post("/v1/roll-gap", {{"Range", "bytes=0-0,1-1"}},
+                    R"({"scenario":{"strip":{"reduction":5}}})", "application/json");
     REQUIRE(refused);
     CHECK(refused->status == 422);
     CHECK(refused->get_header_value("Content-Type") == "application/problem+json");
@@ -364,8 +382,9 @@ TEST_CASE("front proxy: pipelined requests and a half-closed client are all answ
     FrontProxy proxy("pipeline");
     SUBCASE("two requests in one write") {
         Connection connection(proxy.port);
-        REQUIRE(connection.send(post_request("/v1/roll-gap", quick_request.dump()) +
-                                "GET /v1/scenarios/default HTTP/1.1\r\nHost: rollgap\r\nConnection: close\r\n\r\n"));
+        REQUIRE(connection.send(
+            post_request("/v1/roll-gap", quick_request.dump()) +
+            "GET /v1/scenarios/default HTTP/1.1\r\nHost: rollgap\r\nConnection: close\r\n\r\n"));
         const std::string received = connection.receive(std::chrono::milliseconds(10000));
         CAPTURE(received.substr(0, 400));
         const std::size_t second = received.find("HTTP/1.1 ", 1);
@@ -382,14 +401,16 @@ TEST_CASE("front proxy: pipelined requests and a half-closed client are all answ
         Connection connection(proxy.port);
         REQUIRE(connection.send(post_request("/v1/roll-gap", quick_request.dump())));
         connection.shutdown_write();
-        const std::string received = connection.receive(std::chrono::milliseconds(10000), response_complete);
+        const std::string received =
+            connection.receive(std::chrono::milliseconds(10000), response_complete);
         CAPTURE(received.substr(0, 400));
         CHECK(raw_status(received) == 200);
         CHECK(json::parse(raw_body(received))["analysis"] == "roll_gap");
     }
 }
 
-TEST_CASE("front proxy: bodies up to the service's limit pass, larger ones get 413 problem details from nginx") {
+TEST_CASE(
+    "front proxy: bodies up to the service's limit pass, larger ones get 413 problem details from nginx") {
     if (!nginx_installed()) return skipped_without_nginx();
     FrontProxy proxy("body");
     // A valid request padded with spaces to exactly the limit: both limits are the same number.
@@ -402,19 +423,24 @@ TEST_CASE("front proxy: bodies up to the service's limit pass, larger ones get 4
 
     SUBCASE("declared one byte too large: refused before the body is sent") {
         Connection connection(proxy.port);
-        REQUIRE(connection.send("POST /v1/roll-gap HTTP/1.1\r\nHost: rollgap\r\nContent-Type: application/json\r\n"
-                                "Content-Length: " + std::to_string(body_limit + 1) + "\r\n\r\n"));
-        check_problem(connection.receive(std::chrono::milliseconds(3000), response_complete), 413, "payload_too_large");
+        REQUIRE(connection.send(
+            "POST /v1/roll-gap HTTP/1.1\r\nHost: rollgap\r\nContent-Type: application/json\r\n"
+            "Content-Length: " +
+            std::to_string(body_limit + 1) + "\r\n\r\n"));
+        check_problem(connection.receive(std::chrono::milliseconds(3000), response_complete), 413,
+                      "payload_too_large");
     }
     SUBCASE("chunked, growing past the limit") {
         Connection connection(proxy.port);
-        REQUIRE(connection.send("POST /v1/roll-gap HTTP/1.1\r\nHost: rollgap\r\nContent-Type: application/json\r\n"
-                                "Transfer-Encoding: chunked\r\n\r\n"));
+        REQUIRE(connection.send(
+            "POST /v1/roll-gap HTTP/1.1\r\nHost: rollgap\r\nContent-Type: application/json\r\n"
+            "Transfer-Encoding: chunked\r\n\r\n"));
         const std::string chunk = "10000\r\n" + std::string(0x10000, ' ') + "\r\n";
         for (int i = 0; i < 32 && !connection.readable(std::chrono::milliseconds(0)); ++i) {
             if (!connection.send(chunk)) break;
         }
-        check_problem(connection.receive(std::chrono::milliseconds(3000), response_complete), 413, "payload_too_large");
+        check_problem(connection.receive(std::chrono::milliseconds(3000), response_complete), 413,
+                      "payload_too_large");
     }
     // The service never saw the oversized requests.
     CHECK(proxy.service.server->metrics().request_count("POST", "/v1/roll-gap", 413) == 0);
@@ -448,7 +474,8 @@ TEST_CASE("front proxy: more than 16 requests of one address in progress get 429
             }));
         }
         // The refusals come while the 16 others are held in the service.
-        CHECK(eventually([&] { return refused == clients - 16; }, std::chrono::milliseconds(10000)));
+        CHECK(
+            eventually([&] { return refused == clients - 16; }, std::chrono::milliseconds(10000)));
         CHECK(eventually([&] { return gate.started() == 2; }));
         gate.open();
     }
@@ -467,27 +494,34 @@ TEST_CASE("front proxy: request ids are forwarded, and nginx's own errors are pr
     FrontProxy proxy("ids");
     httplib::Client client = proxy.client();
     SUBCASE("a valid client id reaches the service and comes back") {
-        const auto result = post_json(client, "/v1/roll-gap", quick_request, {{"X-Request-Id", "probe-42.a:b"}});
+        const auto result =
+            post_json(client, "/v1/roll-gap", quick_request, {{"X-Request-Id", "probe-42.a:b"}});
         REQUIRE(result);
         CHECK(result->get_header_value("X-Request-Id") == "probe-42.a:b");
         CHECK(eventually([&] { return proxy.service_logged("id=probe-42.a:b "); }));
-        CHECK(eventually([&] { return proxy.nginx.access_log().find("id=probe-42.a:b ") != std::string::npos; }));
+        CHECK(eventually([&] {
+            return proxy.nginx.access_log().find("id=probe-42.a:b ") != std::string::npos;
+        }));
     }
     SUBCASE("an id the service would refuse is replaced by nginx's, shared by both logs") {
-        const auto result = post_json(client, "/v1/roll-gap", quick_request, {{"X-Request-Id", "has spaces"}});
+        const auto result =
+            post_json(client, "/v1/roll-gap", quick_request, {{"X-Request-Id", "has spaces"}});
         REQUIRE(result);
         const std::string id = result->get_header_value("X-Request-Id");
         CHECK(id.size() == 32);
         CHECK(id.find_first_not_of("0123456789abcdef") == std::string::npos);
         CHECK(eventually([&] { return proxy.service_logged("id=" + id + " "); }));
-        CHECK(eventually([&] { return proxy.nginx.access_log().find("id=" + id + " ") != std::string::npos; }));
+        CHECK(eventually(
+            [&] { return proxy.nginx.access_log().find("id=" + id + " ") != std::string::npos; }));
     }
     SUBCASE("a request line nginx cannot parse") {
         check_problem(raw_exchange(proxy.port, "GARBAGE\r\n\r\n"), 400, "unreadable_input");
     }
     SUBCASE("the proxy's internal error pages are not routes") {
-        check_problem(raw_exchange(proxy.port, "GET /.rollgap-proxy/problem/400 HTTP/1.1\r\nHost: rollgap\r\n\r\n"), 404,
-                      "not_found");
+        check_problem(
+            raw_exchange(proxy.port,
+                         "GET /.rollgap-proxy/problem/400 HTTP/1.1\r\nHost: rollgap\r\n\r\n"),
+            404, "not_found");
     }
 }
 
@@ -496,7 +530,8 @@ TEST_CASE("front proxy: a service that does not answer is a 502 problem with Ret
     // Nothing listens on the service's port.
     const int nobody = free_loopback_port();
     const int port = free_loopback_port();
-    Nginx nginx(std::filesystem::temp_directory_path() / ("rollgap-front-down-" + std::to_string(::getpid())),
+    Nginx nginx(std::filesystem::temp_directory_path() /
+                    ("rollgap-front-down-" + std::to_string(::getpid())),
                 product_proxy_config(port, nobody));
     REQUIRE(eventually([&] { return accepts_connections(port); }));
     const std::string answer = raw_exchange(port, "GET /readyz HTTP/1.1\r\nHost: rollgap\r\n\r\n");
@@ -504,20 +539,26 @@ TEST_CASE("front proxy: a service that does not answer is a 502 problem with Ret
     CHECK(raw_header(answer, "Retry-After") == "1");
 }
 
-TEST_CASE("front proxy: the Kubernetes pod wires nginx and the service with the configuration's addresses") {
-    const std::string conf = read_text_file(repository_root() / "deploy" / "nginx" / "rollgap.conf");
-    const std::string pod = read_text_file(repository_root() / "deploy" / "kubernetes" / "deployment.yaml");
-    const std::string kustomization = read_text_file(repository_root() / "deploy" / "kustomization.yaml");
+TEST_CASE(
+    "front proxy: the Kubernetes pod wires nginx and the service with the configuration's addresses") {
+    const std::string conf =
+        read_text_file(repository_root() / "deploy" / "nginx" / "rollgap.conf");
+    const std::string pod =
+        read_text_file(repository_root() / "deploy" / "kubernetes" / "deployment.yaml");
+    const std::string kustomization =
+        read_text_file(repository_root() / "deploy" / "kustomization.yaml");
     REQUIRE_FALSE(conf.empty());
     REQUIRE_FALSE(pod.empty());
     // The addresses product_proxy_config() replaces are the ones the pod uses.
     CHECK(conf.find("\n        listen 8080;") != std::string::npos);
     CHECK(conf.find("server 127.0.0.1:8090 ") != std::string::npos);
     CHECK(pod.find("- name: http\n              containerPort: 8080") != std::string::npos);
-    CHECK(pod.find("- name: ROLLGAP_BIND\n              value: \"127.0.0.1\"") != std::string::npos);
+    CHECK(pod.find("- name: ROLLGAP_BIND\n              value: \"127.0.0.1\"") !=
+          std::string::npos);
     CHECK(pod.find("- name: ROLLGAP_PORT\n              value: \"8090\"") != std::string::npos);
     // nginx runs the generated ConfigMap's file, the file this test runs.
-    CHECK(kustomization.find("- name: rollgap-nginx\n    files:\n      - nginx/rollgap.conf") != std::string::npos);
+    CHECK(kustomization.find("- name: rollgap-nginx\n    files:\n      - nginx/rollgap.conf") !=
+          std::string::npos);
     CHECK(pod.find("name: rollgap-nginx") != std::string::npos);
     CHECK(pod.find("-c /etc/rollgap/nginx/rollgap.conf") != std::string::npos);
     // The only public port is nginx's: the service is not a container port of its own.

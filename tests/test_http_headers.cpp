@@ -39,8 +39,8 @@ TEST_CASE("headers: one header line of 4 MB is refused with 431 before it is rea
     const std::string chunk(64 * 1024, 'a');
     for (int i = 0; i < 64 && connection.send(chunk); ++i) {
     }
-    check_raw_problem(connection.receive([](const std::string& r) { return response_complete(r); }), 431,
-                      "header_fields_too_large");
+    check_raw_problem(connection.receive([](const std::string& r) { return response_complete(r); }),
+                      431, "header_fields_too_large");
     check_still_serving(server);
 }
 
@@ -56,7 +56,8 @@ TEST_CASE("headers: 5,000 small header fields are refused with 431") {
 TEST_CASE("headers: a request with a few dozen ordinary headers is served") {
     TestServer server;
     std::string request = "GET /livez HTTP/1.1\r\nHost: x\r\n";
-    for (int i = 0; i < 40; ++i) request += "X-Header-" + std::to_string(i) + ": " + std::string(100, 'v') + "\r\n";
+    for (int i = 0; i < 40; ++i)
+        request += "X-Header-" + std::to_string(i) + ": " + std::string(100, 'v') + "\r\n";
     request += "\r\n";
     const std::string response = raw_exchange(server.port(), request);
     CHECK(raw_status(response) == 200);

@@ -60,11 +60,12 @@ TEST_CASE("jobs over http: create, poll, the same result as the synchronous rout
     }
 }
 
-TEST_CASE("jobs over http: an invalid scenario fails the job with the problem; a bad envelope is refused at once") {
+TEST_CASE(
+    "jobs over http: an invalid scenario fails the job with the problem; a bad envelope is refused at once") {
     TestServer server;
     auto client = server.client();
-    const std::string location =
-        create_job(client, {{"analysis", "roll_gap"}, {"scenario", {{"strip", {{"reduction", 2}}}}}});
+    const std::string location = create_job(
+        client, {{"analysis", "roll_gap"}, {"scenario", {{"strip", {{"reduction", 2}}}}}});
     const json document = poll_until_finished(client, location);
     CHECK(document["state"] == "failed");
     CHECK(document["problem"]["code"] == "invalid_scenario");
@@ -76,7 +77,8 @@ TEST_CASE("jobs over http: an invalid scenario fails the job with the problem; a
     const json problem = json::parse(unknown->body);
     CHECK(problem["code"] == "unknown_analysis");
     CHECK(problem["errors"][0]["pointer"] == "/analysis");
-    CHECK(problem["errors"][0]["detail"].get<std::string>().find("did you mean 'roll_gap'") != std::string::npos);
+    CHECK(problem["errors"][0]["detail"].get<std::string>().find("did you mean 'roll_gap'") !=
+          std::string::npos);
 
     const auto no_analysis = post_json(client, "/v1/jobs", {{"scenario", json::object()}});
     REQUIRE(no_analysis);
@@ -132,11 +134,15 @@ TEST_CASE("jobs over http: a queued job is cancelled before it runs") {
     CHECK(json::parse(cancel->body)["state"] == "cancelled");
     gate.open();
     CHECK(poll_until_finished(client, running)["state"] == "succeeded");
-    CHECK(eventually([&] { return server.server->pool_stats().busy == 0 && server.server->pool_stats().batch_queued == 0; }));
+    CHECK(eventually([&] {
+        return server.server->pool_stats().busy == 0 &&
+               server.server->pool_stats().batch_queued == 0;
+    }));
     CHECK(gate.started() == 1);  // the cancelled job never ran
 }
 
-TEST_CASE("jobs over http: DELETE of a queued job frees its slot: nine create/DELETE rounds with --max-jobs 4") {
+TEST_CASE(
+    "jobs over http: DELETE of a queued job frees its slot: nine create/DELETE rounds with --max-jobs 4") {
     Gate gate;  // the first job runs until the end of the test
     service::ServerConfig config = test_config();
     config.workers = 2;
@@ -157,7 +163,8 @@ TEST_CASE("jobs over http: DELETE of a queued job frees its slot: nine create/DE
     }
     gate.open();
     CHECK(poll_until_finished(client, running)["state"] == "succeeded");
-    CHECK(poll_until_finished(client, create_job(client, {{"analysis", "roll_gap"}}))["state"] == "succeeded");
+    CHECK(poll_until_finished(client, create_job(client, {{"analysis", "roll_gap"}}))["state"] ==
+          "succeeded");
     CHECK(gate.started() == 2);  // no cancelled job ran
 }
 
@@ -199,16 +206,18 @@ TEST_CASE("jobs over http: ids are not routes of their own") {
     CHECK(cancel_unknown->status == 404);
 }
 
-TEST_CASE("jobs over http: a long job on the real facade reports progress and stops when cancelled") {
+TEST_CASE(
+    "jobs over http: a long job on the real facade reports progress and stops when cancelled") {
     if (service::find_analysis(service::analyses(), "sweep") == nullptr) {
         MESSAGE("the facade offers no sweep yet: skipped");
         return;
     }
     TestServer server;
     auto client = server.client();
-    const std::string location = create_job(
-        client, {{"analysis", "sweep"},
-                 {"options", {{"parameter", "/lubricant/viscosity_Pa_s"},
+    const std::string location =
+        create_job(client, {{"analysis", "sweep"},
+                            {"options",
+                             {{"parameter", "/lubricant/viscosity_Pa_s"},
                               {"range", {{"from", 0.0004}, {"to", 0.0008}, {"count", 300}}}}}});
     CHECK(eventually([&] {
         const json document = body_json(client.Get(location.c_str()));

@@ -19,7 +19,8 @@ using namespace rollgap;
 using namespace rollgap::test;
 using nlohmann::json;
 
-TEST_CASE("overload: one worker, a queue of one: the third concurrent request gets 503 + Retry-After at once") {
+TEST_CASE(
+    "overload: one worker, a queue of one: the third concurrent request gets 503 + Retry-After at once") {
     Gate gate;
     service::ServerConfig config = test_config();
     config.workers = 1;
@@ -39,7 +40,8 @@ TEST_CASE("overload: one worker, a queue of one: the third concurrent request ge
         const auto result = post_json(client, "/v1/roll-gap", json::object());
         statuses[1] = result ? result->status : -1;
     });
-    REQUIRE(eventually([&] { return server.server->pool_stats().interactive_queued == 1; }));  // queued
+    REQUIRE(
+        eventually([&] { return server.server->pool_stats().interactive_queued == 1; }));  // queued
 
     auto client = server.client();
     const auto start = std::chrono::steady_clock::now();
@@ -61,10 +63,12 @@ TEST_CASE("overload: one worker, a queue of one: the third concurrent request ge
     second.join();
     CHECK(statuses == std::vector<int>{200, 200});
     // Counted once the answer is written.
-    CHECK(eventually([&] { return server.server->metrics().request_count("POST", "/v1/roll-gap", 503) == 1; }));
+    CHECK(eventually(
+        [&] { return server.server->metrics().request_count("POST", "/v1/roll-gap", 503) == 1; }));
 }
 
-TEST_CASE("deadline: a computation past the deadline is cancelled through Control and answered 504") {
+TEST_CASE(
+    "deadline: a computation past the deadline is cancelled through Control and answered 504") {
     Gate gate;  // never opened: only the Control ends these computations
     service::ServerConfig config = test_config();
     config.deadline = std::chrono::milliseconds(150);
@@ -81,8 +85,10 @@ TEST_CASE("deadline: a computation past the deadline is cancelled through Contro
     // The worker was told to stop and is free again.
     CHECK(eventually([&] { return gate.saw_cancel() == 1; }));
     CHECK(eventually([&] { return server.server->pool_stats().busy == 0; }));
-    CHECK(eventually(
-        [&] { return server.server->metrics_text().find("outcome=\"deadline_exceeded\"") != std::string::npos; }));
+    CHECK(eventually([&] {
+        return server.server->metrics_text().find("outcome=\"deadline_exceeded\"") !=
+               std::string::npos;
+    }));
 }
 
 TEST_CASE("deadline: the real facade stops a long sweep when its deadline passes") {
@@ -95,14 +101,17 @@ TEST_CASE("deadline: the real facade stops a long sweep when its deadline passes
     TestServer server(config);
     auto client = server.client();
     // 200 critical-speed searches: seconds of work without cancellation.
-    const json body = {{"options", {{"parameter", "/lubricant/viscosity_Pa_s"},
-                                    {"range", {{"from", 0.0004}, {"to", 0.0008}, {"count", 200}}}}}};
+    const json body = {{"options",
+                        {{"parameter", "/lubricant/viscosity_Pa_s"},
+                         {"range", {{"from", 0.0004}, {"to", 0.0008}, {"count", 200}}}}}};
     const auto result = post_json(client, "/v1/sweeps", body);
     REQUIRE(result);
     CHECK(result->status == 504);
     CHECK(json::parse(result->body)["code"] == "deadline_exceeded");
-    // Cancellation reached the computation: the workers are free well before the sweep could finish.
-    CHECK(eventually([&] { return server.server->pool_stats().busy == 0; }, std::chrono::milliseconds(1500)));
+    // Cancellation reached the computation: the workers are free well before the sweep could
+    // finish.
+    CHECK(eventually([&] { return server.server->pool_stats().busy == 0; },
+                     std::chrono::milliseconds(1500)));
 }
 
 TEST_CASE("shutdown: readiness fails at once, in-flight work finishes, then the server stops") {
@@ -164,7 +173,8 @@ TEST_CASE("shutdown: `rollgap serve` drains on SIGTERM and exits 0") {
     const std::filesystem::path program =
         std::filesystem::canonical("/proc/self/exe").parent_path().parent_path() / "rollgap";
     if (!std::filesystem::exists(program)) {
-        MESSAGE("no " << program.string() << " next to the tests (build the rollgap target): skipped");
+        MESSAGE("no " << program.string()
+                      << " next to the tests (build the rollgap target): skipped");
         return;
     }
     // A port picked by the kernel, released for the child to bind.
@@ -175,8 +185,8 @@ TEST_CASE("shutdown: `rollgap serve` drains on SIGTERM and exits 0") {
     if (child == 0) {
         const std::string port_text = std::to_string(port);
         ::setenv("ROLLGAP_LOG_LEVEL", "warn", 1);
-        ::execl(program.c_str(), "rollgap", "serve", "--port", port_text.c_str(), "--admin-port", "0", "--workers", "1",
-                "--io-threads", "4", static_cast<char*>(nullptr));
+        ::execl(program.c_str(), "rollgap", "serve", "--port", port_text.c_str(), "--admin-port",
+                "0", "--workers", "1", "--io-threads", "4", static_cast<char*>(nullptr));
         ::_exit(127);
     }
     httplib::Client client("127.0.0.1", port);
@@ -187,7 +197,8 @@ TEST_CASE("shutdown: `rollgap serve` drains on SIGTERM and exits 0") {
     });
     CHECK(ready);
     if (ready) {
-        const auto result = post_json(client, "/v1/roll-gap", {{"options", {{"distributions", false}}}});
+        const auto result =
+            post_json(client, "/v1/roll-gap", {{"options", {{"distributions", false}}}});
         REQUIRE(result);
         CHECK(result->status == 200);
     }

@@ -50,11 +50,14 @@ TEST_CASE("range: ignored on a single range, on errors and on POST routes") {
     check_full_answer(live, 200, "application/json");
     CHECK(json::parse(live->body)["status"] == "alive");
 
-    check_full_answer(client.Get("/v1/nothing", {{"Range", "bytes=0-3,5-9"}}), 404, "application/problem+json");
-    check_full_answer(client.Post("/v1/roll-gap", {{"Range", "bytes=0-1,2-3"}}, "{\"scenario\": 1}", "application/json"),
+    check_full_answer(client.Get("/v1/nothing", {{"Range", "bytes=0-3,5-9"}}), 404,
+                      "application/problem+json");
+    check_full_answer(client.Post("/v1/roll-gap", {{"Range", "bytes=0-1,2-3"}}, "{\"scenario\": 1}",
+                                  "application/json"),
                       422, "application/problem+json");
-    check_full_answer(client.Post("/v1/roll-gap", {{"Range", "bytes=1-"}}, "{}", "application/json"), 200,
-                      "application/json");
+    check_full_answer(
+        client.Post("/v1/roll-gap", {{"Range", "bytes=1-"}}, "{}", "application/json"), 200,
+        "application/json");
 }
 
 TEST_CASE("range: the refusal of an Expect: 100-continue request is problem+json, not byteranges") {

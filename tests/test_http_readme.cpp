@@ -18,10 +18,12 @@ namespace {
 
 std::string readme_examples() {
     // This file is tests/test_http_readme.cpp; the README is beside tests/.
-    const std::filesystem::path readme = std::filesystem::path(__FILE__).parent_path().parent_path() / "README.md";
+    const std::filesystem::path readme =
+        std::filesystem::path(__FILE__).parent_path().parent_path() / "README.md";
     std::ifstream file(readme);
     REQUIRE_MESSAGE(file, "cannot read " << readme.string());
-    const std::string text((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+    const std::string text((std::istreambuf_iterator<char>(file)),
+                           std::istreambuf_iterator<char>());
     const std::size_t marker = text.find("<!-- http-examples -->");
     REQUIRE_MESSAGE(marker != std::string::npos, "README.md has no <!-- http-examples --> marker");
     const std::size_t open = text.find("```sh\n", marker);
@@ -33,7 +35,8 @@ std::string readme_examples() {
 }
 
 std::string replace_all(std::string text, const std::string& from, const std::string& to) {
-    for (std::size_t at = text.find(from); at != std::string::npos; at = text.find(from, at + to.size())) {
+    for (std::size_t at = text.find(from); at != std::string::npos;
+         at = text.find(from, at + to.size())) {
         text.replace(at, from.size(), to);
     }
     return text;
@@ -43,7 +46,8 @@ std::string replace_all(std::string text, const std::string& from, const std::st
 
 TEST_CASE("README: the HTTP service's curl examples run against the service") {
     if (!std::filesystem::exists("/usr/bin/curl")) {
-        MESSAGE("curl is not installed (scripts/install-deps.sh installs it): README examples not run");
+        MESSAGE(
+            "curl is not installed (scripts/install-deps.sh installs it): README examples not run");
         return;
     }
     TestServer server;
@@ -51,7 +55,8 @@ TEST_CASE("README: the HTTP service's curl examples run against the service") {
     CHECK(examples.find("curl") != std::string::npos);
     const std::string script =
         replace_all(examples, "localhost:8080", "127.0.0.1:" + std::to_string(server.port()));
-    const auto path = std::filesystem::temp_directory_path() / ("rollgap-readme-" + std::to_string(::getpid()) + ".sh");
+    const auto path = std::filesystem::temp_directory_path() /
+                      ("rollgap-readme-" + std::to_string(::getpid()) + ".sh");
     std::ofstream(path) << "set -euo pipefail\n" << script;
     FILE* pipe = ::popen(("bash " + path.string() + " 2>&1").c_str(), "r");
     REQUIRE(pipe != nullptr);
@@ -64,14 +69,14 @@ TEST_CASE("README: the HTTP service's curl examples run against the service") {
     CHECK(status == 0);
     // What each example shows.
     for (const char* expected : {
-             R"("status":"ready")",                          // readyz
-             R"("entry_thickness_mm":1.6)",                  // the default scenario
-             R"("speed_m_per_s":25.0)",                      // the roll-gap example echoes its scenario
-             R"("analysis":"stability")",                    // critical speed
-             R"("parameter":"/lubricant/viscosity_Pa_s")",   // the sweep
+             R"("status":"ready")",          // readyz
+             R"("entry_thickness_mm":1.6)",  // the default scenario
+             R"("speed_m_per_s":25.0)",      // the roll-gap example echoes its scenario
+             R"("analysis":"stability")",    // critical speed
+             R"("parameter":"/lubricant/viscosity_Pa_s")",      // the sweep
              R"("pointer":"/scenario/rolls/speed_m_per_sec")",  // the mistyped unit suffix
-             R"("state":)",                                  // the job document
-             "rollgap_http_requests_total{",                 // metrics
+             R"("state":)",                                     // the job document
+             "rollgap_http_requests_total{",                    // metrics
          }) {
         CAPTURE(expected);
         CHECK(output.find(expected) != std::string::npos);

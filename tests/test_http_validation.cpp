@@ -27,7 +27,8 @@ TEST_CASE("validation: an invalid scenario is answered 422 at once while every w
 
     auto client = server.client();
     const auto start = std::chrono::steady_clock::now();
-    const auto result = post_json(client, "/v1/roll-gap", {{"scenario", {{"strip", {{"reduction", 2}}}}}});
+    const auto result =
+        post_json(client, "/v1/roll-gap", {{"scenario", {{"strip", {{"reduction", 2}}}}}});
     const auto waited = std::chrono::steady_clock::now() - start;
     REQUIRE(result);
     CHECK(result->status == 422);

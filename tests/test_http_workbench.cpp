@@ -16,10 +16,12 @@ using namespace rollgap::test;
 namespace {
 
 // Every `attribute="value"` in `text` whose value starts with `prefix`.
-std::set<std::string> references(const std::string& text, const std::string& attribute, const std::string& prefix) {
+std::set<std::string> references(const std::string& text, const std::string& attribute,
+                                 const std::string& prefix) {
     std::set<std::string> found;
     const std::string opening = attribute + "=\"" + prefix;
-    for (std::size_t at = text.find(opening); at != std::string::npos; at = text.find(opening, at + 1)) {
+    for (std::size_t at = text.find(opening); at != std::string::npos;
+         at = text.find(opening, at + 1)) {
         const std::size_t start = at + attribute.size() + 2;
         found.insert(text.substr(start, text.find('"', start) - start));
     }
@@ -47,7 +49,8 @@ TEST_CASE("workbench: GET / is the page under a CSP without inline script or sty
     for (const char* handler : {" onclick=", " onload=", " onerror=", " onchange=", " oninput="}) {
         CHECK(page->body.find(handler) == std::string::npos);
     }
-    for (std::size_t at = page->body.find("<script"); at != std::string::npos; at = page->body.find("<script", at + 1)) {
+    for (std::size_t at = page->body.find("<script"); at != std::string::npos;
+         at = page->body.find("<script", at + 1)) {
         const std::string tag = page->body.substr(at, page->body.find('>', at) - at);
         CAPTURE(tag);
         CHECK(tag.find(" src=\"/static/") != std::string::npos);
@@ -77,9 +80,11 @@ TEST_CASE("workbench: every file the page and its modules reference is served wi
         CAPTURE(module);
         REQUIRE(script->status == 200);
         const std::string& text = script->body;
-        for (std::size_t at = text.find("from './"); at != std::string::npos; at = text.find("from './", at + 1)) {
+        for (std::size_t at = text.find("from './"); at != std::string::npos;
+             at = text.find("from './", at + 1)) {
             const std::size_t start = at + 8;
-            const std::string path = "/static/js/" + text.substr(start, text.find('\'', start) - start);
+            const std::string path =
+                "/static/js/" + text.substr(start, text.find('\'', start) - start);
             if (files.insert(path).second) pending.insert(path);
         }
     }
@@ -101,7 +106,8 @@ TEST_CASE("workbench: every file the page and its modules reference is served wi
 TEST_CASE("workbench: Chart.js is Debian's file, byte for byte") {
     std::ifstream debian("/usr/share/javascript/chart.js/chart.min.js", std::ios::binary);
     REQUIRE_MESSAGE(debian, "libjs-chart.js is not installed");
-    const std::string expected((std::istreambuf_iterator<char>(debian)), std::istreambuf_iterator<char>());
+    const std::string expected((std::istreambuf_iterator<char>(debian)),
+                               std::istreambuf_iterator<char>());
     TestServer server;
     auto client = server.client();
     const auto served = client.Get("/static/chart.min.js");

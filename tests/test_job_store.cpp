@@ -25,7 +25,8 @@ using namespace std::chrono_literals;
 using rollgap::test::PostgresServer;
 
 struct ManualClock {
-    std::shared_ptr<std::atomic<Millis>> now = std::make_shared<std::atomic<Millis>>(1'700'000'000'000);
+    std::shared_ptr<std::atomic<Millis>> now =
+        std::make_shared<std::atomic<Millis>>(1'700'000'000'000);
     Clock clock() const {
         return [n = now] { return n->load(); };
     }
@@ -91,7 +92,8 @@ std::string create_id(JobStore& store, NewJob spec = job_spec()) {
     return created.value->job.id;
 }
 
-WorkItem claim_one(JobStore& store, const std::string& owner, std::chrono::milliseconds lease = 10s) {
+WorkItem claim_one(JobStore& store, const std::string& owner,
+                   std::chrono::milliseconds lease = 10s) {
     auto claimed = store.claim(owner, lease);
     REQUIRE_MESSAGE(claimed.ok(), claimed.detail);
     REQUIRE(claimed.value->has_value());
@@ -115,8 +117,9 @@ std::size_t store_count(JobStore& store, JobState state) {
 
 #define STORE_BACKENDS SqliteDb, PostgresDb
 
-TEST_CASE_TEMPLATE("job store: the same key and body return the same job; another body is a conflict", Db,
-                   STORE_BACKENDS) {
+TEST_CASE_TEMPLATE(
+    "job store: the same key and body return the same job; another body is a conflict", Db,
+    STORE_BACKENDS) {
     Db db;
     ManualClock clock;
     auto store = open(db, clock);
@@ -139,7 +142,8 @@ TEST_CASE_TEMPLATE("job store: the same key and body return the same job; anothe
     CHECK(store->list({}).value->jobs.size() == 3);
 }
 
-TEST_CASE_TEMPLATE("job store: list is newest first, filtered by state, paged by cursor", Db, STORE_BACKENDS) {
+TEST_CASE_TEMPLATE("job store: list is newest first, filtered by state, paged by cursor", Db,
+                   STORE_BACKENDS) {
     Db db;
     ManualClock clock;
     auto store = open(db, clock);
@@ -172,10 +176,12 @@ TEST_CASE_TEMPLATE("job store: list is newest first, filtered by state, paged by
     CHECK_FALSE(cancelled.value->next_cursor);
     CHECK(store->list({JobState::queued, 10, std::nullopt}).value->jobs.size() == 5);
 
-    CHECK(store->list({std::nullopt, 3, std::string("not-a-cursor")}).status == StoreStatus::invalid);
+    CHECK(store->list({std::nullopt, 3, std::string("not-a-cursor")}).status ==
+          StoreStatus::invalid);
 }
 
-TEST_CASE_TEMPLATE("job store: two concurrent claimers never claim the same job", Db, STORE_BACKENDS) {
+TEST_CASE_TEMPLATE("job store: two concurrent claimers never claim the same job", Db,
+                   STORE_BACKENDS) {
     Db db;
     ManualClock clock;
     auto first = open(db, clock);
@@ -198,7 +204,8 @@ TEST_CASE_TEMPLATE("job store: two concurrent claimers never claim the same job"
                 continue;
             }
             claimed.push_back((*item.value)->lease.job_id);
-            if (store.complete((*item.value)->lease, Outcome::succeeded, R"({"ok":true})").status != StoreStatus::ok) {
+            if (store.complete((*item.value)->lease, Outcome::succeeded, R"({"ok":true})").status !=
+                StoreStatus::ok) {
                 ++failures;
             }
         }
@@ -216,8 +223,9 @@ TEST_CASE_TEMPLATE("job store: two concurrent claimers never claim the same job"
     MESSAGE(std::string(Db::name), ": claims by a ", claimed_a.size(), ", by b ", claimed_b.size());
 }
 
-TEST_CASE_TEMPLATE("job store: an expired lease hands the work over; the old holder can no longer write", Db,
-                   STORE_BACKENDS) {
+TEST_CASE_TEMPLATE(
+    "job store: an expired lease hands the work over; the old holder can no longer write", Db,
+    STORE_BACKENDS) {
     Db db;
     ManualClock clock;
     auto store = open(db, clock);
@@ -235,8 +243,10 @@ TEST_CASE_TEMPLATE("job store: an expired lease hands the work over; the old hol
 
     CHECK(store->renew(dead.lease, 1000ms).status == StoreStatus::conflict);
     CHECK(store->progress(dead.lease, 0.5) == StoreStatus::conflict);
-    CHECK(store->complete(dead.lease, Outcome::succeeded, R"({"from":"a"})").status == StoreStatus::conflict);
-    CHECK(store->complete(taken.lease, Outcome::succeeded, R"({"from":"b"})").value == JobState::succeeded);
+    CHECK(store->complete(dead.lease, Outcome::succeeded, R"({"from":"a"})").status ==
+          StoreStatus::conflict);
+    CHECK(store->complete(taken.lease, Outcome::succeeded, R"({"from":"b"})").value ==
+          JobState::succeeded);
     const auto job = store->get(id);
     CHECK(job.value->state == JobState::succeeded);
     CHECK(job.value->result == std::string(R"({"from":"b"})"));
@@ -251,8 +261,9 @@ TEST_CASE_TEMPLATE("job store: an expired lease hands the work over; the old hol
     CHECK(claim_one(*store, "replica-b").lease.job_id == second);
 }
 
-TEST_CASE_TEMPLATE("job store: renewing and progress keep a lease; release gives it to another replica", Db,
-                   STORE_BACKENDS) {
+TEST_CASE_TEMPLATE(
+    "job store: renewing and progress keep a lease; release gives it to another replica", Db,
+    STORE_BACKENDS) {
     Db db;
     ManualClock clock;
     auto store = open(db, clock);
@@ -275,8 +286,9 @@ TEST_CASE_TEMPLATE("job store: renewing and progress keep a lease; release gives
     CHECK(store->complete(item.lease, Outcome::succeeded, "{}").status == StoreStatus::conflict);
 }
 
-TEST_CASE_TEMPLATE("job store: cancel — queued at once, running through the worker's renew, finished deleted", Db,
-                   STORE_BACKENDS) {
+TEST_CASE_TEMPLATE(
+    "job store: cancel — queued at once, running through the worker's renew, finished deleted", Db,
+    STORE_BACKENDS) {
     Db db;
     ManualClock clock;
     auto store = open(db, clock);
@@ -316,7 +328,8 @@ TEST_CASE_TEMPLATE("job store: a failed item fails the job with its problem", Db
     auto store = open(db, clock);
     const std::string id = create_id(*store);
     const WorkItem item = claim_one(*store, "replica-a");
-    CHECK(store->complete(item.lease, Outcome::failed, R"({"status":422})").value == JobState::failed);
+    CHECK(store->complete(item.lease, Outcome::failed, R"({"status":422})").value ==
+          JobState::failed);
     const auto job = store->get(id);
     CHECK(job.value->state == JobState::failed);
     CHECK(job.value->problem == std::string(R"({"status":422})"));
@@ -347,13 +360,16 @@ TEST_CASE_TEMPLATE("job store: chunks claimed by two workers assemble every poin
     clock.advance(1001ms);
     const WorkItem retaken = claim_one(*second, "replica-b", 60s);
     CHECK(retaken.lease.chunk == 0);
-    CHECK(second->complete(retaken.lease, Outcome::succeeded, points_of(retaken)).value == JobState::running);
-    CHECK(first->complete(slow.lease, Outcome::succeeded, points_of(slow)).status == StoreStatus::conflict);
+    CHECK(second->complete(retaken.lease, Outcome::succeeded, points_of(retaken)).value ==
+          JobState::running);
+    CHECK(first->complete(slow.lease, Outcome::succeeded, points_of(slow)).status ==
+          StoreStatus::conflict);
 
     // A result that is not exactly the chunk's points is refused.
     const WorkItem odd = claim_one(*first, "replica-a", 60s);
     CHECK(first->complete(odd.lease, Outcome::succeeded, "[1,2]").status == StoreStatus::invalid);
-    CHECK(first->complete(odd.lease, Outcome::succeeded, points_of(odd)).value == JobState::running);
+    CHECK(first->complete(odd.lease, Outcome::succeeded, points_of(odd)).value ==
+          JobState::running);
 
     // Partial results while it runs: the finished chunks, in point order.
     const auto running = first->get(id);
@@ -382,7 +398,9 @@ TEST_CASE_TEMPLATE("job store: chunks claimed by two workers assemble every poin
                 continue;
             }
             chunks.push_back((*item.value)->lease.chunk);
-            if (!store.complete((*item.value)->lease, Outcome::succeeded, points_of(**item.value)).ok()) ++failures;
+            if (!store.complete((*item.value)->lease, Outcome::succeeded, points_of(**item.value))
+                     .ok())
+                ++failures;
         }
     };
     std::thread a(worker, std::ref(*first), std::ref(chunks_a), "a");
@@ -401,7 +419,8 @@ TEST_CASE_TEMPLATE("job store: chunks claimed by two workers assemble every poin
     for (std::size_t i = 0; i < points.size(); ++i) CHECK(points[i] == i);
 }
 
-TEST_CASE_TEMPLATE("job store: cancelling a sweep stops handing out its chunks", Db, STORE_BACKENDS) {
+TEST_CASE_TEMPLATE("job store: cancelling a sweep stops handing out its chunks", Db,
+                   STORE_BACKENDS) {
     Db db;
     ManualClock clock;
     auto store = open(db, clock);
@@ -416,7 +435,8 @@ TEST_CASE_TEMPLATE("job store: cancelling a sweep stops handing out its chunks",
     CHECK_FALSE(store->claim("replica-b", 1s).value->has_value());
 }
 
-TEST_CASE_TEMPLATE("job store: retention purges finished jobs; the size bound refuses more", Db, STORE_BACKENDS) {
+TEST_CASE_TEMPLATE("job store: retention purges finished jobs; the size bound refuses more", Db,
+                   STORE_BACKENDS) {
     Db db;
     ManualClock clock;
     StoreLimits limits;
@@ -440,8 +460,9 @@ TEST_CASE_TEMPLATE("job store: retention purges finished jobs; the size bound re
     CHECK(store->purge().value == 0);
 }
 
-TEST_CASE_TEMPLATE("job store: stored scenarios are versioned; If-Match conflicts; default is reserved", Db,
-                   STORE_BACKENDS) {
+TEST_CASE_TEMPLATE(
+    "job store: stored scenarios are versioned; If-Match conflicts; default is reserved", Db,
+    STORE_BACKENDS) {
     Db db;
     ManualClock clock;
     auto store = open(db, clock);
@@ -450,7 +471,8 @@ TEST_CASE_TEMPLATE("job store: stored scenarios are versioned; If-Match conflict
     CHECK(created.value->version == 1);
     // A blind overwrite, or one from a stale version, is a conflict: two editors cannot
     // overwrite each other.
-    CHECK(store->put_scenario("mill-3", R"({"stand":2})", std::nullopt).status == StoreStatus::conflict);
+    CHECK(store->put_scenario("mill-3", R"({"stand":2})", std::nullopt).status ==
+          StoreStatus::conflict);
     const auto updated = store->put_scenario("mill-3", R"({"stand":2})", 1);
     REQUIRE(updated.ok());
     CHECK(updated.value->version == 2);
@@ -478,7 +500,8 @@ TEST_CASE_TEMPLATE("job store: stored scenarios are versioned; If-Match conflict
     CHECK(store->put_scenario("../etc", "{}", std::nullopt).status == StoreStatus::invalid);
 }
 
-TEST_CASE("job store (postgresql): stopped database → unavailable, nothing half-written, then back") {
+TEST_CASE(
+    "job store (postgresql): stopped database → unavailable, nothing half-written, then back") {
     PostgresDb db;
     ManualClock clock;
     auto store = open(db, clock);

@@ -22,7 +22,10 @@ struct FakeClock {
     }
 };
 
-Outcome ok_outcome() { return Outcome{200, json{{"analysis", "roll_gap"}, {"result", {{"status", "ok"}}}}, std::nullopt}; }
+Outcome ok_outcome() {
+    return Outcome{200, json{{"analysis", "roll_gap"}, {"result", {{"status", "ok"}}}},
+                   std::nullopt};
+}
 
 const auto far_deadline = std::chrono::steady_clock::now() + std::chrono::hours(1);
 
@@ -58,14 +61,16 @@ TEST_CASE("jobs: a failed job carries its problem") {
     JobStore store(4, std::chrono::minutes(10), "r");
     const auto job = store.create("roll_gap", json::object(), far_deadline);
     REQUIRE(store.start(job));
-    store.finish(job, problem_outcome(api::make_problem(api::ProblemCode::invalid_scenario, "bad")));
+    store.finish(job,
+                 problem_outcome(api::make_problem(api::ProblemCode::invalid_scenario, "bad")));
     const json document = *store.document(job->id);
     CHECK(document["state"] == "failed");
     CHECK(document["problem"]["status"] == 422);
     CHECK_FALSE(document.contains("result"));
 }
 
-TEST_CASE("jobs: the store is bounded; finished jobs expire after the retention and free their slot") {
+TEST_CASE(
+    "jobs: the store is bounded; finished jobs expire after the retention and free their slot") {
     FakeClock clock;
     JobStore store(2, std::chrono::seconds(60), "r", clock.function());
     const auto a = store.create("roll_gap", json::object(), far_deadline);
@@ -80,7 +85,7 @@ TEST_CASE("jobs: the store is bounded; finished jobs expire after the retention 
     CHECK(store.document(a->id));
     CHECK_FALSE(store.create("roll_gap", json::object(), far_deadline));  // a is still kept
     clock.now += std::chrono::seconds(2);
-    CHECK_FALSE(store.document(a->id));  // expired
+    CHECK_FALSE(store.document(a->id));                             // expired
     CHECK(store.create("roll_gap", json::object(), far_deadline));  // its slot is free
     CHECK(store.counts().total() == 2);
 }
@@ -131,20 +136,25 @@ TEST_CASE("jobs: ids are 32 random hex digits, timestamps RFC 3339 UTC") {
         ids.insert(id);
     }
     CHECK(ids.size() == 200);
-    const auto epoch_plus = std::chrono::system_clock::time_point(std::chrono::milliseconds(86'400'000LL + 1234));
+    const auto epoch_plus =
+        std::chrono::system_clock::time_point(std::chrono::milliseconds(86'400'000LL + 1234));
     CHECK(rfc3339(epoch_plus) == "1970-01-02T00:00:01.234Z");
 }
 
 TEST_CASE("job store: a full store gives the slot of the oldest cancelled job to a new one") {
     service::JobStore store(2, std::chrono::minutes(10), "test");
-    const auto running = store.create("roll_gap", nlohmann::json::object(), std::chrono::steady_clock::now());
+    const auto running =
+        store.create("roll_gap", nlohmann::json::object(), std::chrono::steady_clock::now());
     REQUIRE(running);
     REQUIRE(store.start(running));
-    const auto queued = store.create("roll_gap", nlohmann::json::object(), std::chrono::steady_clock::now());
+    const auto queued =
+        store.create("roll_gap", nlohmann::json::object(), std::chrono::steady_clock::now());
     REQUIRE(queued);
-    CHECK_FALSE(store.create("roll_gap", nlohmann::json::object(), std::chrono::steady_clock::now()));
+    CHECK_FALSE(
+        store.create("roll_gap", nlohmann::json::object(), std::chrono::steady_clock::now()));
     CHECK(store.cancel(queued->id) == service::CancelResult::cancelled);
-    const auto next = store.create("roll_gap", nlohmann::json::object(), std::chrono::steady_clock::now());
+    const auto next =
+        store.create("roll_gap", nlohmann::json::object(), std::chrono::steady_clock::now());
     REQUIRE(next);
     CHECK_FALSE(store.document(queued->id).has_value());  // evicted
     CHECK(store.document(running->id).has_value());       // a running job is never evicted

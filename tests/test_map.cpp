@@ -26,18 +26,22 @@ core::CriticalSpeedOptions narrow() {
 
 const json narrow_search = {{"speed_min_m_per_s", 10}, {"speed_max_m_per_s", 55}};
 
-json axis(const std::string& pointer, const json& values) { return {{"parameter", pointer}, {"values", values}}; }
+json axis(const std::string& pointer, const json& values) {
+    return {{"parameter", pointer}, {"values", values}};
+}
 
 }  // namespace
 
 TEST_CASE("grid neighbours: each cell with its right and lower neighbour") {
     const auto pairs = core::grid_neighbours(2, 3);
     CHECK(pairs.size() == 2 * 2 + 3 * 1);
-    CHECK(pairs == std::vector<std::pair<int, int>>{{0, 1}, {0, 3}, {1, 2}, {1, 4}, {2, 5}, {3, 4}, {4, 5}});
+    CHECK(pairs ==
+          std::vector<std::pair<int, int>>{{0, 1}, {0, 3}, {1, 2}, {1, 4}, {2, 5}, {3, 4}, {4, 5}});
     CHECK(core::grid_neighbours(1, 1).empty());
 }
 
-TEST_CASE("a map's cells equal single searches, row-major, with 1 and 2 threads; the type change is found along the rows") {
+TEST_CASE(
+    "a map's cells equal single searches, row-major, with 1 and 2 threads; the type change is found along the rows") {
     // rows: strip roughness 8 and 9 um (the crossing moves from the ~109 Hz gap mode to the
     // ~480 Hz work-roll mode between them); columns: two viscosities
     std::vector<core::Scenario> cells;
@@ -71,9 +75,12 @@ TEST_CASE("a map's cells equal single searches, row-major, with 1 and 2 threads;
     }
 }
 
-TEST_CASE("map through the facade: cells with their values, status, critical speed, frequency and chatter type") {
-    const json options = {{"parameters", {axis("/strip/reduction", {0.15, 0.2}), axis("/roughness/strip_rq_um", {1.6})}},
-                          {"critical_speed", narrow_search}};
+TEST_CASE(
+    "map through the facade: cells with their values, status, critical speed, frequency and chatter type") {
+    const json options = {
+        {"parameters",
+         {axis("/strip/reduction", {0.15, 0.2}), axis("/roughness/strip_rq_um", {1.6})}},
+        {"critical_speed", narrow_search}};
     const service::Outcome outcome = service::evaluate({{"analysis", "map"}, {"options", options}});
     REQUIRE_MESSAGE(outcome.ok(), outcome.body.dump());
     const json& result = outcome.body["result"];
@@ -86,10 +93,12 @@ TEST_CASE("map through the facade: cells with their values, status, critical spe
     CHECK(first["chatter_type"] == "third_octave");
     CHECK(first["chatter_band"] == "third_octave");
     // the default scenario's own critical speed, from the stability analysis
-    const service::Outcome single = service::evaluate(
-        {{"analysis", "stability"}, {"options", {{"speed_min_m_per_s", 10}, {"speed_max_m_per_s", 55}}}});
+    const service::Outcome single =
+        service::evaluate({{"analysis", "stability"},
+                           {"options", {{"speed_min_m_per_s", 10}, {"speed_max_m_per_s", 55}}}});
     REQUIRE(single.ok());
-    CHECK(first["critical_speed_m_per_s"] == single.body["result"]["critical_speed"]["critical_speed_m_per_s"]);
+    CHECK(first["critical_speed_m_per_s"] ==
+          single.body["result"]["critical_speed"]["critical_speed_m_per_s"]);
     CHECK(result["cells"][1]["values"] == json{0.2, 1.6});
     CHECK(result["chatter_type_changes"].is_array());
     CHECK(outcome.body["options"]["parameters"][1]["parameter"] == "/roughness/strip_rq_um");
@@ -98,35 +107,47 @@ TEST_CASE("map through the facade: cells with their values, status, critical spe
 TEST_CASE("map options are refused with the pointer, bound and unit of the offending value") {
     // a value outside its field's bounds: at its own pointer, with the field's bound and unit
     const json bad_value = test::refused_options(
-        "map", {{"parameters", {axis("/strip/reduction", {0.15}), axis("/strip/entry_thickness_mm", {1.6, 25.0})}}},
+        "map",
+        {{"parameters",
+          {axis("/strip/reduction", {0.15}), axis("/strip/entry_thickness_mm", {1.6, 25.0})}}},
         "/options/parameters/1/values/1");
     CHECK(bad_value["unit"] == "mm");
     CHECK(bad_value.contains("bound"));
     // one field only, or not an array
-    test::refused_options("map", {{"parameters", {axis("/strip/reduction", {0.15})}}}, "/options/parameters");
+    test::refused_options("map", {{"parameters", {axis("/strip/reduction", {0.15})}}},
+                          "/options/parameters");
     test::refused_options("map", json::object(), "/options/parameters");
     // the same field twice; the roll speed (the search scans it)
-    test::refused_options("map", {{"parameters", {axis("/strip/reduction", {0.1}), axis("/strip/reduction", {0.2})}}},
-                          "/options/parameters/1/parameter");
-    test::refused_options("map",
-                          {{"parameters", {axis("/rolls/speed_m_per_s", {10}), axis("/strip/reduction", {0.2})}}},
-                          "/options/parameters/0/parameter");
+    test::refused_options(
+        "map", {{"parameters", {axis("/strip/reduction", {0.1}), axis("/strip/reduction", {0.2})}}},
+        "/options/parameters/1/parameter");
+    test::refused_options(
+        "map",
+        {{"parameters", {axis("/rolls/speed_m_per_s", {10}), axis("/strip/reduction", {0.2})}}},
+        "/options/parameters/0/parameter");
     // not a numeric field
-    test::refused_options("map", {{"parameters", {axis("/friction/model", {1}), axis("/strip/reduction", {0.2})}}},
-                          "/options/parameters/0/parameter");
+    test::refused_options(
+        "map", {{"parameters", {axis("/friction/model", {1}), axis("/strip/reduction", {0.2})}}},
+        "/options/parameters/0/parameter");
     // too many cells: 51 × 50 > 2500
     const json many = {{"parameters",
-                        {{{"parameter", "/strip/reduction"}, {"range", {{"from", 0.1}, {"to", 0.3}, {"count", 51}}}},
-                         {{"parameter", "/strip/entry_thickness_mm"}, {"range", {{"from", 1}, {"to", 2}, {"count", 50}}}}}}};
+                        {{{"parameter", "/strip/reduction"},
+                          {"range", {{"from", 0.1}, {"to", 0.3}, {"count", 51}}}},
+                         {{"parameter", "/strip/entry_thickness_mm"},
+                          {"range", {{"from", 1}, {"to", 2}, {"count", 50}}}}}}};
     const json cells_error = test::refused_options("map", many, "/options/parameters");
     CHECK(cells_error["bound"] == "at most 2500 cells");
     // too much work: 2500 cells × 119 default scan speeds
     const json work = {{"parameters",
-                        {{{"parameter", "/strip/reduction"}, {"range", {{"from", 0.1}, {"to", 0.3}, {"count", 50}}}},
-                         {{"parameter", "/strip/entry_thickness_mm"}, {"range", {{"from", 1}, {"to", 2}, {"count", 50}}}}}}};
+                        {{{"parameter", "/strip/reduction"},
+                          {"range", {{"from", 0.1}, {"to", 0.3}, {"count", 50}}}},
+                         {{"parameter", "/strip/entry_thickness_mm"},
+                          {"range", {{"from", 1}, {"to", 2}, {"count", 50}}}}}}};
     test::refused_options("map", work, "/options/critical_speed/speed_step_m_per_s");
     // each value fine on its own, the pair not: a back tension above the flow stress
-    test::refused_options("map",
-                          {{"parameters", {axis("/strip/flow_stress_MPa", {380, 20}), axis("/tension/back/stress_MPa", {18, 30})}}},
-                          "/options/parameters");
+    test::refused_options(
+        "map",
+        {{"parameters",
+          {axis("/strip/flow_stress_MPa", {380, 20}), axis("/tension/back/stress_MPa", {18, 30})}}},
+        "/options/parameters");
 }

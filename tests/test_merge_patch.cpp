@@ -46,12 +46,14 @@ TEST_CASE("merge patch reproduces every example of RFC 7396 Appendix A") {
     for (const Example& example : examples) {
         CAPTURE(example.target);
         CAPTURE(example.patch);
-        CHECK(merge_patch(json::parse(example.target), json::parse(example.patch)) == json::parse(example.result));
+        CHECK(merge_patch(json::parse(example.target), json::parse(example.patch)) ==
+              json::parse(example.result));
     }
 }
 
 TEST_CASE("merge patch leaves members the patch does not name untouched") {
-    const json target = {{"strip", {{"width_mm", 1800}, {"reduction", 0.15}}}, {"rolls", {{"radius_mm", 280}}}};
+    const json target = {{"strip", {{"width_mm", 1800}, {"reduction", 0.15}}},
+                         {"rolls", {{"radius_mm", 280}}}};
     const json patched = merge_patch(target, {{"strip", {{"reduction", 0.2}}}});
     CHECK(patched["strip"]["reduction"] == 0.2);
     CHECK(patched["strip"]["width_mm"] == 1800);
@@ -67,7 +69,8 @@ TEST_CASE("an empty scenario patch is the default scenario") {
 
 TEST_CASE("null in a scenario patch restores the default instead of removing the field") {
     rollgap::api::FieldErrors errors;
-    const json patch = {{"rolls", {{"radius_mm", nullptr}, {"speed_m_per_s", 5.0}}}, {"strip", nullptr}};
+    const json patch = {{"rolls", {{"radius_mm", nullptr}, {"speed_m_per_s", 5.0}}},
+                        {"strip", nullptr}};
     const auto scenario = rollgap::api::scenario_from_patch(patch, "/scenario", errors);
     REQUIRE(errors.empty());
     const json resolved = rollgap::api::resolved_scenario_json(scenario);

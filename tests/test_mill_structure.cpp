@@ -53,7 +53,8 @@ Mill irregular_mill() {
 
 }  // namespace
 
-TEST_CASE("mill structure: uniform fixed-fixed chain of six masses has the closed-form frequencies") {
+TEST_CASE(
+    "mill structure: uniform fixed-fixed chain of six masses has the closed-form frequencies") {
     // All m and k equal, strip spring k4 = k: a chain of N = 6 equal masses between two walls,
     // omega_j = 2 sqrt(k/m) sin(j pi / (2 (N + 1))).
     const double m = 17.0e3, k = 29.0e9;
@@ -88,8 +89,8 @@ TEST_CASE("mill structure: uniform fixed-fixed chain of six masses has the close
 
 TEST_CASE("mill structure: k4 = 0 splits the stack into two fixed-free three-mass chains") {
     // Without the strip the upper stack (ground-k1-m1-k2-m2-k3-m3, m3 free) and its mirror image
-    // are identical fixed-free chains of N = 3: omega_j = 2 sqrt(k/m) sin((2j - 1) pi / (2 (2N + 1))),
-    // each frequency twice.
+    // are identical fixed-free chains of N = 3: omega_j = 2 sqrt(k/m) sin((2j - 1) pi / (2 (2N +
+    // 1))), each frequency twice.
     const double m = 11.0e3, k = 35.0e9;
     const ModalAnalysis modes = modal_analysis(mill_matrices(uniform_mill(m, k)), 0.0);
     REQUIRE(modes.ok);
@@ -97,13 +98,15 @@ TEST_CASE("mill structure: k4 = 0 splits the stack into two fixed-free three-mas
     REQUIRE(omega.size() == 6);
     const int N = 3;
     for (int j = 1; j <= N; ++j) {
-        const double expected = 2.0 * std::sqrt(k / m) * std::sin((2.0 * j - 1.0) * kPi / (2.0 * (2 * N + 1)));
+        const double expected =
+            2.0 * std::sqrt(k / m) * std::sin((2.0 * j - 1.0) * kPi / (2.0 * (2 * N + 1)));
         CHECK(rel(omega[static_cast<std::size_t>(2 * j - 2)], expected) < 1e-10);
         CHECK(rel(omega[static_cast<std::size_t>(2 * j - 1)], expected) < 1e-10);
     }
 }
 
-TEST_CASE("mill structure: Rayleigh coefficients give exactly the damping ratio at both frequencies") {
+TEST_CASE(
+    "mill structure: Rayleigh coefficients give exactly the damping ratio at both frequencies") {
     struct Case {
         double zeta, f1, f2;
     };
@@ -114,15 +117,18 @@ TEST_CASE("mill structure: Rayleigh coefficients give exactly the damping ratio 
         for (const double f : {c.f1, c.f2}) {
             const double w = 2.0 * kPi * f;
             const double zeta = r.alpha / (2.0 * w) + r.beta * w / 2.0;
-            CHECK(std::abs(zeta - c.zeta) <= 1e-14 * c.zeta * 4);  // a few roundings of a 0.04-sized sum
+            CHECK(std::abs(zeta - c.zeta) <=
+                  1e-14 * c.zeta * 4);  // a few roundings of a 0.04-sized sum
         }
-        // between the two frequencies the Rayleigh curve dips below zeta (its minimum is at sqrt(w1 w2))
+        // between the two frequencies the Rayleigh curve dips below zeta (its minimum is at sqrt(w1
+        // w2))
         const double wm = 2.0 * kPi * std::sqrt(c.f1 * c.f2);
         CHECK(r.alpha / (2.0 * wm) + r.beta * wm / 2.0 < c.zeta);
     }
 }
 
-TEST_CASE("mill structure: proportional damping gives zeta_n = alpha/(2 w_n) + beta w_n/2 for every mode") {
+TEST_CASE(
+    "mill structure: proportional damping gives zeta_n = alpha/(2 w_n) + beta w_n/2 for every mode") {
     // With c1 = c2 = 0 and no strip spring, C = alpha M + beta K_s is proportional to the stiffness
     // of the modal problem, so the modes decouple (classical damping) and each damped eigenvalue
     // is lambda = -zeta_n w_n + i w_n sqrt(1 - zeta_n^2), |lambda| = w_n.
@@ -146,7 +152,9 @@ TEST_CASE("mill structure: proportional damping gives zeta_n = alpha/(2 w_n) + b
             // are sorted by damped frequency, which can reorder near-degenerate pairs)
             const DampedMode* best = nullptr;
             for (const auto& d : modes.damped) {
-                if (!best || std::abs(std::abs(d.eigenvalue) - wn) < std::abs(std::abs(best->eigenvalue) - wn)) best = &d;
+                if (!best || std::abs(std::abs(d.eigenvalue) - wn) <
+                                 std::abs(std::abs(best->eigenvalue) - wn))
+                    best = &d;
             }
             REQUIRE(best != nullptr);
             CHECK(rel(std::abs(best->eigenvalue), wn) < 1e-8);
@@ -242,8 +250,10 @@ TEST_CASE("mill structure: Rayleigh damping is added as alpha M + beta K_s, neve
     const RayleighCoefficients r = rayleigh_coefficients(0.04, 100.0, 400.0);
     CHECK(with.rayleigh.alpha == r.alpha);
     CHECK(with.rayleigh.beta == r.beta);
-    const Matrix6 expected = without.damping + r.alpha * without.mass + r.beta * without.structural_stiffness;
-    CHECK((with.damping - expected).cwiseAbs().maxCoeff() <= 1e-15 * expected.cwiseAbs().maxCoeff());
+    const Matrix6 expected =
+        without.damping + r.alpha * without.mass + r.beta * without.structural_stiffness;
+    CHECK((with.damping - expected).cwiseAbs().maxCoeff() <=
+          1e-15 * expected.cwiseAbs().maxCoeff());
     // the damping matrix is symmetric positive semi-definite (Rayleigh part positive definite)
     CHECK((with.damping - with.damping.transpose()).cwiseAbs().maxCoeff() == 0.0);
     Eigen::LLT<Matrix6> llt(with.damping);

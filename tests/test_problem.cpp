@@ -40,9 +40,10 @@ TEST_CASE("the HTTP statuses of the problems") {
 }
 
 TEST_CASE("a problem document has the RFC 9457 members and the field errors") {
-    Problem problem = make_problem(ProblemCode::invalid_scenario, "2 violations",
-                                   {{"/scenario/strip/reduction", "0.8 is outside (0, 0.7]", "(0, 0.7]", "1"},
-                                    {"/scenario/strip/x", "unknown field 'x'", std::nullopt, std::nullopt}});
+    Problem problem =
+        make_problem(ProblemCode::invalid_scenario, "2 violations",
+                     {{"/scenario/strip/reduction", "0.8 is outside (0, 0.7]", "(0, 0.7]", "1"},
+                      {"/scenario/strip/x", "unknown field 'x'", std::nullopt, std::nullopt}});
     const json body = problem_json(problem);
     CHECK(body["type"] == "https://rollgap.dev/problems/invalid_scenario");
     CHECK(body["title"] == "Scenario is invalid");

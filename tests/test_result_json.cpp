@@ -31,7 +31,8 @@ TEST_CASE("a solved bite is written in engineering units with columnar distribut
     result.inlet_film = 3.4e-6;
     result.entry_speed = 16.5;
     result.forward_slip = 0.02;
-    result.distribution = {point(0.0, 362e6, core::Regime::mixed), point(1e-3, 400e6, core::Regime::boundary),
+    result.distribution = {point(0.0, 362e6, core::Regime::mixed),
+                           point(1e-3, 400e6, core::Regime::boundary),
                            point(8.2e-3, 362e6, core::Regime::full_film)};
     const json body = api::bite_result_json(result);
     CHECK(body["status"] == "ok");
@@ -45,8 +46,8 @@ TEST_CASE("a solved bite is written in engineering units with columnar distribut
     CHECK_FALSE(body.contains("skidding"));
 
     const json& distribution = body["distribution"];
-    for (const char* column : {"x_mm", "pressure_MPa", "friction_MPa", "film_um", "film_ratio", "contact_ratio",
-                               "strip_speed_m_per_s", "thickness_mm", "regime"}) {
+    for (const char* column : {"x_mm", "pressure_MPa", "friction_MPa", "film_um", "film_ratio",
+                               "contact_ratio", "strip_speed_m_per_s", "thickness_mm", "regime"}) {
         CAPTURE(column);
         REQUIRE(distribution.contains(column));
         CHECK(distribution[column].size() == 3);
@@ -74,8 +75,9 @@ TEST_CASE("skidding is a result with its details, not an error") {
     CHECK(body["skidding"]["residual_MPa"] == -2.5);
     CHECK_FALSE(body.contains("distribution"));
     // No steady state: no force, speeds or film, rather than core's placeholder zeros.
-    for (const char* unsolved : {"force_kN", "torque_kN_m", "neutral_point_mm", "entry_speed_m_per_s",
-                                 "exit_speed_m_per_s", "forward_slip", "inlet_film_um", "mean_friction_coefficient"}) {
+    for (const char* unsolved :
+         {"force_kN", "torque_kN_m", "neutral_point_mm", "entry_speed_m_per_s",
+          "exit_speed_m_per_s", "forward_slip", "inlet_film_um", "mean_friction_coefficient"}) {
         CAPTURE(unsolved);
         CHECK(body[unsolved].is_null());
     }
@@ -123,23 +125,29 @@ bool conforms(const json& value, const json& schema, const json& components, con
     if (schema.contains("oneOf")) {
         int matches = 0;
         std::string ignored;
-        for (const json& option : schema["oneOf"]) matches += conforms(value, option, components, at, ignored) ? 1 : 0;
+        for (const json& option : schema["oneOf"])
+            matches += conforms(value, option, components, at, ignored) ? 1 : 0;
         if (matches != 1) {
             why = at + ": matches " + std::to_string(matches) + " of oneOf";
             return false;
         }
     }
-    if (schema.contains("enum") && std::find(schema["enum"].begin(), schema["enum"].end(), value) == schema["enum"].end()) {
+    if (schema.contains("enum") &&
+        std::find(schema["enum"].begin(), schema["enum"].end(), value) == schema["enum"].end()) {
         why = at + ": " + value.dump() + " not in " + schema["enum"].dump();
         return false;
     }
     if (schema.contains("type")) {
-        const json types = schema["type"].is_array() ? schema["type"] : json::array({schema["type"]});
+        const json types =
+            schema["type"].is_array() ? schema["type"] : json::array({schema["type"]});
         bool typed = false;
         for (const json& type : types) {
-            typed = typed || (type == "null" && value.is_null()) || (type == "number" && value.is_number()) ||
-                    (type == "integer" && value.is_number_integer()) || (type == "boolean" && value.is_boolean()) ||
-                    (type == "string" && value.is_string()) || (type == "array" && value.is_array()) ||
+            typed = typed || (type == "null" && value.is_null()) ||
+                    (type == "number" && value.is_number()) ||
+                    (type == "integer" && value.is_number_integer()) ||
+                    (type == "boolean" && value.is_boolean()) ||
+                    (type == "string" && value.is_string()) ||
+                    (type == "array" && value.is_array()) ||
                     (type == "object" && value.is_object());
         }
         if (!typed) {
@@ -149,7 +157,8 @@ bool conforms(const json& value, const json& schema, const json& components, con
     }
     if (value.is_array() && schema.contains("items")) {
         for (std::size_t i = 0; i < value.size(); ++i) {
-            if (!conforms(value[i], schema["items"], components, at + "/" + std::to_string(i), why)) return false;
+            if (!conforms(value[i], schema["items"], components, at + "/" + std::to_string(i), why))
+                return false;
         }
     }
     const json required = schema.value("required", json::array());
@@ -163,7 +172,8 @@ bool conforms(const json& value, const json& schema, const json& components, con
         const json patterns = schema.value("patternProperties", json::object());
         for (const auto& [name, member] : value.items()) {
             if (schema["properties"].contains(name)) {
-                if (!conforms(member, schema["properties"][name], components, at + "/" + name, why)) return false;
+                if (!conforms(member, schema["properties"][name], components, at + "/" + name, why))
+                    return false;
                 continue;
             }
             bool patterned = false;
@@ -187,49 +197,68 @@ bool conforms(const json& value, const json& schema, const json& components, con
 TEST_CASE("every analysis' result conforms to the schema its tables give, whatever the outcome") {
     const json document = service::openapi_document();
     const json& components = document["components"]["schemas"];
-    const json skids = {{"lubricant", {{"limiting_shear", false}}}, {"rolls", {{"speed_m_per_s", 40}}}};
+    const json skids = {{"lubricant", {{"limiting_shear", false}}},
+                        {"rolls", {{"speed_m_per_s", 40}}}};
     const json narrow = {{"speed_min_m_per_s", 15}, {"speed_max_m_per_s", 25}};
     const json requests = json::array({
         {{"analysis", "roll_gap"}},
         {{"analysis", "roll_gap"}, {"scenario", skids}},
         {{"analysis", "roll_gap"}, {"options", {{"distributions", false}}}},
         {{"analysis", "stability"}, {"options", narrow}},
-        {{"analysis", "stability"}, {"options", {{"speed_min_m_per_s", 20.5}, {"speed_max_m_per_s", 22}, {"detail", "summary"}}}},
+        {{"analysis", "stability"},
+         {"options",
+          {{"speed_min_m_per_s", 20.5}, {"speed_max_m_per_s", 22}, {"detail", "summary"}}}},
         {{"analysis", "stability"}, {"scenario", skids}, {"options", {{"critical_speed", false}}}},
-        {{"analysis", "amplitude"}, {"options", {{"window_s", 0.2}, {"time_series", true}, {"time_series_points", 10}}}},
+        {{"analysis", "amplitude"},
+         {"options", {{"window_s", 0.2}, {"time_series", true}, {"time_series_points", 10}}}},
         {{"analysis", "amplitude"}, {"scenario", skids}},
         {{"analysis", "tension_cycle"}, {"options", {{"phases", {0.5}}}}},
         {{"analysis", "tension_cycle"}, {"scenario", skids}},
-        {{"analysis", "sweep"}, {"options", {{"parameter", "/strip/reduction"}, {"values", {0.1, 0.2}}, {"critical_speed", narrow}}}},
         {{"analysis", "sweep"},
-         {"options", {{"parameter", "/rolls/speed_m_per_s"}, {"values", {10}}, {"quantity", "amplitude"}, {"amplitude", {{"window_s", 0.2}}}}}},
+         {"options",
+          {{"parameter", "/strip/reduction"}, {"values", {0.1, 0.2}}, {"critical_speed", narrow}}}},
+        {{"analysis", "sweep"},
+         {"options",
+          {{"parameter", "/rolls/speed_m_per_s"},
+           {"values", {10}},
+           {"quantity", "amplitude"},
+           {"amplitude", {{"window_s", 0.2}}}}}},
         {{"analysis", "roll_gap"}, {"scenario", {{"rolls", {{"flattening", "hitchcock"}}}}}},
         {{"analysis", "map"},
-         {"options", {{"parameters", {{{"parameter", "/strip/reduction"}, {"values", {0.15, 0.25}}},
-                                      {{"parameter", "/lubricant/viscosity_Pa_s"}, {"values", {0.0005}}}}},
-                      {"critical_speed", narrow}}}},
+         {"options",
+          {{"parameters",
+            {{{"parameter", "/strip/reduction"}, {"values", {0.15, 0.25}}},
+             {{"parameter", "/lubricant/viscosity_Pa_s"}, {"values", {0.0005}}}}},
+           {"critical_speed", narrow}}}},
         {{"analysis", "calibrate"},
-         {"options", {{"parameters", {{{"field", "/strip/flow_stress_MPa"}}}},
-                      {"observations", {{{"quantity", "roll_force_kN"}, {"value", 9000}, {"standard_uncertainty", 60}},
-                                        {{"scenario", {{"strip", {{"reduction", 0.3}}}}},
-                                         {"quantity", "roll_force_kN"},
-                                         {"value", 11000},
-                                         {"standard_uncertainty", 80}}}}}}},
-        {{"analysis", "evaluate"}, {"options", {{"critical_speed", narrow}, {"amplitude", {{"window_s", 0.2}}}}}},
-        {{"analysis", "evaluate"}, {"scenario", skids}, {"options", {{"detail", "summary"}, {"critical_speed", narrow}}}},
+         {"options",
+          {{"parameters", {{{"field", "/strip/flow_stress_MPa"}}}},
+           {"observations",
+            {{{"quantity", "roll_force_kN"}, {"value", 9000}, {"standard_uncertainty", 60}},
+             {{"scenario", {{"strip", {{"reduction", 0.3}}}}},
+              {"quantity", "roll_force_kN"},
+              {"value", 11000},
+              {"standard_uncertainty", 80}}}}}}},
+        {{"analysis", "evaluate"},
+         {"options", {{"critical_speed", narrow}, {"amplitude", {{"window_s", 0.2}}}}}},
+        {{"analysis", "evaluate"},
+         {"scenario", skids},
+         {"options", {{"detail", "summary"}, {"critical_speed", narrow}}}},
     });
     for (const json& request : requests) {
         CAPTURE(request.dump());
         const service::Outcome outcome = service::evaluate(request);
         REQUIRE_MESSAGE(outcome.ok(), outcome.body.dump());
         std::string why;
-        const bool valid = conforms(outcome.body, {{"$ref", "#/components/schemas/AnalysisResponse"}}, components, "", why);
+        const bool valid = conforms(
+            outcome.body, {{"$ref", "#/components/schemas/AnalysisResponse"}}, components, "", why);
         CHECK_MESSAGE(valid, why);
     }
     // The checker itself: a member the table does not write is refused.
     json tampered = service::evaluate({{"analysis", "roll_gap"}}).body;
     tampered["result"]["force_N"] = 1.0;
     std::string why;
-    CHECK_FALSE(conforms(tampered, {{"$ref", "#/components/schemas/RollGapResponse"}}, components, "", why));
+    CHECK_FALSE(conforms(tampered, {{"$ref", "#/components/schemas/RollGapResponse"}}, components,
+                         "", why));
     CHECK(why.find("force_N") != std::string::npos);
 }

@@ -48,7 +48,8 @@ TEST_CASE("the default bite is solved and both ends carry the tension boundary p
     REQUIRE(r.distribution.size() == 2 * (s.numerics.bite_intervals + 1));
 
     const double y1 = s.strip.entry_thickness, y2 = exit_thickness(s);
-    CHECK(r.contact_length == doctest::Approx(std::sqrt(s.rolls.radius * (y1 - y2))).epsilon(1e-15));
+    CHECK(r.contact_length ==
+          doctest::Approx(std::sqrt(s.rolls.radius * (y1 - y2))).epsilon(1e-15));
     CHECK(r.inlet_angle == doctest::Approx(std::sqrt((y1 - y2) / s.rolls.radius)).epsilon(1e-15));
     CHECK(r.neutral_point > 0.0);
     CHECK(r.neutral_point < r.contact_length);
@@ -72,10 +73,13 @@ TEST_CASE("mass is conserved along the bite, with and without a moving gap (Yun,
         for (const BitePoint& p : r.distribution) {
             const double inflow = r.entry_speed * y1 - (r.contact_length - p.x) * gap_rate;
             CHECK(p.strip_speed * p.thickness == doctest::Approx(inflow).epsilon(1e-13));
-            CHECK(p.thickness == doctest::Approx(state.exit_thickness + p.x * p.x / s.rolls.radius).epsilon(1e-14));
+            CHECK(
+                p.thickness ==
+                doctest::Approx(state.exit_thickness + p.x * p.x / s.rolls.radius).epsilon(1e-14));
         }
         CHECK(r.exit_speed == doctest::Approx(r.distribution.front().strip_speed).epsilon(1e-14));
-        CHECK(r.forward_slip == doctest::Approx((r.exit_speed - s.rolls.speed) / s.rolls.speed).epsilon(1e-12));
+        CHECK(r.forward_slip ==
+              doctest::Approx((r.exit_speed - s.rolls.speed) / s.rolls.speed).epsilon(1e-12));
     }
 }
 
@@ -107,9 +111,11 @@ TEST_CASE("the pressure satisfies the slab equation dp/dx = (sigma y' + 2 tau) /
     for (const auto* side : {&sides.exit, &sides.entry}) {
         const auto& pts = *side;
         for (std::size_t i = 1; i + 1 < pts.size(); ++i) {
-            const double dpdx = (pts[i + 1].pressure - pts[i - 1].pressure) / (pts[i + 1].x - pts[i - 1].x);
-            const double rhs = (s.strip.flow_stress * 2.0 * pts[i].x / s.rolls.radius + 2.0 * pts[i].friction) /
-                               pts[i].thickness;
+            const double dpdx =
+                (pts[i + 1].pressure - pts[i - 1].pressure) / (pts[i + 1].x - pts[i - 1].x);
+            const double rhs =
+                (s.strip.flow_stress * 2.0 * pts[i].x / s.rolls.radius + 2.0 * pts[i].friction) /
+                pts[i].thickness;
             // central differences are second order: |error| ~ h^2 |p'''| / 6, far below 1e-4 here
             CHECK(std::abs(dpdx - rhs) < 1e-4 * std::abs(s.strip.flow_stress / r.contact_length));
         }
@@ -124,14 +130,15 @@ TEST_CASE("the friction is the mixed law of eqs. (16)-(18) with the limiting-she
     const double rq = std::hypot(s.roughness.roll_rq, s.roughness.strip_rq);
     for (const BitePoint& p : r.distribution) {
         // with the printed gamma the Newtonian stress exceeds lambda_L p wherever u != v
-        const double magnitude = p.contact_ratio * tau_a +
-                                 (1.0 - p.contact_ratio) * s.lubricant.limiting_shear_coefficient * p.pressure;
+        const double magnitude =
+            p.contact_ratio * tau_a +
+            (1.0 - p.contact_ratio) * s.lubricant.limiting_shear_coefficient * p.pressure;
         CHECK(std::abs(p.friction) == doctest::Approx(magnitude).epsilon(1e-13));
         CHECK(p.film_ratio == doctest::Approx(p.film / rq).epsilon(1e-14));
         // eq. (15): h (v + u) = h0 (v + u1)
         CHECK(p.film * (s.rolls.speed + p.strip_speed) ==
               doctest::Approx(r.inlet_film * (s.rolls.speed + r.entry_speed)).epsilon(1e-13));
-        const Regime expected = p.film_ratio < 0.5 ? Regime::boundary
+        const Regime expected = p.film_ratio < 0.5    ? Regime::boundary
                                 : p.film_ratio <= 3.0 ? Regime::mixed
                                                       : Regime::full_film;
         CHECK(p.regime == expected);
@@ -148,8 +155,9 @@ TEST_CASE("without the cap the bite fluid is Newtonian at eta0 (docs/model.md §
     for (const BitePoint& p : r.distribution) {
         const double fluid = s.lubricant.viscosity * (p.strip_speed - s.rolls.speed) / p.film;
         const double sign = p.friction > 0 ? 1.0 : -1.0;
-        CHECK(p.friction == doctest::Approx(sign * p.contact_ratio * tau_a + (1 - p.contact_ratio) * fluid)
-                                .epsilon(1e-9));
+        CHECK(p.friction ==
+              doctest::Approx(sign * p.contact_ratio * tau_a + (1 - p.contact_ratio) * fluid)
+                  .epsilon(1e-9));
     }
 }
 
@@ -186,8 +194,10 @@ TEST_CASE("force, torque and mean friction are the integrals of the distribution
     const double integral_tau = simpson(sides.exit, tau) + simpson(sides.entry, tau);
     const double integral_abs_tau = simpson(sides.exit, abs_tau) + simpson(sides.entry, abs_tau);
     CHECK(r.force == doctest::Approx(s.strip.width * integral_p).epsilon(1e-8));
-    CHECK(r.torque == doctest::Approx(-s.strip.width * s.rolls.radius * integral_tau).epsilon(1e-6));
-    CHECK(r.mean_friction_coefficient == doctest::Approx(integral_abs_tau / integral_p).epsilon(1e-7));
+    CHECK(r.torque ==
+          doctest::Approx(-s.strip.width * s.rolls.radius * integral_tau).epsilon(1e-6));
+    CHECK(r.mean_friction_coefficient ==
+          doctest::Approx(integral_abs_tau / integral_p).epsilon(1e-7));
     CHECK(r.torque > 0.0);  // the rolls drive the strip
     // docs/model.md §4: about 6.5 MN at 19 m/s
     CHECK(r.force == doctest::Approx(6.5e6).epsilon(0.02));
@@ -201,7 +211,8 @@ TEST_CASE("the force converges under refinement to 1e-6") {
     SUBCASE("paper fit, its jump at H_t = 1.5 inside the bite") {
         // H_t runs from ~1.43 to ~1.55 across the bite with Rq = 2.2 um
         s.friction.contact = fine.friction.contact = ContactModel::paper_fit;
-        s.roughness.strip_rq = fine.roughness.strip_rq = std::sqrt(2.2e-6 * 2.2e-6 - 1.2e-6 * 1.2e-6);
+        s.roughness.strip_rq = fine.roughness.strip_rq =
+            std::sqrt(2.2e-6 * 2.2e-6 - 1.2e-6 * 1.2e-6);
     }
     SUBCASE("boundary lubrication at 1 m/s") { s.rolls.speed = fine.rolls.speed = 1.0; }
     const BiteResult coarse_r = solve_roll_bite(s, steady_bite_state(s), {false});
@@ -238,7 +249,8 @@ TEST_CASE("the solution is a smooth, repeatable function of its inputs") {
     CHECK(relative(slope1, slope2) < 1e-5);
 }
 
-TEST_CASE("limit: with the film far thicker than the roughness the law is Coulomb with mu = lambda_L") {
+TEST_CASE(
+    "limit: with the film far thicker than the roughness the law is Coulomb with mu = lambda_L") {
     Scenario mixed;
     mixed.rolls.speed = 60.0;  // H_t > 3 everywhere: A = 0
     Scenario coulomb = mixed;
@@ -255,7 +267,8 @@ TEST_CASE("limit: with the film far thicker than the roughness the law is Coulom
 
 // With A = 1 the friction is the constant shear m_a k and eq. (36) integrates in closed form:
 //   p(x) = p(x0) + sigma ln(y(x) / y(x0)) + 2 tau sqrt(a / y2) [atan(x / sqrt(a y2))]_{x0}^{x}.
-TEST_CASE("limit: in boundary lubrication (A -> 1) the pressure is the closed-form constant-shear solution") {
+TEST_CASE(
+    "limit: in boundary lubrication (A -> 1) the pressure is the closed-form constant-shear solution") {
     Scenario s;
     s.lubricant.viscosity = 1e-13;  // h0 ~ 1e-15 m: H_t ~ 1e-9, 1 - A ~ 1e-7
     s.friction.asperity_factor = 0.3;
@@ -270,7 +283,8 @@ TEST_CASE("limit: in boundary lubrication (A -> 1) the pressure is the closed-fo
     const double xw = r.contact_length;
     auto y = [&](double x) { return y2 + x * x / a; };
     auto exit_p = [&](double x) {
-        return sigma - s.tensions.front.stress + sigma * std::log(y(x) / y2) + 2 * tau * (c / y2) * std::atan(x / c);
+        return sigma - s.tensions.front.stress + sigma * std::log(y(x) / y2) +
+               2 * tau * (c / y2) * std::atan(x / c);
     };
     auto entry_p = [&](double x) {
         return sigma - s.tensions.back.stress + sigma * std::log(y(x) / y(xw)) -
@@ -285,7 +299,8 @@ TEST_CASE("limit: in boundary lubrication (A -> 1) the pressure is the closed-fo
     CHECK(r.neutral_point == doctest::Approx(xn).epsilon(1e-5));
     for (const BitePoint& p : r.distribution) {
         const double exact = p.x <= xn ? exit_p(p.x) : entry_p(p.x);
-        if (std::abs(p.x - xn) > 1e-3 * xw) CHECK(p.pressure == doctest::Approx(exact).epsilon(1e-5));
+        if (std::abs(p.x - xn) > 1e-3 * xw)
+            CHECK(p.pressure == doctest::Approx(exact).epsilon(1e-5));
     }
 }
 
@@ -299,7 +314,8 @@ TEST_CASE("failure states are values: contact lost, skidding, solver failure") {
         CHECK(r.force == 0.0);
         CHECK(r.distribution.empty());
     }
-    SUBCASE("too little friction to drive the strip: the rolls skid (docs/model.md §4, cap off, 30 m/s)") {
+    SUBCASE(
+        "too little friction to drive the strip: the rolls skid (docs/model.md §4, cap off, 30 m/s)") {
         Scenario fast = s;
         fast.lubricant.limiting_shear = false;
         fast.rolls.speed = 30.0;

@@ -41,7 +41,9 @@ double secant_radius(const Scenario& s) {
     const double R = s.rolls.radius;
     const double dh = s.strip.entry_thickness - exit_thickness(s);
     const double c = 16.0 * (1.0 - 0.3 * 0.3) / (std::numbers::pi * 210e9);  // steel, written out
-    auto g = [&](double r) { return r - R * (1.0 + c * force_at_radius(s, r) / (s.strip.width * dh)); };
+    auto g = [&](double r) {
+        return r - R * (1.0 + c * force_at_radius(s, r) / (s.strip.width * dh));
+    };
     double a = R, b = 2.0 * R, ga = g(a), gb = g(b);
     for (int i = 0; i < 60 && std::abs(b - a) > 1e-14 * b; ++i) {
         const double next = b - gb * (b - a) / (gb - ga);
@@ -57,12 +59,14 @@ double secant_radius(const Scenario& s) {
 
 TEST_CASE("Hitchcock's constant for steel rolls") {
     // 16 (1 - 0.09) / (pi 210e9) = 2.2069e-11 1/Pa
-    CHECK(hitchcock_constant(210e9, 0.3) == doctest::Approx(14.56 / (std::numbers::pi * 210e9)).epsilon(1e-14));
+    CHECK(hitchcock_constant(210e9, 0.3) ==
+          doctest::Approx(14.56 / (std::numbers::pi * 210e9)).epsilon(1e-14));
     CHECK(hitchcock_constant(210e9, 0.3) == doctest::Approx(2.2069e-11).epsilon(1e-4));
     CHECK(hitchcock_constant(420e9, 0.0) == doctest::Approx(16.0 / (std::numbers::pi * 420e9)));
 }
 
-TEST_CASE("the flattened radius equals an independent secant solve and satisfies the fixed-point identity") {
+TEST_CASE(
+    "the flattened radius equals an independent secant solve and satisfies the fixed-point identity") {
     for (double entry_mm : {1.6, 0.8}) {
         Scenario s = flattened();
         s.strip.entry_thickness = entry_mm * 1e-3;
@@ -77,8 +81,9 @@ TEST_CASE("the flattened radius equals an independent secant solve and satisfies
         CHECK(bite.roll_radius == state.roll_radius);
         const double dh = s.strip.entry_thickness - exit_thickness(s);
         const double c = hitchcock_constant(s.rolls.youngs_modulus, s.rolls.poisson_ratio);
-        CHECK(state.roll_radius == doctest::Approx(s.rolls.radius * (1.0 + c * bite.force / (s.strip.width * dh)))
-                                       .epsilon(1e-10));
+        CHECK(state.roll_radius ==
+              doctest::Approx(s.rolls.radius * (1.0 + c * bite.force / (s.strip.width * dh)))
+                  .epsilon(1e-10));
         // the longer arc carries more force than the rigid roll's
         const Scenario plain = rigid(s);
         const BiteResult rigid_bite = solve_roll_bite(plain, steady_bite_state(plain), {false});
@@ -87,15 +92,17 @@ TEST_CASE("the flattened radius equals an independent secant solve and satisfies
     }
 }
 
-TEST_CASE("flattening reports its own iteration: converged, with the force at the converged radius") {
+TEST_CASE(
+    "flattening reports its own iteration: converged, with the force at the converged radius") {
     Scenario s = flattened();
     BiteState state = steady_bite_state(Scenario{});
     const FlatteningResult r = flattened_radius(s, state);
     REQUIRE(r.status == BiteStatus::ok);
     CHECK(r.converged);
     CHECK(r.iterations > 2);
-    CHECK(r.radius == doctest::Approx(hitchcock_radius(s, r.force, s.strip.entry_thickness - exit_thickness(s)))
-                          .epsilon(1e-11));
+    CHECK(r.radius ==
+          doctest::Approx(hitchcock_radius(s, r.force, s.strip.entry_thickness - exit_thickness(s)))
+              .epsilon(1e-11));
     // stiffer rolls flatten less, and infinitely stiff ones not at all
     Scenario stiff = s;
     stiff.rolls.youngs_modulus = 1000e9;

@@ -25,7 +25,8 @@ namespace {
 core::Scenario read_without_errors(const json& document) {
     FieldErrors errors;
     const core::Scenario scenario = scenario_from_json(document, "/scenario", errors);
-    for (const FieldError& error : errors.reported()) FAIL_CHECK(error.pointer << ": " << error.detail);
+    for (const FieldError& error : errors.reported())
+        FAIL_CHECK(error.pointer << ": " << error.detail);
     return scenario;
 }
 
@@ -35,7 +36,8 @@ void collect_leaves(const json& node, const std::string& pointer, std::set<std::
         leaves.insert(pointer);
         return;
     }
-    for (const auto& [name, child] : node.items()) collect_leaves(child, pointer + "/" + name, leaves);
+    for (const auto& [name, child] : node.items())
+        collect_leaves(child, pointer + "/" + name, leaves);
 }
 
 double with_six_digits(double value) {
@@ -78,11 +80,14 @@ TEST_CASE("the default scenario document is core::Scenario{} converted, field by
         const json& value = defaults.at(json::json_pointer(field.path));
         switch (field.kind) {
             case FieldKind::number:
-                CHECK(to_si(value.get<double>(), field.unit) == doctest::Approx(field.number(reference)).epsilon(1e-15));
+                CHECK(to_si(value.get<double>(), field.unit) ==
+                      doctest::Approx(field.number(reference)).epsilon(1e-15));
                 break;
             case FieldKind::integer: CHECK(value.get<int>() == field.integer(reference)); break;
             case FieldKind::boolean: CHECK(value.get<bool>() == field.flag(reference)); break;
-            case FieldKind::choice: CHECK(value.get<std::string>() == field.read_choice(reference)); break;
+            case FieldKind::choice:
+                CHECK(value.get<std::string>() == field.read_choice(reference));
+                break;
         }
     }
 }
@@ -95,7 +100,8 @@ TEST_CASE("the default document holds exactly the schema's fields, each valid") 
         CAPTURE(field.path);
         CHECK(schema_paths.insert(field.path).second);  // no duplicate rows
         if (field.kind == FieldKind::number || field.kind == FieldKind::integer) {
-            CHECK(field.range.contains(default_scenario_json().at(json::json_pointer(field.path)).get<double>()));
+            CHECK(field.range.contains(
+                default_scenario_json().at(json::json_pointer(field.path)).get<double>()));
         }
     }
     CHECK(leaves == schema_paths);
@@ -108,7 +114,8 @@ TEST_CASE("every number field name ends in its unit, except the dimensionless on
         const std::string name = field.path.substr(field.path.rfind('/') + 1);
         const std::string group = field.path.substr(0, field.path.rfind('/'));
         // Grouped fields (masses_t/m1, stiffness_GN_per_m/k1) carry the unit in the group name.
-        const bool unit_in_name = name.find('_') != std::string::npos || group.find('_') != std::string::npos;
+        const bool unit_in_name =
+            name.find('_') != std::string::npos || group.find('_') != std::string::npos;
         CHECK(unit_in_name);
     }
 }
@@ -129,12 +136,19 @@ TEST_CASE("each field is wired to its own member of core::Scenario") {
 
 TEST_CASE("engineering units are converted to SI") {
     const json document = {
-        {"strip", {{"entry_thickness_mm", 2.5}, {"flow_stress_MPa", 400}, {"width_mm", 1200}, {"youngs_modulus_GPa", 200}}},
+        {"strip",
+         {{"entry_thickness_mm", 2.5},
+          {"flow_stress_MPa", 400},
+          {"width_mm", 1200},
+          {"youngs_modulus_GPa", 200}}},
         {"rolls", {{"radius_mm", 280}, {"speed_m_per_s", 12.5}}},
         {"lubricant", {{"viscosity_Pa_s", 0.03}, {"pressure_viscosity_per_MPa", 0.02}}},
         {"roughness", {{"roll_rq_um", 1.2}, {"strip_rq_um", 6}}},
         {"tension", {{"back", {{"stress_MPa", 40}, {"amplitude_MPa", 5}}}}},
-        {"mill", {{"masses_t", {{"m3", 11}}}, {"stiffness_GN_per_m", {{"k1", 25}}}, {"damping_MN_s_per_m", {{"c1", 2}}}}},
+        {"mill",
+         {{"masses_t", {{"m3", 11}}},
+          {"stiffness_GN_per_m", {{"k1", 25}}},
+          {"damping_MN_s_per_m", {{"c1", 2}}}}},
     };
     const core::Scenario s = read_without_errors(document);
     CHECK(s.strip.entry_thickness == doctest::Approx(2.5e-3));
@@ -210,8 +224,13 @@ TEST_CASE("values of up to 15 significant digits survive SI and back bit for bit
     std::mt19937_64 random(20240611);
     std::uniform_real_distribution<double> mantissa(1.0, 10.0);
     std::uniform_int_distribution<int> exponent(-8, 8);
-    const Unit all_units[] = {units::millimetre, units::micrometre, units::megapascal, units::gigapascal,
-                              units::per_megapascal, units::tonne, units::meganewton_second_per_metre};
+    const Unit all_units[] = {units::millimetre,
+                              units::micrometre,
+                              units::megapascal,
+                              units::gigapascal,
+                              units::per_megapascal,
+                              units::tonne,
+                              units::meganewton_second_per_metre};
     for (int i = 0; i < 20000; ++i) {
         char text[40];
         std::snprintf(text, sizeof text, "%.14fe%d", mantissa(random), exponent(random));

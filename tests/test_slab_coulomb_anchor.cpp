@@ -1,5 +1,6 @@
-// The slab equation under the Coulomb verification law against published numbers (docs/model.md §4):
-// a textbook problem (FOSSEE Scilab port 3250/CH3/EX3.2, Bland-Ford numerics) and Hill's formula.
+// The slab equation under the Coulomb verification law against published numbers (docs/model.md
+// §4): a textbook problem (FOSSEE Scilab port 3250/CH3/EX3.2, Bland-Ford numerics) and Hill's
+// formula.
 
 #include <doctest/doctest.h>
 
@@ -15,7 +16,7 @@ Scenario textbook_strip(double mu, double reduction) {
     Scenario s;
     s.strip.entry_thickness = 6.0e-3;
     s.strip.reduction = reduction;
-    s.rolls.radius = 0.200;  // 400 mm diameter
+    s.rolls.radius = 0.200;       // 400 mm diameter
     s.strip.flow_stress = 750e6;  // 2k
     s.strip.width = 0.150;
     s.friction.model = FrictionModel::coulomb;
@@ -44,9 +45,10 @@ TEST_CASE("Hill's formula agrees within a few per cent over friction and reducti
             const BiteResult r = solve_roll_bite(s, steady_bite_state(s));
             REQUIRE(r.status == BiteStatus::ok);
             const double y1 = s.strip.entry_thickness, y2 = exit_thickness(s), a = s.rolls.radius;
-            const double hill = s.strip.width * s.strip.flow_stress * std::sqrt(a * (y1 - y2)) *
-                                (1.08 + 1.79 * mu * reduction * std::sqrt(1 - reduction) * std::sqrt(a / y2) -
-                                 1.02 * reduction);
+            const double hill =
+                s.strip.width * s.strip.flow_stress * std::sqrt(a * (y1 - y2)) *
+                (1.08 + 1.79 * mu * reduction * std::sqrt(1 - reduction) * std::sqrt(a / y2) -
+                 1.02 * reduction);
             CHECK(r.force == doctest::Approx(hill).epsilon(0.03));
         }
     }

@@ -1,8 +1,8 @@
 // Linear stability and the critical speed (docs/model.md §7.3), checked against independent
 // references: the analytic structural block of the Jacobian and bite derivatives by separate
 // finite differences, eigenvalues of a hand-scaled Jacobian, independent stability_at calls on
-// both sides of the critical speed, the model document's claims on the film / tension variants, and the
-// continuity of the damping branches.
+// both sides of the critical speed, the model document's claims on the film / tension variants, and
+// the continuity of the damping branches.
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -86,7 +86,8 @@ TEST_CASE("stability: the Jacobian's structural block is the analytic one") {
     const BiteState at = model.bite_state(0.0, z0.data());
     const double dP_dg = dforce(s, at, 3e-8, [](BiteState& b, double d) { b.exit_thickness += d; });
     const double dP_dgdot = dforce(s, at, 3e-4, [](BiteState& b, double d) { b.gap_rate += d; });
-    const double dP_dh0 = dforce(s, at, 3e-6 * at.inlet_film, [](BiteState& b, double d) { b.inlet_film += d; });
+    const double dP_dh0 =
+        dforce(s, at, 3e-6 * at.inlet_film, [](BiteState& b, double d) { b.inlet_film += d; });
     const double dP_dsb = dforce(s, at, 3e2, [](BiteState& b, double d) { b.back_tension += d; });
     MESSAGE("dP/dg = " << dP_dg << " N/m, dP/dg' = " << dP_dgdot << " N s/m, dP/dh0 = " << dP_dh0
                        << " N/m, dP/ds_b = " << dP_dsb << " m^2");
@@ -94,7 +95,8 @@ TEST_CASE("stability: the Jacobian's structural block is the analytic one") {
     // rows 6..11: q'' = -M^-1 K_s q - M^-1 C q' + M^-1 b dP
     for (int i = 0; i < 6; ++i) {
         const double row_scale = std::max(MK.row(i).cwiseAbs().maxCoeff(), std::abs(Mb(i) * dP_dg));
-        const double rate_scale = std::max(MC.row(i).cwiseAbs().maxCoeff(), std::abs(Mb(i) * dP_dgdot));
+        const double rate_scale =
+            std::max(MC.row(i).cwiseAbs().maxCoeff(), std::abs(Mb(i) * dP_dgdot));
         for (int j = 0; j < 6; ++j) {
             CAPTURE(i);
             CAPTURE(j);
@@ -107,8 +109,10 @@ TEST_CASE("stability: the Jacobian's structural block is the analytic one") {
             CHECK(std::abs(J(6 + i, j) - expected_q) <= 1e-6 * row_scale);
             CHECK(std::abs(J(6 + i, 6 + j) - expected_qdot) <= 1e-6 * rate_scale);
             if (j != 2 && j != 3) {  // exactly the structure: these columns do not touch the bite
-                CHECK(std::abs(J(6 + i, j) - MK(i, j)) <= 1e-6 * std::abs(MK(i, j)) + 1e-12 * row_scale);
-                CHECK(std::abs(J(6 + i, 6 + j) - MC(i, j)) <= 1e-6 * std::abs(MC(i, j)) + 1e-12 * rate_scale);
+                CHECK(std::abs(J(6 + i, j) - MK(i, j)) <=
+                      1e-6 * std::abs(MK(i, j)) + 1e-12 * row_scale);
+                CHECK(std::abs(J(6 + i, 6 + j) - MC(i, j)) <=
+                      1e-6 * std::abs(MC(i, j)) + 1e-12 * rate_scale);
             }
         }
         // the film and tension columns act only through the force on m3 and m4
@@ -151,7 +155,8 @@ TEST_CASE("stability: the model document's claims on the variants over 1-60 m/s"
             fmax = std::max(fmax, p.least_damped.frequency_Hz);
             growth_min = std::min(growth_min, p.least_damped.eigenvalue.real());
         }
-        MESSAGE("eulerian: unstable mode " << fmin << "-" << fmax << " Hz, growth rate >= " << growth_min << " 1/s");
+        MESSAGE("eulerian: unstable mode " << fmin << "-" << fmax
+                                           << " Hz, growth rate >= " << growth_min << " 1/s");
         CHECK(fmin > 400.0);
         CHECK(fmax < 550.0);
         // an independent call at a speed inside the range agrees
@@ -167,8 +172,8 @@ TEST_CASE("stability: the model document's claims on the variants over 1-60 m/s"
         const CriticalSpeedResult r = critical_speed(s);
         REQUIRE(r.status == CriticalSpeedStatus::found);
         const double vc = r.critical_speed;
-        MESSAGE("critical speed " << vc << " m/s, unstable mode " << r.unstable_mode.frequency_Hz << " Hz, lambda "
-                                  << r.unstable_mode.eigenvalue);
+        MESSAGE("critical speed " << vc << " m/s, unstable mode " << r.unstable_mode.frequency_Hz
+                                  << " Hz, lambda " << r.unstable_mode.eigenvalue);
         CHECK(vc > 1.0);
         CHECK(vc < 60.0);
         const SpeedStability below = stability_at(at_speed(s, 0.99 * vc));
@@ -179,11 +184,13 @@ TEST_CASE("stability: the model document's claims on the variants over 1-60 m/s"
         REQUIRE(usable(at));
         CHECK(below.stable);
         CHECK(!above.stable);
-        MESSAGE("largest real part at 0.99 / 1.00 / 1.01 v_c: " << below.max_real_part << " / " << at.max_real_part
-                                                                 << " / " << above.max_real_part << " 1/s");
+        MESSAGE("largest real part at 0.99 / 1.00 / 1.01 v_c: " << below.max_real_part << " / "
+                                                                << at.max_real_part << " / "
+                                                                << above.max_real_part << " 1/s");
         // v_c is refined to 1e-4: the real part there is a small fraction of its change over +-1 %
         CHECK(std::abs(at.max_real_part) < 0.02 * (above.max_real_part - below.max_real_part));
-        // the crossing eigenvalue: the rightmost one above v_c, an oscillatory pair at the reported frequency
+        // the crossing eigenvalue: the rightmost one above v_c, an oscillatory pair at the reported
+        // frequency
         const auto lead = rightmost(above.eigenvalues);
         CHECK(lead.real() > 0.0);
         CHECK(std::abs(lead.imag()) > 0.0);
@@ -192,19 +199,22 @@ TEST_CASE("stability: the model document's claims on the variants over 1-60 m/s"
         // below v_c the same branch (nearest frequency) is damped
         const Eigenmode* same = nullptr;
         for (const auto& m : below.oscillatory)
-            if (!same || std::abs(m.frequency_Hz - f_above) < std::abs(same->frequency_Hz - f_above)) same = &m;
+            if (!same ||
+                std::abs(m.frequency_Hz - f_above) < std::abs(same->frequency_Hz - f_above))
+                same = &m;
         REQUIRE(same != nullptr);
         CHECK(same->eigenvalue.real() < 0.0);
         CHECK(same->frequency_Hz == doctest::Approx(f_above).epsilon(0.01));
-        CHECK(std::abs(r.unstable_mode.eigenvalue.real()) < 0.02 * (above.max_real_part - below.max_real_part));
+        CHECK(std::abs(r.unstable_mode.eigenvalue.real()) <
+              0.02 * (above.max_real_part - below.max_real_part));
         MESSAGE("unstable mode shape |q|: " << r.unstable_mode.shape.transpose());
     }
 }
 
 TEST_CASE("stability: the paper film's theta-dot term barely moves the least-damped eigenvalue") {
-    // docs/model.md §2: "The theta-dot I2 term is negligible (it moves the least-damped eigenvalue by
-    // ~3 %)". Remove the term from the Jacobian by its closed form (d(h0')/dg' = theta h0 I2 / (2a))
-    // and compare the rightmost oscillatory eigenvalue at the default speed.
+    // docs/model.md §2: "The theta-dot I2 term is negligible (it moves the least-damped eigenvalue
+    // by ~3 %)". Remove the term from the Jacobian by its closed form (d(h0')/dg' = theta h0 I2 /
+    // (2a)) and compare the rightmost oscillatory eigenvalue at the default speed.
     const Scenario s;
     const ReferenceState ref = reference_state(s);
     const CoupledModel model(s, ref);
@@ -218,7 +228,8 @@ TEST_CASE("stability: the paper film's theta-dot term barely moves the least-dam
     Eigen::VectorXd d(model.size());
     for (int i = 0; i < model.size(); ++i) d(i) = i < 6 ? 1e-6 : i < 12 ? 1e-3 : i == 12 ? h0 : 1e6;
     auto lead = [&](const Eigen::MatrixXd& J) {
-        Eigen::EigenSolver<Eigen::MatrixXd> es(d.cwiseInverse().asDiagonal() * J * d.asDiagonal(), false);
+        Eigen::EigenSolver<Eigen::MatrixXd> es(d.cwiseInverse().asDiagonal() * J * d.asDiagonal(),
+                                               false);
         REQUIRE(es.info() == Eigen::Success);
         std::complex<double> best(-std::numeric_limits<double>::infinity(), 0.0);
         for (int i = 0; i < es.eigenvalues().size(); ++i) {
@@ -228,10 +239,10 @@ TEST_CASE("stability: the paper film's theta-dot term barely moves the least-dam
         return best;
     };
     const auto with_term = lead(lin.jacobian), without_term = lead(without);
-    const double shift = std::abs(with_term.real() - without_term.real()) / std::abs(without_term.real());
-    MESSAGE("rightmost oscillatory eigenvalue with / without the theta-dot term: " << with_term << " / " << without_term
-                                                                                   << " (real part moves "
-                                                                                   << 100 * shift << " %)");
+    const double shift =
+        std::abs(with_term.real() - without_term.real()) / std::abs(without_term.real());
+    MESSAGE("rightmost oscillatory eigenvalue with / without the theta-dot term: "
+            << with_term << " / " << without_term << " (real part moves " << 100 * shift << " %)");
     CHECK(std::abs(with_term - without_term) < 1e-3 * std::abs(with_term));
     CHECK(shift < 0.1);  // "~3 %": a few per cent of the real part
 }
@@ -251,7 +262,8 @@ TEST_CASE("stability: eigenvalues do not depend on the balancing") {
 
         // D^-1 J D with characteristic scales: 1 um, 1 mm/s, h0, 1 MPa
         Eigen::VectorXd d(n);
-        for (int i = 0; i < n; ++i) d(i) = i < 6 ? 1e-6 : i < 12 ? 1e-3 : i == 12 ? ref.bite.inlet_film : 1e6;
+        for (int i = 0; i < n; ++i)
+            d(i) = i < 6 ? 1e-6 : i < 12 ? 1e-3 : i == 12 ? ref.bite.inlet_film : 1e6;
         const Eigen::MatrixXd A = d.cwiseInverse().asDiagonal() * lin.jacobian * d.asDiagonal();
         Eigen::EigenSolver<Eigen::MatrixXd> scaled(A, false);
         REQUIRE(scaled.info() == Eigen::Success);
@@ -269,12 +281,14 @@ TEST_CASE("stability: eigenvalues do not depend on the balancing") {
                     best = k;
             }
             used[static_cast<std::size_t>(best)] = true;
-            const double err = std::abs(st.eigenvalues[static_cast<std::size_t>(best)] - mine) / std::abs(mine);
+            const double err =
+                std::abs(st.eigenvalues[static_cast<std::size_t>(best)] - mine) / std::abs(mine);
             worst = std::max(worst, err);
             CHECK(err < 1e-6);
             if (raw.info() == Eigen::Success) {
                 double nearest = std::numeric_limits<double>::infinity();
-                for (int k = 0; k < n; ++k) nearest = std::min(nearest, std::abs(raw.eigenvalues()(k) - mine));
+                for (int k = 0; k < n; ++k)
+                    nearest = std::min(nearest, std::abs(raw.eigenvalues()(k) - mine));
                 worst_raw = std::max(worst_raw, nearest);
             }
         }
@@ -286,7 +300,8 @@ TEST_CASE("stability: eigenvalues do not depend on the balancing") {
 
 TEST_CASE("stability: a speed without a steady state is a status, never a crash or a bracket") {
     Scenario s;
-    s.lubricant.limiting_shear = false;  // docs/model.md §4: only A tau_a drives the strip, it skids at speed
+    s.lubricant.limiting_shear =
+        false;  // docs/model.md §4: only A tau_a drives the strip, it skids at speed
 
     const SpeedStability skid = stability_at(at_speed(s, 30.0));
     CHECK(skid.steady_status == BiteStatus::skidding);
@@ -311,20 +326,24 @@ TEST_CASE("stability: a speed without a steady state is a status, never a crash 
             }
         }
         REQUIRE(seen_skid);
-        MESSAGE("limiting shear off: skids from " << onset << " m/s (scan step 0.5); critical speed status "
-                                                   << std::string(to_string(r.status)) << " at " << r.critical_speed << " m/s");
+        MESSAGE("limiting shear off: skids from "
+                << onset << " m/s (scan step 0.5); critical speed status "
+                << std::string(to_string(r.status)) << " at " << r.critical_speed << " m/s");
         if (r.status == CriticalSpeedStatus::found) {
             CHECK(r.critical_speed < onset);
             bool bracketed = false;
             for (std::size_t i = 0; i + 1 < r.scan.size(); ++i) {
-                if (r.scan[i].speed <= r.critical_speed && r.critical_speed <= r.scan[i + 1].speed) {
-                    bracketed = usable(r.scan[i]) && usable(r.scan[i + 1]) && r.scan[i].stable && !r.scan[i + 1].stable;
+                if (r.scan[i].speed <= r.critical_speed &&
+                    r.critical_speed <= r.scan[i + 1].speed) {
+                    bracketed = usable(r.scan[i]) && usable(r.scan[i + 1]) && r.scan[i].stable &&
+                                !r.scan[i + 1].stable;
                 }
             }
             CHECK(bracketed);
         }
     }
-    SUBCASE("constant tension: stable up to the skid onset, and no crossing is invented across it") {
+    SUBCASE(
+        "constant tension: stable up to the skid onset, and no crossing is invented across it") {
         s.tensions.back.mode = TensionMode::constant;
         const CriticalSpeedResult r = critical_speed(s);
         CHECK(r.status == CriticalSpeedStatus::stable_in_range);
@@ -381,15 +400,19 @@ TEST_CASE("stability: damping branches are continuous and one per oscillatory mo
         REQUIRE(b.damping_ratio.size() == b.speed.size());
         for (std::size_t i = 1; i < b.speed.size(); ++i) {
             CHECK(b.speed[i] > b.speed[i - 1]);
-            const double jump = std::abs(b.frequency_Hz[i] - b.frequency_Hz[i - 1]) / b.frequency_Hz[i - 1];
+            const double jump =
+                std::abs(b.frequency_Hz[i] - b.frequency_Hz[i - 1]) / b.frequency_Hz[i - 1];
             worst_jump = std::max(worst_jump, jump);
             CHECK(jump < 0.25);
         }
     }
-    MESSAGE("largest frequency change between consecutive scan speeds: " << 100 * worst_jump << " %");
+    MESSAGE("largest frequency change between consecutive scan speeds: " << 100 * worst_jump
+                                                                         << " %");
 
-    // at each speed the branches are a permutation of that speed's oscillatory modes (independent calls)
-    for (const std::size_t idx : {std::size_t{0}, std::size_t{37}, std::size_t{80}, r.scan.size() - 1}) {
+    // at each speed the branches are a permutation of that speed's oscillatory modes (independent
+    // calls)
+    for (const std::size_t idx :
+         {std::size_t{0}, std::size_t{37}, std::size_t{80}, r.scan.size() - 1}) {
         const double v = r.branches[0].speed[idx];
         const SpeedStability p = stability_at(at_speed(s, v));
         REQUIRE(usable(p));
@@ -414,7 +437,8 @@ TEST_CASE("stability: damping branches are continuous and one per oscillatory mo
     const DampingBranch* low = nullptr;
     const DampingBranch* high = nullptr;
     for (const auto& b : r.branches) {
-        const double f = b.frequency_Hz[static_cast<std::size_t>(std::find(b.speed.begin(), b.speed.end(), 35.0) - b.speed.begin())];
+        const double f = b.frequency_Hz[static_cast<std::size_t>(
+            std::find(b.speed.begin(), b.speed.end(), 35.0) - b.speed.begin())];
         if (std::abs(f - 104.0) < 10.0) low = &b;
         if (std::abs(f - 400.0) < 30.0) high = &b;
     }
@@ -433,11 +457,12 @@ TEST_CASE("stability: damping branches are continuous and one per oscillatory mo
     // the lead by growth rate (largest Re, what least_damped reports) swaps elsewhere
     double re_swap = 0.0;
     for (std::size_t i = 1; i < r.scan.size(); ++i) {
-        const bool was = r.scan[i - 1].least_damped.frequency_Hz < 250.0, is = r.scan[i].least_damped.frequency_Hz < 250.0;
+        const bool was = r.scan[i - 1].least_damped.frequency_Hz < 250.0,
+                   is = r.scan[i].least_damped.frequency_Hz < 250.0;
         if (was && !is) re_swap = 0.5 * (r.scan[i - 1].speed + r.scan[i].speed);
     }
-    MESSAGE("lead swap 104 Hz -> 400 Hz: by damping ratio at " << swap_speed << " m/s, by real part at " << re_swap
-                                                               << " m/s");
+    MESSAGE("lead swap 104 Hz -> 400 Hz: by damping ratio at "
+            << swap_speed << " m/s, by real part at " << re_swap << " m/s");
     CHECK(swaps == 1);
     CHECK(swap_speed > 30.0);  // "near 35 m/s", read as +-5 m/s
     CHECK(swap_speed < 40.0);

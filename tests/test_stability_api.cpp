@@ -19,13 +19,14 @@ using namespace rollgap::service;
 
 namespace {
 
-void check_rejected(const json& options, const std::string& pointer, std::optional<std::string> bound,
-                    std::optional<std::string> unit) {
+void check_rejected(const json& options, const std::string& pointer,
+                    std::optional<std::string> bound, std::optional<std::string> unit) {
     test::check_refused_options("stability", options, pointer, bound, unit);
 }
 
 json run_stability(const json& scenario, const json& options) {
-    const Outcome outcome = evaluate({{"analysis", "stability"}, {"scenario", scenario}, {"options", options}});
+    const Outcome outcome =
+        evaluate({{"analysis", "stability"}, {"scenario", scenario}, {"options", options}});
     REQUIRE_MESSAGE(outcome.ok(), outcome.body.dump());
     return outcome.body;
 }
@@ -34,7 +35,8 @@ json run_stability(const json& scenario, const json& options) {
 
 TEST_CASE("stability options: the defaults are resolved and echoed") {
     api::FieldErrors errors;
-    const PreparedAnalysis prepared = prepare_stability(core::Scenario{}, json::object(), "/options", errors);
+    const PreparedAnalysis prepared =
+        prepare_stability(core::Scenario{}, json::object(), "/options", errors);
     CHECK(errors.empty());
     CHECK(prepared.resolved_options == json{{"speed_min_m_per_s", 1.0},
                                             {"speed_max_m_per_s", 60.0},
@@ -45,30 +47,41 @@ TEST_CASE("stability options: the defaults are resolved and echoed") {
 }
 
 TEST_CASE("stability options: every bound is enforced, with its pointer, bound and unit") {
-    check_rejected({{"speed_min_m_per_s", 0.0}}, "/options/speed_min_m_per_s", "[0.01, 100]", "m/s");
-    check_rejected({{"speed_max_m_per_s", 101}}, "/options/speed_max_m_per_s", "[0.01, 100]", "m/s");
+    check_rejected({{"speed_min_m_per_s", 0.0}}, "/options/speed_min_m_per_s", "[0.01, 100]",
+                   "m/s");
+    check_rejected({{"speed_max_m_per_s", 101}}, "/options/speed_max_m_per_s", "[0.01, 100]",
+                   "m/s");
     check_rejected({{"speed_step_m_per_s", 0}}, "/options/speed_step_m_per_s", "(0, 0.5]", "m/s");
     check_rejected({{"speed_step_m_per_s", 0.6}}, "/options/speed_step_m_per_s", "(0, 0.5]", "m/s");
-    check_rejected({{"relative_tolerance", 0}}, "/options/relative_tolerance", "[1e-08, 0.01]", "1");
-    check_rejected({{"relative_tolerance", 0.1}}, "/options/relative_tolerance", "[1e-08, 0.01]", "1");
-    check_rejected({{"critical_speed", "yes"}}, "/options/critical_speed", std::nullopt, std::nullopt);
-    check_rejected({{"speed_min_m_per_s", "1"}}, "/options/speed_min_m_per_s", std::nullopt, std::nullopt);
+    check_rejected({{"relative_tolerance", 0}}, "/options/relative_tolerance", "[1e-08, 0.01]",
+                   "1");
+    check_rejected({{"relative_tolerance", 0.1}}, "/options/relative_tolerance", "[1e-08, 0.01]",
+                   "1");
+    check_rejected({{"critical_speed", "yes"}}, "/options/critical_speed", std::nullopt,
+                   std::nullopt);
+    check_rejected({{"speed_min_m_per_s", "1"}}, "/options/speed_min_m_per_s", std::nullopt,
+                   std::nullopt);
     check_rejected(json::array(), "/options", std::nullopt, std::nullopt);
     // The search range must not be empty; the error names speed_max with the range it allows.
-    check_rejected({{"speed_min_m_per_s", 30}, {"speed_max_m_per_s", 20}}, "/options/speed_max_m_per_s", "(30, 100]",
-                   "m/s");
+    check_rejected({{"speed_min_m_per_s", 30}, {"speed_max_m_per_s", 20}},
+                   "/options/speed_max_m_per_s", "(30, 100]", "m/s");
     // A scan of more than max_scan_points speeds: the bound is the smallest step allowed.
-    check_rejected({{"speed_step_m_per_s", 0.001}}, "/options/speed_step_m_per_s", "[0.0148, 0.5]", "m/s");
+    check_rejected({{"speed_step_m_per_s", 0.001}}, "/options/speed_step_m_per_s", "[0.0148, 0.5]",
+                   "m/s");
 }
 
-TEST_CASE("stability options: unknown members are named, with a suggestion for a wrong unit suffix") {
-    const Outcome outcome = evaluate({{"analysis", "stability"}, {"options", {{"speed_max_mps", 30}}}});
+TEST_CASE(
+    "stability options: unknown members are named, with a suggestion for a wrong unit suffix") {
+    const Outcome outcome =
+        evaluate({{"analysis", "stability"}, {"options", {{"speed_max_mps", 30}}}});
     const json error = test::error_at(outcome, "/options/speed_max_mps");
     REQUIRE(error.is_object());
-    CHECK(error["detail"].get<std::string>().find("did you mean 'speed_max_m_per_s'") != std::string::npos);
+    CHECK(error["detail"].get<std::string>().find("did you mean 'speed_max_m_per_s'") !=
+          std::string::npos);
 }
 
-TEST_CASE("stability at the scenario's speed: eigenvalues, least-damped mode and the stack's modes") {
+TEST_CASE(
+    "stability at the scenario's speed: eigenvalues, least-damped mode and the stack's modes") {
     const json body = run_stability(json::object(), {{"critical_speed", false}});
     const json& result = body["result"];
     CHECK(result["status"] == "ok");
@@ -83,7 +96,8 @@ TEST_CASE("stability at the scenario's speed: eigenvalues, least-damped mode and
     const json& eigenvalues = result["eigenvalues"];
     REQUIRE(eigenvalues.size() == 14);
     for (std::size_t i = 1; i < eigenvalues.size(); ++i) {
-        CHECK(eigenvalues[i - 1]["real_per_s"].get<double>() >= eigenvalues[i]["real_per_s"].get<double>());
+        CHECK(eigenvalues[i - 1]["real_per_s"].get<double>() >=
+              eigenvalues[i]["real_per_s"].get<double>());
     }
     CHECK(eigenvalues[0]["real_per_s"].get<double>() < 0.0);
     CHECK(eigenvalues[0]["real_per_s"] == result["max_growth_rate_per_s"]);
@@ -97,7 +111,8 @@ TEST_CASE("stability at the scenario's speed: eigenvalues, least-damped mode and
     CHECK(mode["growth_rate_per_s"].get<double>() < 0.0);
     REQUIRE(mode["shape"].size() == 6);
     double largest = 0.0;
-    for (const json& component : mode["shape"]) largest = std::max(largest, component.get<double>());
+    for (const json& component : mode["shape"])
+        largest = std::max(largest, component.get<double>());
     CHECK(largest == doctest::Approx(1.0));
     // The oscillatory modes, ascending in frequency, include it.
     CHECK(result["oscillatory_modes"].size() == 6);
@@ -109,14 +124,17 @@ TEST_CASE("stability at the scenario's speed: eigenvalues, least-damped mode and
     REQUIRE(structure["natural_mode_shapes"].size() == 6);
     for (std::size_t i = 0; i < 6; ++i) {
         CHECK(structure["natural_frequencies_Hz"][i].get<double>() > 0.0);
-        if (i > 0) CHECK(structure["natural_frequencies_Hz"][i] > structure["natural_frequencies_Hz"][i - 1]);
+        if (i > 0)
+            CHECK(structure["natural_frequencies_Hz"][i] >
+                  structure["natural_frequencies_Hz"][i - 1]);
         CHECK(structure["natural_mode_shapes"][i].size() == 6);
     }
 }
 
 TEST_CASE("stability: the critical speed is found, and the stability verdict flips there") {
     // A narrow search range around the default's critical speed (~20 m/s) keeps the test fast.
-    const json body = run_stability(json::object(), {{"speed_min_m_per_s", 15}, {"speed_max_m_per_s", 25}});
+    const json body =
+        run_stability(json::object(), {{"speed_min_m_per_s", 15}, {"speed_max_m_per_s", 25}});
     const json& critical = body["result"]["critical_speed"];
     REQUIRE(critical["status"] == "found");
     const double v_c = critical["critical_speed_m_per_s"].get<double>();
@@ -144,15 +162,18 @@ TEST_CASE("stability: the critical speed is found, and the stability verdict fli
     }
 
     // The linearisation at 0.99 v_c is stable, at 1.01 v_c unstable.
-    const json below = run_stability({{"rolls", {{"speed_m_per_s", 0.99 * v_c}}}}, {{"critical_speed", false}});
+    const json below =
+        run_stability({{"rolls", {{"speed_m_per_s", 0.99 * v_c}}}}, {{"critical_speed", false}});
     CHECK(below["result"]["stable"] == true);
-    const json above = run_stability({{"rolls", {{"speed_m_per_s", 1.01 * v_c}}}}, {{"critical_speed", false}});
+    const json above =
+        run_stability({{"rolls", {{"speed_m_per_s", 1.01 * v_c}}}}, {{"critical_speed", false}});
     CHECK(above["result"]["stable"] == false);
     CHECK(above["result"]["max_growth_rate_per_s"].get<double>() > 0.0);
 }
 
 TEST_CASE("stability: a range that starts unstable is a status, not a critical speed") {
-    const json body = run_stability(json::object(), {{"speed_min_m_per_s", 25}, {"speed_max_m_per_s", 26}});
+    const json body =
+        run_stability(json::object(), {{"speed_min_m_per_s", 25}, {"speed_max_m_per_s", 26}});
     const json& critical = body["result"]["critical_speed"];
     CHECK(critical["status"] == "unstable_at_lower_bound");
     CHECK(critical["critical_speed_m_per_s"].is_null());
@@ -161,8 +182,9 @@ TEST_CASE("stability: a range that starts unstable is a status, not a critical s
 
 TEST_CASE("stability: no steady state at the scenario's speed is a 200 result with a status") {
     // Without the limiting shear stress the default stand skids at high speed (docs/model.md §4).
-    const json body = run_stability({{"lubricant", {{"limiting_shear", false}}}, {"rolls", {{"speed_m_per_s", 60}}}},
-                                    {{"critical_speed", false}});
+    const json body = run_stability(
+        {{"lubricant", {{"limiting_shear", false}}}, {"rolls", {{"speed_m_per_s", 60}}}},
+        {{"critical_speed", false}});
     const json& result = body["result"];
     CHECK(result["status"] == "no_steady_state");
     CHECK(result["steady_status"] == "skidding");

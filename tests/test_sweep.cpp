@@ -1,5 +1,5 @@
-// Sweeps (docs/model.md §7.5): the parallel results equal the serial ones bit for bit, and each point
-// equals the analysis run on its own.
+// Sweeps (docs/model.md §7.5): the parallel results equal the serial ones bit for bit, and each
+// point equals the analysis run on its own.
 
 #include <doctest/doctest.h>
 
@@ -7,7 +7,8 @@
 
 using namespace rollgap::core;
 
-TEST_CASE("a critical-speed sweep gives identical results with 1 and 2 threads, and equals single runs") {
+TEST_CASE(
+    "a critical-speed sweep gives identical results with 1 and 2 threads, and equals single runs") {
     std::vector<Scenario> scenarios;
     for (double viscosity : {4e-4, 8e-4, 1.2e-3}) {
         Scenario s;
@@ -59,5 +60,6 @@ TEST_CASE("cancelling an amplitude sweep marks the points it never reached") {
     std::vector<Scenario> scenarios(3);
     Control control;
     control.cancelled = [] { return true; };
-    for (const AmplitudeResult& r : sweep_amplitude(scenarios, {}, 1, control)) CHECK(r.status == AmplitudeStatus::cancelled);
+    for (const AmplitudeResult& r : sweep_amplitude(scenarios, {}, 1, control))
+        CHECK(r.status == AmplitudeStatus::cancelled);
 }

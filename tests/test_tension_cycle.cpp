@@ -1,5 +1,5 @@
-// Distributions over a sinusoidal back-tension cycle (docs/model.md §7.2, Figs. 14-15). At 10 Hz the
-// cycle is far below the stack's lowest mode (~64 Hz), so the gap follows the force almost
+// Distributions over a sinusoidal back-tension cycle (docs/model.md §7.2, Figs. 14-15). At 10 Hz
+// the cycle is far below the stack's lowest mode (~64 Hz), so the gap follows the force almost
 // quasi-statically: g = b^T K_s^-1 b (P - P_ref), within the dynamic amplification
 // 1 / (1 - (10/64)^2) ~ 1.025.
 
@@ -14,7 +14,8 @@
 
 using namespace rollgap::core;
 
-TEST_CASE("the phases see the sinusoidal back tension and the gap follows the force quasi-statically") {
+TEST_CASE(
+    "the phases see the sinusoidal back tension and the gap follows the force quasi-statically") {
     const Scenario s;
     const TensionCycleResult r = tension_cycle(s);
     REQUIRE(r.status == DynamicsStatus::ok);
@@ -26,9 +27,12 @@ TEST_CASE("the phases see the sinusoidal back tension and the gap follows the fo
     const double reference_force = solve_roll_bite(s, steady_bite_state(s), {false}).force;
     for (const PhaseDistribution& p : r.phases) {
         CAPTURE(p.phase);
-        CHECK(p.back_tension == doctest::Approx(mean + amplitude * std::sin(2 * std::numbers::pi * p.phase)).epsilon(1e-9));
+        CHECK(p.back_tension ==
+              doctest::Approx(mean + amplitude * std::sin(2 * std::numbers::pi * p.phase))
+                  .epsilon(1e-9));
         REQUIRE(p.bite.status == BiteStatus::ok);
-        CHECK(p.bite.distribution.back().pressure == doctest::Approx(s.strip.flow_stress - p.back_tension).epsilon(1e-12));
+        CHECK(p.bite.distribution.back().pressure ==
+              doctest::Approx(s.strip.flow_stress - p.back_tension).epsilon(1e-12));
         if (p.phase != 0.5) {
             const double quasi_static = compliance * (p.bite.force - reference_force);
             CHECK(p.gap == doctest::Approx(quasi_static).epsilon(0.06));
@@ -42,7 +46,8 @@ TEST_CASE("the phases see the sinusoidal back tension and the gap follows the fo
 
 TEST_CASE("a cancellation is heard within a cycle, not only at the phase outputs") {
     Scenario s;
-    s.tensions.back.frequency = 0.5;  // a 2 s cycle: the first phase output lies 1.5 s of simulation away
+    s.tensions.back.frequency =
+        0.5;  // a 2 s cycle: the first phase output lies 1.5 s of simulation away
     int polls = 0;
     Control control;
     control.cancelled = [&] { return ++polls > 3; };

@@ -22,21 +22,24 @@ Outcome run(const json& options, const json& scenario = json::object()) {
     return evaluate({{"analysis", "tension_cycle"}, {"scenario", scenario}, {"options", options}});
 }
 
-void check_rejected(const json& options, const std::string& pointer, std::optional<std::string> bound,
-                    std::optional<std::string> unit, const json& scenario = json::object()) {
+void check_rejected(const json& options, const std::string& pointer,
+                    std::optional<std::string> bound, std::optional<std::string> unit,
+                    const json& scenario = json::object()) {
     test::check_refused_options("tension_cycle", options, pointer, bound, unit, scenario);
 }
 
 }  // namespace
 
-TEST_CASE("tension_cycle options: the defaults are resolved and echoed, phases in the order they run") {
+TEST_CASE(
+    "tension_cycle options: the defaults are resolved and echoed, phases in the order they run") {
     api::FieldErrors errors;
-    const PreparedAnalysis defaults = prepare_tension_cycle(core::Scenario{}, json::object(), "/options", errors);
+    const PreparedAnalysis defaults =
+        prepare_tension_cycle(core::Scenario{}, json::object(), "/options", errors);
     CHECK(errors.empty());
     CHECK(defaults.resolved_options ==
           json{{"cycles", 2}, {"phases", {0.25, 0.5, 0.75}}, {"relative_tolerance", 1e-6}});
-    const PreparedAnalysis unsorted =
-        prepare_tension_cycle(core::Scenario{}, {{"phases", {0.75, 0.0, 0.25}}}, "/options", errors);
+    const PreparedAnalysis unsorted = prepare_tension_cycle(
+        core::Scenario{}, {{"phases", {0.75, 0.0, 0.25}}}, "/options", errors);
     CHECK(errors.empty());
     CHECK(unsorted.resolved_options["phases"] == json{0.0, 0.25, 0.75});
 }
@@ -45,10 +48,12 @@ TEST_CASE("tension_cycle options: every bound is enforced, with its pointer, bou
     check_rejected({{"cycles", 0}}, "/options/cycles", "[1, 20]", "1");
     check_rejected({{"cycles", 21}}, "/options/cycles", "[1, 20]", "1");
     check_rejected({{"cycles", 1.5}}, "/options/cycles", "[1, 20]", "1");
-    check_rejected({{"relative_tolerance", 0}}, "/options/relative_tolerance", "[1e-09, 0.001]", "1");
+    check_rejected({{"relative_tolerance", 0}}, "/options/relative_tolerance", "[1e-09, 0.001]",
+                   "1");
     check_rejected({{"phases", 0.5}}, "/options/phases", std::nullopt, std::nullopt);
     check_rejected({{"phases", json::array()}}, "/options/phases", "1 to 32 phases", std::nullopt);
-    check_rejected({{"phases", json(std::vector<double>(33, 0.5))}}, "/options/phases", "1 to 32 phases", std::nullopt);
+    check_rejected({{"phases", json(std::vector<double>(33, 0.5))}}, "/options/phases",
+                   "1 to 32 phases", std::nullopt);
     check_rejected({{"phases", {0.5, 1.0}}}, "/options/phases/1", "[0, 1)", "1");
     check_rejected({{"phases", {-0.1}}}, "/options/phases/0", "[0, 1)", "1");
     check_rejected({{"phases", {0.5, 0.25, 0.5}}}, "/options/phases/2", std::nullopt, "1");
@@ -61,7 +66,8 @@ TEST_CASE("tension_cycle: the simulated time (cycles / frequency) is bounded") {
                    {{"tension", {{"back", {{"frequency_Hz", 0.001}}}}}});
 }
 
-TEST_CASE("tension_cycle: the back tension runs as a sinusoid, so its limits apply whatever the mode") {
+TEST_CASE(
+    "tension_cycle: the back tension runs as a sinusoid, so its limits apply whatever the mode") {
     // The default mode is "span"; 18 ± 20 MPa would go slack when run as a sinusoid.
     const Outcome outcome = run(json::object(), {{"tension", {{"back", {{"amplitude_MPa", 20}}}}}});
     REQUIRE_FALSE(outcome.ok());
@@ -77,7 +83,8 @@ TEST_CASE("tension_cycle: the back tension runs as a sinusoid, so its limits app
               .ok());
 }
 
-TEST_CASE("tension_cycle on the default scenario: s_b = mean + amplitude sin(2 pi T), distributions per phase") {
+TEST_CASE(
+    "tension_cycle on the default scenario: s_b = mean + amplitude sin(2 pi T), distributions per phase") {
     const Outcome outcome = run(json::object());
     REQUIRE_MESSAGE(outcome.ok(), outcome.body.dump());
     const json& result = outcome.body["result"];
@@ -102,11 +109,14 @@ TEST_CASE("tension_cycle on the default scenario: s_b = mean + amplitude sin(2 p
         CAPTURE(phase["phase"].get<double>());
         const json& bite = phase["roll_gap"];
         CHECK(bite["status"] == "ok");
-        for (const auto& member : roll_gap.body["result"].items()) CHECK(bite.contains(member.key()));
-        CHECK(bite["distribution"]["x_mm"].size() == roll_gap.body["result"]["distribution"]["x_mm"].size());
+        for (const auto& member : roll_gap.body["result"].items())
+            CHECK(bite.contains(member.key()));
+        CHECK(bite["distribution"]["x_mm"].size() ==
+              roll_gap.body["result"]["distribution"]["x_mm"].size());
         CHECK(phase["inlet_film_um"].get<double>() > 0.0);
         CHECK(phase["gap_um"].is_number());
     }
     // More back tension, less roll force (the entry pressure is sigma - s_b).
-    CHECK(phases[0]["roll_gap"]["force_kN"].get<double>() < phases[2]["roll_gap"]["force_kN"].get<double>());
+    CHECK(phases[0]["roll_gap"]["force_kN"].get<double>() <
+          phases[2]["roll_gap"]["force_kN"].get<double>());
 }

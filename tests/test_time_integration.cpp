@@ -1,5 +1,5 @@
-// CVODE time integration of the nonlinear coupled model against its linearisation (docs/model.md §6,
-// §7.3): started along the least-damped eigenvector, the gap oscillates at the eigenfrequency
+// CVODE time integration of the nonlinear coupled model against its linearisation (docs/model.md
+// §6, §7.3): started along the least-damped eigenvector, the gap oscillates at the eigenfrequency
 // and its envelope grows or decays at the eigenvalue's real part, below and above the critical
 // speed.
 
@@ -57,7 +57,8 @@ Measured run_along_least_damped_mode(double speed, double amplitude, double dura
             sxy += t[i] * y;
             ++peaks;
         }
-        if (g[i - 1] < 0 && g[i] >= 0) crossings.push_back(t[i - 1] + dt * (-g[i - 1]) / (g[i] - g[i - 1]));
+        if (g[i - 1] < 0 && g[i] >= 0)
+            crossings.push_back(t[i - 1] + dt * (-g[i - 1]) / (g[i] - g[i - 1]));
     }
     const double slope = (peaks * sxy - sx * sy) / (peaks * sxx - sx * sx);
     const double frequency = (crossings.size() - 1) / (crossings.back() - crossings.front());
@@ -74,7 +75,8 @@ TEST_CASE("below the critical speed the nonlinear response decays at the least-d
     const Measured m = run_along_least_damped_mode(19.0, 1e-7, 1.0);
     CHECK(m.status == DynamicsStatus::ok);
     CHECK(m.growth_rate == doctest::Approx(mode.value.real()).epsilon(0.03));
-    CHECK(m.frequency == doctest::Approx(mode.value.imag() / (2 * std::numbers::pi)).epsilon(0.005));
+    CHECK(m.frequency ==
+          doctest::Approx(mode.value.imag() / (2 * std::numbers::pi)).epsilon(0.005));
 }
 
 TEST_CASE("above the critical speed the nonlinear response grows at the least-damped eigenvalue") {
@@ -85,7 +87,8 @@ TEST_CASE("above the critical speed the nonlinear response grows at the least-da
     const Measured m = run_along_least_damped_mode(21.0, 1e-7, 1.0);
     CHECK(m.status == DynamicsStatus::ok);
     CHECK(m.growth_rate == doctest::Approx(mode.value.real()).epsilon(0.03));
-    CHECK(m.frequency == doctest::Approx(mode.value.imag() / (2 * std::numbers::pi)).epsilon(0.005));
+    CHECK(m.frequency ==
+          doctest::Approx(mode.value.imag() / (2 * std::numbers::pi)).epsilon(0.005));
 }
 
 TEST_CASE("at the equilibrium the model stays put: z0 is a fixed point of the integration") {
@@ -96,7 +99,8 @@ TEST_CASE("at the equilibrium the model stays put: z0 is a fixed point of the in
     const IntegrationResult run = integrate(model, z, 0.0, {0.01, 0.02}, nullptr);
     REQUIRE(run.status == DynamicsStatus::ok);
     CHECK(std::abs(z(2) - z0(2)) < 1e-12);
-    CHECK(std::abs(z(CoupledModel::kFilm) - z0(CoupledModel::kFilm)) < 1e-6 * z0(CoupledModel::kFilm));
+    CHECK(std::abs(z(CoupledModel::kFilm) - z0(CoupledModel::kFilm)) <
+          1e-6 * z0(CoupledModel::kFilm));
 }
 
 TEST_CASE("cancellation stops the integration at the next output") {
@@ -106,8 +110,9 @@ TEST_CASE("cancellation stops the integration at the next output") {
     int outputs = 0;
     Control control;
     control.cancelled = [&] { return outputs >= 3; };
-    const IntegrationResult run =
-        integrate(model, z, 0.0, {1e-4, 2e-4, 3e-4, 4e-4, 5e-4}, [&](const Sample&) { ++outputs; }, {}, control);
+    const IntegrationResult run = integrate(
+        model, z, 0.0, {1e-4, 2e-4, 3e-4, 4e-4, 5e-4}, [&](const Sample&) { ++outputs; }, {},
+        control);
     CHECK(run.status == DynamicsStatus::cancelled);
     CHECK(outputs == 3);
 }

@@ -60,9 +60,12 @@ TEST_CASE("unknown fields are rejected at every level") {
                                          {"mill", {{"stiffness_GN_per_m", {{"k4", 3}}}}}});
     CHECK(errors.size() == 4);
     CHECK(error_at(errors, "/scenario/rolls/speed_mps"));
-    CHECK(error_at(errors, "/scenario/stripp")->detail.find("did you mean 'strip'") != std::string::npos);
-    CHECK(error_at(errors, "/scenario/tension/back/stress_Pa")->detail.find("stress_MPa") != std::string::npos);
-    CHECK(error_at(errors, "/scenario/mill/stiffness_GN_per_m/k4")->detail.find("not an input") != std::string::npos);
+    CHECK(error_at(errors, "/scenario/stripp")->detail.find("did you mean 'strip'") !=
+          std::string::npos);
+    CHECK(error_at(errors, "/scenario/tension/back/stress_Pa")->detail.find("stress_MPa") !=
+          std::string::npos);
+    CHECK(error_at(errors, "/scenario/mill/stiffness_GN_per_m/k4")->detail.find("not an input") !=
+          std::string::npos);
 }
 
 TEST_CASE("a field name with '/' or '~' is escaped in the pointer (RFC 6901)") {
@@ -72,16 +75,19 @@ TEST_CASE("a field name with '/' or '~' is escaped in the pointer (RFC 6901)") {
 }
 
 TEST_CASE("wrong types are errors at the field") {
-    const FieldErrors errors = validate({{"strip", {{"flow_stress_MPa", "380"}, {"reduction", nullptr}}},
-                                         {"rolls", {{"radius_mm", json::array({280})}}},
-                                         {"lubricant", {{"limiting_shear", 1}}},
-                                         {"friction", {{"model", 2}}},
-                                         {"numerics", 64}});
+    const FieldErrors errors =
+        validate({{"strip", {{"flow_stress_MPa", "380"}, {"reduction", nullptr}}},
+                  {"rolls", {{"radius_mm", json::array({280})}}},
+                  {"lubricant", {{"limiting_shear", 1}}},
+                  {"friction", {{"model", 2}}},
+                  {"numerics", 64}});
     // reduction: null in a merge patch restores the default, so it is no error.
     CHECK(errors.size() == 5);
-    CHECK(error_at(errors, "/scenario/strip/flow_stress_MPa")->detail == "must be a number, got string");
+    CHECK(error_at(errors, "/scenario/strip/flow_stress_MPa")->detail ==
+          "must be a number, got string");
     CHECK(error_at(errors, "/scenario/rolls/radius_mm")->detail == "must be a number, got array");
-    CHECK(error_at(errors, "/scenario/lubricant/limiting_shear")->detail == "must be a boolean, got number");
+    CHECK(error_at(errors, "/scenario/lubricant/limiting_shear")->detail ==
+          "must be a boolean, got number");
     CHECK(error_at(errors, "/scenario/friction/model"));
     CHECK(error_at(errors, "/scenario/numerics")->detail == "must be an object, got number");
 }
@@ -93,7 +99,8 @@ TEST_CASE("a scenario that is not an object is one error at /scenario") {
 }
 
 TEST_CASE("an unknown choice lists the allowed values as the bound") {
-    const FieldErrors errors = validate({{"friction", {{"model", "Coulomb"}}}, {"inlet_film", {{"model", "euler"}}}});
+    const FieldErrors errors =
+        validate({{"friction", {{"model", "Coulomb"}}}, {"inlet_film", {{"model", "euler"}}}});
     REQUIRE(errors.size() == 2);
     const auto friction = error_at(errors, "/scenario/friction/model");
     CHECK(friction->bound == "mixed | coulomb");
@@ -101,12 +108,14 @@ TEST_CASE("an unknown choice lists the allowed values as the bound") {
     CHECK(error_at(errors, "/scenario/inlet_film/model")->bound == "paper | eulerian");
 }
 
-TEST_CASE("every numeric field rejects values just outside its bounds, with pointer, bound and unit") {
+TEST_CASE(
+    "every numeric field rejects values just outside its bounds, with pointer, bound and unit") {
     for (const ScenarioField& field : scenario_fields()) {
         if (field.kind != FieldKind::number && field.kind != FieldKind::integer) continue;
         const std::string pointer = "/scenario" + field.path;
         CAPTURE(pointer);
-        const double step = field.kind == FieldKind::integer ? 2.0 : std::abs(field.range.max) * 1e-9 + 1e-12;
+        const double step =
+            field.kind == FieldKind::integer ? 2.0 : std::abs(field.range.max) * 1e-9 + 1e-12;
         const double below = field.range.min_open ? field.range.min : field.range.min - step;
         const double above = field.range.max_open ? field.range.max : field.range.max + step;
         for (const double outside : {below, above}) {
@@ -126,12 +135,14 @@ TEST_CASE("every numeric field rejects values just outside its bounds, with poin
 
 TEST_CASE("bounds are checked in the unit of the field name") {
     // A thickness given in metres instead of millimetres lands outside the bounds.
-    const auto error = error_at(validate({{"strip", {{"entry_thickness_mm", 0.0016}}}}), "/scenario/strip/entry_thickness_mm");
+    const auto error = error_at(validate({{"strip", {{"entry_thickness_mm", 0.0016}}}}),
+                                "/scenario/strip/entry_thickness_mm");
     REQUIRE(error);
     CHECK(error->bound == "[0.05, 20]");
     CHECK(error->unit == "mm");
     // The open end of the reduction: 0 is no reduction.
-    const auto reduction = error_at(validate({{"strip", {{"reduction", 0}}}}), "/scenario/strip/reduction");
+    const auto reduction =
+        error_at(validate({{"strip", {{"reduction", 0}}}}), "/scenario/strip/reduction");
     REQUIRE(reduction);
     CHECK(reduction->bound == "(0, 0.7]");
     CHECK(reduction->unit == "1");
@@ -139,8 +150,10 @@ TEST_CASE("bounds are checked in the unit of the field name") {
 
 TEST_CASE("bite_intervals must be an even integer") {
     const std::string pointer = "/scenario/numerics/bite_intervals";
-    CHECK(error_at(validate({{"numerics", {{"bite_intervals", 33}}}}), pointer)->bound == "[8, 4096], even");
-    CHECK(error_at(validate({{"numerics", {{"bite_intervals", 64.5}}}}), pointer)->detail == "must be an integer");
+    CHECK(error_at(validate({{"numerics", {{"bite_intervals", 33}}}}), pointer)->bound ==
+          "[8, 4096], even");
+    CHECK(error_at(validate({{"numerics", {{"bite_intervals", 64.5}}}}), pointer)->detail ==
+          "must be an integer");
     CHECK(error_at(validate({{"numerics", {{"bite_intervals", 6}}}}), pointer));
     CHECK(validate({{"numerics", {{"bite_intervals", 64}}}}).empty());
 }
@@ -148,7 +161,8 @@ TEST_CASE("bite_intervals must be an even integer") {
 TEST_CASE("tension must stay below the flow stress") {
     const std::string pointer = "/scenario/tension/back/stress_MPa";
     SUBCASE("at the flow stress") {
-        const auto error = error_at(validate({{"tension", {{"back", {{"stress_MPa", 380}}}}}}), pointer);
+        const auto error =
+            error_at(validate({{"tension", {{"back", {{"stress_MPa", 380}}}}}}), pointer);
         REQUIRE(error);
         CHECK(error->bound == "[0, 380)");
         CHECK(error->unit == "MPa");
@@ -164,7 +178,8 @@ TEST_CASE("tension must stay below the flow stress") {
         CHECK(errors.reported()[0].bound == "[0, 15)");
     }
     SUBCASE("front tension too") {
-        CHECK(error_at(validate({{"tension", {{"front", {{"stress_MPa", 400}}}}}}), "/scenario/tension/front/stress_MPa"));
+        CHECK(error_at(validate({{"tension", {{"front", {{"stress_MPa", 400}}}}}}),
+                       "/scenario/tension/front/stress_MPa"));
     }
     SUBCASE("not checked against a flow stress that is itself invalid") {
         const FieldErrors errors = validate({{"strip", {{"flow_stress_MPa", -1}}}});
@@ -176,7 +191,10 @@ TEST_CASE("tension must stay below the flow stress") {
 TEST_CASE("a sinusoidal tension must neither go slack nor reach the flow stress") {
     const std::string pointer = "/scenario/tension/back/amplitude_MPa";
     const auto sinusoid = [](double mean, double amplitude) {
-        return json{{"tension", {{"back", {{"mode", "sinusoid"}, {"stress_MPa", mean}, {"amplitude_MPa", amplitude}}}}}};
+        return json{
+            {"tension",
+             {{"back",
+               {{"mode", "sinusoid"}, {"stress_MPa", mean}, {"amplitude_MPa", amplitude}}}}}};
     };
     CHECK(validate(sinusoid(18, 9)).empty());
     const auto slack = error_at(validate(sinusoid(18, 20)), pointer);
@@ -187,17 +205,22 @@ TEST_CASE("a sinusoidal tension must neither go slack nor reach the flow stress"
     REQUIRE(yielding);
     CHECK(yielding->bound == "[0, 80)");
     // In other modes the amplitude is unused and only its own bounds apply.
-    CHECK(validate({{"tension", {{"back", {{"mode", "constant"}, {"stress_MPa", 0}, {"amplitude_MPa", 9}}}}}}).empty());
+    CHECK(validate({{"tension",
+                     {{"back", {{"mode", "constant"}, {"stress_MPa", 0}, {"amplitude_MPa", 9}}}}}})
+              .empty());
 }
 
 TEST_CASE("the bite angle must stay small enough for the parabolic roll profile") {
-    const auto error = error_at(validate({{"strip", {{"entry_thickness_mm", 20}, {"reduction", 0.7}}},
-                                          {"rolls", {{"radius_mm", 10}}}}),
-                                "/scenario/strip/reduction");
+    const auto error =
+        error_at(validate({{"strip", {{"entry_thickness_mm", 20}, {"reduction", 0.7}}},
+                           {"rolls", {{"radius_mm", 10}}}}),
+                 "/scenario/strip/reduction");
     REQUIRE(error);
     CHECK(error->bound == "(0, 0.0612]");  // 0.35^2 × 10 mm / 20 mm, rounded down
     CHECK(error->unit == "1");
-    CHECK(validate({{"strip", {{"entry_thickness_mm", 20}, {"reduction", 0.06}}}, {"rolls", {{"radius_mm", 10}}}}).empty());
+    CHECK(validate({{"strip", {{"entry_thickness_mm", 20}, {"reduction", 0.06}}},
+                    {"rolls", {{"radius_mm", 10}}}})
+              .empty());
 }
 
 TEST_CASE("the Rayleigh frequencies must be in order") {
@@ -218,7 +241,8 @@ TEST_CASE("all violations are reported, not only the first") {
 
 TEST_CASE("huge and non-finite numbers are rejected") {
     SUBCASE("1e308 is a number, but out of bounds") {
-        const auto error = error_at(validate({{"strip", {{"width_mm", 1e308}}}}), "/scenario/strip/width_mm");
+        const auto error =
+            error_at(validate({{"strip", {{"width_mm", 1e308}}}}), "/scenario/strip/width_mm");
         REQUIRE(error);
         CHECK(error->bound == "[10, 5000]");
     }
@@ -229,11 +253,13 @@ TEST_CASE("huge and non-finite numbers are rejected") {
         CHECK(std::get<Problem>(parsed).detail.find("1e999") != std::string::npos);
     }
     SUBCASE("infinity and NaN in JSON built in code") {
-        const FieldErrors errors = validate({{"strip", {{"width_mm", std::numeric_limits<double>::infinity()}}},
-                                             {"rolls", {{"speed_m_per_s", std::nan("")}}}});
+        const FieldErrors errors =
+            validate({{"strip", {{"width_mm", std::numeric_limits<double>::infinity()}}},
+                      {"rolls", {{"speed_m_per_s", std::nan("")}}}});
         CHECK(errors.size() == 2);
         CHECK(error_at(errors, "/scenario/strip/width_mm")->detail == "must be a finite number");
-        CHECK(error_at(errors, "/scenario/rolls/speed_m_per_s")->detail == "must be a finite number");
+        CHECK(error_at(errors, "/scenario/rolls/speed_m_per_s")->detail ==
+              "must be a finite number");
     }
     SUBCASE("a huge integer for an integer field") {
         CHECK(error_at(validate({{"numerics", {{"bite_intervals", 18446744073709551615ULL}}}}),
@@ -249,7 +275,8 @@ TEST_CASE("request text is limited in nesting and may not repeat keys") {
         CHECK(std::get<Problem>(parsed).code == ProblemCode::invalid_json);
     }
     SUBCASE("nesting up to the limit is fine") {
-        const std::string deep = std::string(max_json_depth, '[') + std::string(max_json_depth, ']');
+        const std::string deep =
+            std::string(max_json_depth, '[') + std::string(max_json_depth, ']');
         CHECK(std::holds_alternative<json>(parse_json_text(deep)));
         const std::string too_deep = "[" + deep + "]";
         CHECK(std::holds_alternative<Problem>(parse_json_text(too_deep)));
@@ -261,9 +288,11 @@ TEST_CASE("request text is limited in nesting and may not repeat keys") {
         CHECK_FALSE(nests_deeper_than(default_scenario_json(), max_json_depth));
     }
     SUBCASE("a duplicate key is an error, not a silent last-one-wins") {
-        const auto parsed = parse_json_text(R"({"scenario": {"strip": {"reduction": 0.1, "reduction": 0.5}}})");
+        const auto parsed =
+            parse_json_text(R"({"scenario": {"strip": {"reduction": 0.1, "reduction": 0.5}}})");
         REQUIRE(std::holds_alternative<Problem>(parsed));
-        CHECK(std::get<Problem>(parsed).detail.find("duplicate key 'reduction'") != std::string::npos);
+        CHECK(std::get<Problem>(parsed).detail.find("duplicate key 'reduction'") !=
+              std::string::npos);
         CHECK(std::holds_alternative<json>(parse_json_text(R"([{"a": 1}, {"a": 2}])")));
     }
     SUBCASE("syntax errors") {

@@ -21,14 +21,17 @@ double linear_response_x3(const Scenario& s, double frequency_Hz, double excitat
     const Eigen::VectorXd B = J.col(model.back_tension_index());
     const int n = model.size();
     const std::complex<double> iw(0.0, 2.0 * std::numbers::pi * frequency_Hz);
-    const Eigen::MatrixXcd A = iw * Eigen::MatrixXcd::Identity(n, n) - J.cast<std::complex<double>>();
-    const Eigen::VectorXcd response = A.partialPivLu().solve(B.cast<std::complex<double>>() * excitation);
+    const Eigen::MatrixXcd A =
+        iw * Eigen::MatrixXcd::Identity(n, n) - J.cast<std::complex<double>>();
+    const Eigen::VectorXcd response =
+        A.partialPivLu().solve(B.cast<std::complex<double>>() * excitation);
     return std::abs(response(2));
 }
 
 }  // namespace
 
-TEST_CASE("the settled forced response equals the linear frequency response, at resonance and off it") {
+TEST_CASE(
+    "the settled forced response equals the linear frequency response, at resonance and off it") {
     Scenario s;
     s.rolls.speed = 10.0;  // well damped: the transient dies within the window
     for (double frequency : {0.0, 60.0}) {
@@ -38,13 +41,15 @@ TEST_CASE("the settled forced response equals the linear frequency response, at 
         o.excitation_frequency_Hz = frequency;
         const AmplitudeResult r = vibration_amplitude(s, o);
         REQUIRE(r.status == AmplitudeStatus::settled);
-        const double linear = linear_response_x3(s, r.excitation_frequency_Hz, o.excitation_amplitude);
+        const double linear =
+            linear_response_x3(s, r.excitation_frequency_Hz, o.excitation_amplitude);
         CHECK(r.upper_roll == doctest::Approx(linear).epsilon(0.02));
         CHECK(r.gap > r.upper_roll);  // the lower roll moves against the upper one
     }
 }
 
-TEST_CASE("the default excitation is at the least-damped eigenfrequency, where the response peaks") {
+TEST_CASE(
+    "the default excitation is at the least-damped eigenfrequency, where the response peaks") {
     Scenario s;
     s.rolls.speed = 10.0;
     AmplitudeOptions o;
@@ -77,7 +82,8 @@ TEST_CASE("above the critical speed the response grows until a physical limit en
     CHECK(r.least_damped_growth_rate > 0.0);
     CHECK(r.status == AmplitudeStatus::limit_reached);
     CHECK(r.end_time < o.window);
-    CHECK((r.end_status == DynamicsStatus::slack_strip || r.end_status == DynamicsStatus::contact_lost ||
+    CHECK((r.end_status == DynamicsStatus::slack_strip ||
+           r.end_status == DynamicsStatus::contact_lost ||
            r.end_status == DynamicsStatus::skidding));
     // the windows before the limit grow
     CHECK(r.windows[1].upper_roll > r.windows[0].upper_roll);

@@ -82,7 +82,8 @@ TEST_CASE("worker pool: a zero-length queue still starts work on an idle worker"
     CHECK(eventually([&] { return done == 1; }));
 }
 
-TEST_CASE("worker pool: batch work runs at most batch_concurrency at once and never starves interactive work") {
+TEST_CASE(
+    "worker pool: batch work runs at most batch_concurrency at once and never starves interactive work") {
     WorkerPool pool(2, 4, 8, 1);
     Latch latch;
     std::atomic<int> batch_done{0};
@@ -111,10 +112,11 @@ TEST_CASE("worker pool: an exception in a task does not take the worker down") {
 TEST_CASE("worker pool: shutdown runs the queued tasks, then refuses new ones") {
     std::atomic<int> done{0};
     WorkerPool pool(1, 16, 16, 1);
-    for (int i = 0; i < 5; ++i) REQUIRE(pool.try_submit(Lane::interactive, [&] {
-        std::this_thread::sleep_for(std::chrono::milliseconds(2));
-        ++done;
-    }));
+    for (int i = 0; i < 5; ++i)
+        REQUIRE(pool.try_submit(Lane::interactive, [&] {
+            std::this_thread::sleep_for(std::chrono::milliseconds(2));
+            ++done;
+        }));
     REQUIRE(pool.try_submit(Lane::batch, [&] { ++done; }));
     pool.shutdown();
     CHECK(done == 6);
@@ -130,8 +132,10 @@ TEST_CASE("worker pool: a withdrawn task leaves its lane at once and never runs"
     REQUIRE(eventually([&] { return pool.stats().busy == 1; }));
     int first = 0, second = 0;  // keys
     std::atomic<int> ran{0};
-    REQUIRE(pool.try_submit(Lane::batch, [&ran] { ++ran; }, &first));
-    REQUIRE(pool.try_submit(Lane::batch, [&ran] { ++ran; }, &second));
+    REQUIRE(pool.try_submit(
+        Lane::batch, [&ran] { ++ran; }, &first));
+    REQUIRE(pool.try_submit(
+        Lane::batch, [&ran] { ++ran; }, &second));
     CHECK_FALSE(pool.try_submit(Lane::batch, [&ran] { ++ran; }));  // the lane holds two
     CHECK(pool.withdraw(&first));
     CHECK_FALSE(pool.withdraw(&first));  // no longer queued

@@ -25,8 +25,9 @@ std::complex<double> pick_mode(const Eigen::VectorXcd& values, double frequency_
     for (Eigen::Index i = 0; i < values.size(); ++i) {
         const std::complex<double> lambda = values(i);
         if (!(lambda.imag() > 0.0)) continue;
-        const double score = frequency_Hz > 0.0 ? std::abs(lambda.imag() / (2.0 * std::numbers::pi) - frequency_Hz)
-                                                : -lambda.real();
+        const double score = frequency_Hz > 0.0
+                                 ? std::abs(lambda.imag() / (2.0 * std::numbers::pi) - frequency_Hz)
+                                 : -lambda.real();
         if (score < best_score) {
             best_score = score;
             best = lambda;
@@ -43,7 +44,8 @@ Eigen::MatrixXd without_state(const Eigen::MatrixXd& J, int index) {
     }
     Eigen::MatrixXd out(n - 1, n - 1);
     for (int r = 0; r < n - 1; ++r) {
-        for (int c = 0; c < n - 1; ++c) out(r, c) = J(keep[static_cast<std::size_t>(r)], keep[static_cast<std::size_t>(c)]);
+        for (int c = 0; c < n - 1; ++c)
+            out(r, c) = J(keep[static_cast<std::size_t>(r)], keep[static_cast<std::size_t>(c)]);
     }
     return out;
 }
@@ -119,8 +121,11 @@ ModeDiagnostics diagnose(const core::Scenario& s, double mode_frequency_Hz) {
     }
     d.frequency_Hz = lambda.imag() / (2.0 * std::numbers::pi);
     d.growth_rate = lambda.real();
-    if (back >= 0) d.growth_constant_tension = pick_mode(balanced_eigenvalues(without_state(J, back)), d.frequency_Hz).real();
-    d.growth_frozen_film = pick_mode(balanced_eigenvalues(without_state(J, film)), d.frequency_Hz).real();
+    if (back >= 0)
+        d.growth_constant_tension =
+            pick_mode(balanced_eigenvalues(without_state(J, back)), d.frequency_Hz).real();
+    d.growth_frozen_film =
+        pick_mode(balanced_eigenvalues(without_state(J, film)), d.frequency_Hz).real();
 
     // The force response to a harmonic gap motion g e^{i w t}: the film and tension states obey
     //   (iw - A2) (h0, s_b) = (F_g + iw F_gd, T_g + iw T_gd) g.
@@ -140,7 +145,8 @@ ModeDiagnostics diagnose(const core::Scenario& s, double mode_frequency_Hz) {
     d.film_damping = -(d.dP_dfilm * states(0)).imag() / w;
     d.loop_damping = back >= 0 ? -(Ps * states(1)).imag() / w : 0.0;
     const double mean_inlet_speed = 0.5 * (ref.bite.entry_speed + s.rolls.speed);
-    d.squeeze_estimate = std::abs(d.dP_dfilm) * ref.bite.inlet_film / (2.0 * ref.bite.inlet_angle * mean_inlet_speed);
+    d.squeeze_estimate = std::abs(d.dP_dfilm) * ref.bite.inlet_film /
+                         (2.0 * ref.bite.inlet_angle * mean_inlet_speed);
 
     const ModalAnalysis modes = modal_analysis(mill, ref.strip_stiffness);
     double best = INFINITY;

@@ -19,15 +19,15 @@ struct ModeDiagnostics {
     double speed = 0.0;  // m/s
 
     // The steady bite at this speed (scenario resolution).
-    double mean_friction = nan;      // int |tau| dx / int p dx
+    double mean_friction = nan;                         // int |tau| dx / int p dx
     double film_ratio_min = nan, film_ratio_max = nan;  // H_t over the bite
-    double contact_ratio_max = nan;  // A at the entry (largest)
-    double inlet_film = nan;         // h00, m
-    double inlet_angle = nan;        // theta, rad
-    double contact_length = nan;     // x_w, m
-    double entry_speed = nan;        // u1, m/s
-    double force = nan;              // P, N
-    double strip_stiffness = nan;    // k4 = -dP/dy2, N/m
+    double contact_ratio_max = nan;                     // A at the entry (largest)
+    double inlet_film = nan;                            // h00, m
+    double inlet_angle = nan;                           // theta, rad
+    double contact_length = nan;                        // x_w, m
+    double entry_speed = nan;                           // u1, m/s
+    double force = nan;                                 // P, N
+    double strip_stiffness = nan;                       // k4 = -dP/dy2, N/m
 
     // Couplings read off the Jacobian (the same linearisation core uses).
     double dP_dgap = nan;       // dP/dg at the frozen film and tension, N/m
@@ -39,17 +39,18 @@ struct ModeDiagnostics {
 
     // The tracked mode (the oscillatory eigenvalue nearest to the requested frequency).
     double frequency_Hz = nan;
-    double growth_rate = nan;               // Re lambda, 1/s
-    double growth_constant_tension = nan;   // with the s_b state removed (tension held at its mean)
-    double growth_frozen_film = nan;        // with the h0 state removed (film held at h00)
-    double gap_mass = nan;                  // 1 / (phi3 - phi4)^2 of the nearest natural mode (mass-normalised), kg
+    double growth_rate = nan;              // Re lambda, 1/s
+    double growth_constant_tension = nan;  // with the s_b state removed (tension held at its mean)
+    double growth_frozen_film = nan;       // with the h0 state removed (film held at h00)
+    double gap_mass = nan;  // 1 / (phi3 - phi4)^2 of the nearest natural mode (mass-normalised), kg
 
     // Equivalent dampers across the gap at the mode's frequency (N s/m, positive = dissipative):
     // -Im(dP/g)/omega of each path of the force response to a harmonic gap motion.
-    double direct_damping = nan;   // -dP/d(gdot)
-    double film_damping = nan;     // through the inlet film state h0
-    double loop_damping = nan;     // through the entry-span tension state s_b
-    double squeeze_estimate = nan; // docs/model.md §2's eulerian squeeze term |dP/dh0| h0 / (2 theta u1bar)
+    double direct_damping = nan;  // -dP/d(gdot)
+    double film_damping = nan;    // through the inlet film state h0
+    double loop_damping = nan;    // through the entry-span tension state s_b
+    double squeeze_estimate =
+        nan;  // docs/model.md §2's eulerian squeeze term |dP/dh0| h0 / (2 theta u1bar)
 };
 
 // Diagnoses the coupled model of scenario `s` at its own speed, following the oscillatory

@@ -10,7 +10,8 @@ namespace rollgap::tools {
 
 namespace {
 
-const char* const kPalette[] = {"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b", "#17becf", "#7f7f7f"};
+const char* const kPalette[] = {"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e",
+                                "#9467bd", "#8c564b", "#17becf", "#7f7f7f"};
 
 std::string escape(const std::string& text) {
     std::string out;
@@ -79,36 +80,40 @@ std::vector<std::string> wrap(const std::string& text, std::size_t width) {
     return lines;
 }
 
-void draw_marker(std::ostringstream& out, Marker marker, double x, double y, double size, const std::string& color,
-                 bool hollow) {
+void draw_marker(std::ostringstream& out, Marker marker, double x, double y, double size,
+                 const std::string& color, bool hollow) {
     const std::string fill = hollow ? "#ffffff" : color;
     const std::string style = "fill=\"" + fill + "\" stroke=\"" + color + "\" stroke-width=\"1.5\"";
     const double s = size;
     switch (marker) {
         case Marker::none: return;
         case Marker::circle:
-            out << "<circle cx=\"" << num(x) << "\" cy=\"" << num(y) << "\" r=\"" << num(s) << "\" " << style << "/>\n";
+            out << "<circle cx=\"" << num(x) << "\" cy=\"" << num(y) << "\" r=\"" << num(s) << "\" "
+                << style << "/>\n";
             return;
         case Marker::square:
-            out << "<rect x=\"" << num(x - s) << "\" y=\"" << num(y - s) << "\" width=\"" << num(2 * s) << "\" height=\""
-                << num(2 * s) << "\" " << style << "/>\n";
+            out << "<rect x=\"" << num(x - s) << "\" y=\"" << num(y - s) << "\" width=\""
+                << num(2 * s) << "\" height=\"" << num(2 * s) << "\" " << style << "/>\n";
             return;
         case Marker::diamond:
-            out << "<polygon points=\"" << num(x) << "," << num(y - 1.3 * s) << " " << num(x + 1.3 * s) << "," << num(y)
-                << " " << num(x) << "," << num(y + 1.3 * s) << " " << num(x - 1.3 * s) << "," << num(y) << "\" " << style
-                << "/>\n";
+            out << "<polygon points=\"" << num(x) << "," << num(y - 1.3 * s) << " "
+                << num(x + 1.3 * s) << "," << num(y) << " " << num(x) << "," << num(y + 1.3 * s)
+                << " " << num(x - 1.3 * s) << "," << num(y) << "\" " << style << "/>\n";
             return;
         case Marker::triangle_up:
-            out << "<polygon points=\"" << num(x) << "," << num(y - 1.3 * s) << " " << num(x + 1.2 * s) << ","
-                << num(y + 0.9 * s) << " " << num(x - 1.2 * s) << "," << num(y + 0.9 * s) << "\" " << style << "/>\n";
+            out << "<polygon points=\"" << num(x) << "," << num(y - 1.3 * s) << " "
+                << num(x + 1.2 * s) << "," << num(y + 0.9 * s) << " " << num(x - 1.2 * s) << ","
+                << num(y + 0.9 * s) << "\" " << style << "/>\n";
             return;
         case Marker::triangle_down:
-            out << "<polygon points=\"" << num(x) << "," << num(y + 1.3 * s) << " " << num(x + 1.2 * s) << ","
-                << num(y - 0.9 * s) << " " << num(x - 1.2 * s) << "," << num(y - 0.9 * s) << "\" " << style << "/>\n";
+            out << "<polygon points=\"" << num(x) << "," << num(y + 1.3 * s) << " "
+                << num(x + 1.2 * s) << "," << num(y - 0.9 * s) << " " << num(x - 1.2 * s) << ","
+                << num(y - 0.9 * s) << "\" " << style << "/>\n";
             return;
         case Marker::cross:
-            out << "<path d=\"M" << num(x - s) << "," << num(y - s) << " L" << num(x + s) << "," << num(y + s) << " M"
-                << num(x - s) << "," << num(y + s) << " L" << num(x + s) << "," << num(y - s) << "\" stroke=\"" << color
+            out << "<path d=\"M" << num(x - s) << "," << num(y - s) << " L" << num(x + s) << ","
+                << num(y + s) << " M" << num(x - s) << "," << num(y + s) << " L" << num(x + s)
+                << "," << num(y - s) << "\" stroke=\"" << color
                 << "\" stroke-width=\"2\" fill=\"none\"/>\n";
             return;
     }
@@ -132,7 +137,8 @@ Axis make_linear_axis(double lo, double hi, bool lo_fixed, bool hi_fixed) {
     axis.lo = lo_fixed ? lo : std::floor(lo / axis.step + 1e-9) * axis.step;
     axis.hi = hi_fixed ? hi : std::ceil(hi / axis.step - 1e-9) * axis.step;
     axis.step = nice_step(axis.hi - axis.lo, 6);
-    for (double t = std::ceil(axis.lo / axis.step - 1e-9) * axis.step; t <= axis.hi + 1e-9 * axis.step; t += axis.step) {
+    for (double t = std::ceil(axis.lo / axis.step - 1e-9) * axis.step;
+         t <= axis.hi + 1e-9 * axis.step; t += axis.step) {
         axis.major.push_back(t);
     }
     return axis;
@@ -149,7 +155,8 @@ Axis make_log_axis(double lo, double hi, bool lo_fixed, bool hi_fixed) {
     const int last = static_cast<int>(std::ceil(std::log10(axis.hi) - 1e-9));
     for (int e = first; e <= last; ++e) {
         const double decade = std::pow(10.0, e);
-        if (decade >= axis.lo * (1 - 1e-9) && decade <= axis.hi * (1 + 1e-9)) axis.major.push_back(decade);
+        if (decade >= axis.lo * (1 - 1e-9) && decade <= axis.hi * (1 + 1e-9))
+            axis.major.push_back(decade);
         for (int m = 2; m <= 9; ++m) {
             const double t = m * decade;
             if (t > axis.lo && t < axis.hi) axis.minor.push_back(t);
@@ -212,60 +219,76 @@ std::string render_svg(const Plot& plot) {
 
     auto px = [&](double x) { return left + (x - xa.lo) / (xa.hi - xa.lo) * (right - left); };
     auto py = [&](double y) {
-        if (ya.log) return bottom - (std::log10(y) - std::log10(ya.lo)) / (std::log10(ya.hi) - std::log10(ya.lo)) * (bottom - top);
+        if (ya.log)
+            return bottom - (std::log10(y) - std::log10(ya.lo)) /
+                                (std::log10(ya.hi) - std::log10(ya.lo)) * (bottom - top);
         return bottom - (y - ya.lo) / (ya.hi - ya.lo) * (bottom - top);
     };
 
     std::ostringstream out;
     out << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
-    out << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << plot.width << "\" height=\"" << num(total_height)
-        << "\" viewBox=\"0 0 " << plot.width << " " << num(total_height) << "\" font-family=\"DejaVu Sans, Arial, sans-serif\">\n";
+    out << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << plot.width << "\" height=\""
+        << num(total_height) << "\" viewBox=\"0 0 " << plot.width << " " << num(total_height)
+        << "\" font-family=\"DejaVu Sans, Arial, sans-serif\">\n";
     out << "<rect width=\"100%\" height=\"100%\" fill=\"#ffffff\"/>\n";
-    out << "<defs><clipPath id=\"plot-area\"><rect x=\"" << num(left) << "\" y=\"" << num(top - 1) << "\" width=\""
-        << num(right - left) << "\" height=\"" << num(bottom - top + 2) << "\"/></clipPath></defs>\n";
-    out << "<text x=\"" << num(0.5 * (left + right)) << "\" y=\"26\" text-anchor=\"middle\" font-size=\"16\" font-weight=\"bold\">"
+    out << "<defs><clipPath id=\"plot-area\"><rect x=\"" << num(left) << "\" y=\"" << num(top - 1)
+        << "\" width=\"" << num(right - left) << "\" height=\"" << num(bottom - top + 2)
+        << "\"/></clipPath></defs>\n";
+    out << "<text x=\"" << num(0.5 * (left + right))
+        << "\" y=\"26\" text-anchor=\"middle\" font-size=\"16\" font-weight=\"bold\">"
         << escape(plot.title) << "</text>\n";
 
     // Grid and ticks
     out << "<g stroke=\"#e4e4e4\" stroke-width=\"1\">\n";
-    for (double t : xa.major) out << "<line x1=\"" << num(px(t)) << "\" y1=\"" << num(top) << "\" x2=\"" << num(px(t)) << "\" y2=\"" << num(bottom) << "\"/>\n";
-    for (double t : ya.major) out << "<line x1=\"" << num(left) << "\" y1=\"" << num(py(t)) << "\" x2=\"" << num(right) << "\" y2=\"" << num(py(t)) << "\"/>\n";
-    for (double t : ya.minor) out << "<line x1=\"" << num(left) << "\" y1=\"" << num(py(t)) << "\" x2=\"" << num(right) << "\" y2=\"" << num(py(t)) << "\" stroke=\"#f2f2f2\"/>\n";
+    for (double t : xa.major)
+        out << "<line x1=\"" << num(px(t)) << "\" y1=\"" << num(top) << "\" x2=\"" << num(px(t))
+            << "\" y2=\"" << num(bottom) << "\"/>\n";
+    for (double t : ya.major)
+        out << "<line x1=\"" << num(left) << "\" y1=\"" << num(py(t)) << "\" x2=\"" << num(right)
+            << "\" y2=\"" << num(py(t)) << "\"/>\n";
+    for (double t : ya.minor)
+        out << "<line x1=\"" << num(left) << "\" y1=\"" << num(py(t)) << "\" x2=\"" << num(right)
+            << "\" y2=\"" << num(py(t)) << "\" stroke=\"#f2f2f2\"/>\n";
     out << "</g>\n";
-    out << "<rect x=\"" << num(left) << "\" y=\"" << num(top) << "\" width=\"" << num(right - left) << "\" height=\""
-        << num(bottom - top) << "\" fill=\"none\" stroke=\"#333333\" stroke-width=\"1\"/>\n";
+    out << "<rect x=\"" << num(left) << "\" y=\"" << num(top) << "\" width=\"" << num(right - left)
+        << "\" height=\"" << num(bottom - top)
+        << "\" fill=\"none\" stroke=\"#333333\" stroke-width=\"1\"/>\n";
     out << "<g font-size=\"12\" fill=\"#222222\">\n";
     for (double t : xa.major) {
-        out << "<line x1=\"" << num(px(t)) << "\" y1=\"" << num(bottom) << "\" x2=\"" << num(px(t)) << "\" y2=\"" << num(bottom + 5)
-            << "\" stroke=\"#333333\"/>\n";
-        out << "<text x=\"" << num(px(t)) << "\" y=\"" << num(bottom + 19) << "\" text-anchor=\"middle\">"
-            << escape(tick_label(t, xa.step)) << "</text>\n";
+        out << "<line x1=\"" << num(px(t)) << "\" y1=\"" << num(bottom) << "\" x2=\"" << num(px(t))
+            << "\" y2=\"" << num(bottom + 5) << "\" stroke=\"#333333\"/>\n";
+        out << "<text x=\"" << num(px(t)) << "\" y=\"" << num(bottom + 19)
+            << "\" text-anchor=\"middle\">" << escape(tick_label(t, xa.step)) << "</text>\n";
     }
     for (double t : ya.major) {
-        out << "<line x1=\"" << num(left - 5) << "\" y1=\"" << num(py(t)) << "\" x2=\"" << num(left) << "\" y2=\"" << num(py(t))
-            << "\" stroke=\"#333333\"/>\n";
-        out << "<text x=\"" << num(left - 8) << "\" y=\"" << num(py(t) + 4) << "\" text-anchor=\"end\">"
+        out << "<line x1=\"" << num(left - 5) << "\" y1=\"" << num(py(t)) << "\" x2=\"" << num(left)
+            << "\" y2=\"" << num(py(t)) << "\" stroke=\"#333333\"/>\n";
+        out << "<text x=\"" << num(left - 8) << "\" y=\"" << num(py(t) + 4)
+            << "\" text-anchor=\"end\">"
             << escape(ya.log ? log_tick_label(t) : tick_label(t, ya.step)) << "</text>\n";
     }
     for (double t : ya.minor) {
-        out << "<line x1=\"" << num(left - 3) << "\" y1=\"" << num(py(t)) << "\" x2=\"" << num(left) << "\" y2=\"" << num(py(t))
-            << "\" stroke=\"#333333\"/>\n";
+        out << "<line x1=\"" << num(left - 3) << "\" y1=\"" << num(py(t)) << "\" x2=\"" << num(left)
+            << "\" y2=\"" << num(py(t)) << "\" stroke=\"#333333\"/>\n";
     }
     out << "</g>\n";
-    out << "<text x=\"" << num(0.5 * (left + right)) << "\" y=\"" << num(bottom + 42) << "\" text-anchor=\"middle\" font-size=\"14\">"
-        << escape(plot.x_label) << "</text>\n";
-    out << "<text transform=\"translate(22," << num(0.5 * (top + bottom)) << ") rotate(-90)\" text-anchor=\"middle\" font-size=\"14\">"
-        << escape(plot.y_label) << "</text>\n";
+    out << "<text x=\"" << num(0.5 * (left + right)) << "\" y=\"" << num(bottom + 42)
+        << "\" text-anchor=\"middle\" font-size=\"14\">" << escape(plot.x_label) << "</text>\n";
+    out << "<text transform=\"translate(22," << num(0.5 * (top + bottom))
+        << ") rotate(-90)\" text-anchor=\"middle\" font-size=\"14\">" << escape(plot.y_label)
+        << "</text>\n";
 
     // Vertical reference lines
     for (const VerticalLine& v : plot.vertical_lines) {
         if (!(v.x >= xa.lo && v.x <= xa.hi)) continue;
-        out << "<line x1=\"" << num(px(v.x)) << "\" y1=\"" << num(top) << "\" x2=\"" << num(px(v.x)) << "\" y2=\"" << num(bottom)
-            << "\" stroke=\"" << v.color << "\" stroke-width=\"1.5\" stroke-dasharray=\"2,3\"/>\n";
+        out << "<line x1=\"" << num(px(v.x)) << "\" y1=\"" << num(top) << "\" x2=\"" << num(px(v.x))
+            << "\" y2=\"" << num(bottom) << "\" stroke=\"" << v.color
+            << "\" stroke-width=\"1.5\" stroke-dasharray=\"2,3\"/>\n";
         // the label goes on the side of the line with room for it (~6.5 px per glyph at 11 px)
         const bool left_side = px(v.x) + 6.0 + 6.5 * glyphs(v.label) > right;
-        out << "<text x=\"" << num(left_side ? px(v.x) - 4 : px(v.x) + 4) << "\" y=\"" << num(top + 14) << "\" font-size=\"11\" fill=\""
-            << v.color << "\"" << (left_side ? " text-anchor=\"end\"" : "") << ">" << escape(v.label) << "</text>\n";
+        out << "<text x=\"" << num(left_side ? px(v.x) - 4 : px(v.x) + 4) << "\" y=\""
+            << num(top + 14) << "\" font-size=\"11\" fill=\"" << v.color << "\""
+            << (left_side ? " text-anchor=\"end\"" : "") << ">" << escape(v.label) << "</text>\n";
     }
 
     // Series
@@ -282,13 +305,15 @@ std::string render_svg(const Plot& plot) {
             std::string points;
             auto flush = [&] {
                 if (points.empty()) return;
-                out << "<polyline fill=\"none\" stroke=\"" << color << "\" stroke-width=\"" << num(s.line_width) << "\"";
+                out << "<polyline fill=\"none\" stroke=\"" << color << "\" stroke-width=\""
+                    << num(s.line_width) << "\"";
                 if (!s.dash.empty()) out << " stroke-dasharray=\"" << s.dash << "\"";
                 out << " stroke-linejoin=\"round\" points=\"" << points << "\"/>\n";
                 points.clear();
             };
             for (std::size_t i = 0; i < s.x.size() && i < s.y.size(); ++i) {
-                const bool ok = std::isfinite(s.x[i]) && std::isfinite(s.y[i]) && !(ya.log && s.y[i] <= 0.0);
+                const bool ok =
+                    std::isfinite(s.x[i]) && std::isfinite(s.y[i]) && !(ya.log && s.y[i] <= 0.0);
                 if (!ok) {
                     flush();
                     continue;
@@ -298,7 +323,8 @@ std::string render_svg(const Plot& plot) {
             flush();
         }
         for (std::size_t i = 0; i < s.x.size() && i < s.y.size(); ++i) {
-            if (!std::isfinite(s.x[i]) || !std::isfinite(s.y[i]) || (ya.log && s.y[i] <= 0.0)) continue;
+            if (!std::isfinite(s.x[i]) || !std::isfinite(s.y[i]) || (ya.log && s.y[i] <= 0.0))
+                continue;
             draw_marker(out, s.marker, px(s.x[i]), py(s.y[i]), s.marker_size, color, s.hollow);
         }
     }
@@ -318,7 +344,8 @@ std::string render_svg(const Plot& plot) {
         const std::vector<std::string> lines = wrap(label, 32);
         draw_symbol(lx, ly + 8.0);
         for (std::size_t i = 0; i < lines.size(); ++i) {
-            out << "<text x=\"" << num(lx + 40) << "\" y=\"" << num(ly + 12 + 15.0 * i) << "\">" << escape(lines[i]) << "</text>\n";
+            out << "<text x=\"" << num(lx + 40) << "\" y=\"" << num(ly + 12 + 15.0 * i) << "\">"
+                << escape(lines[i]) << "</text>\n";
         }
         ly += 15.0 * lines.size() + 7.0;
     };
@@ -327,8 +354,9 @@ std::string render_svg(const Plot& plot) {
         if (s.label.empty()) continue;
         legend_entry(s.label, [&](double x, double y) {
             if (s.line) {
-                out << "<line x1=\"" << num(x) << "\" y1=\"" << num(y) << "\" x2=\"" << num(x + 30) << "\" y2=\"" << num(y)
-                    << "\" stroke=\"" << colors[k] << "\" stroke-width=\"" << num(s.line_width) << "\"";
+                out << "<line x1=\"" << num(x) << "\" y1=\"" << num(y) << "\" x2=\"" << num(x + 30)
+                    << "\" y2=\"" << num(y) << "\" stroke=\"" << colors[k] << "\" stroke-width=\""
+                    << num(s.line_width) << "\"";
                 if (!s.dash.empty()) out << " stroke-dasharray=\"" << s.dash << "\"";
                 out << "/>\n";
             }
@@ -337,7 +365,9 @@ std::string render_svg(const Plot& plot) {
     }
     for (const EdgeMarkers& e : plot.edges) {
         if (e.label.empty() || e.x.empty()) continue;
-        legend_entry(e.label, [&](double x, double y) { draw_marker(out, e.marker, x + 15, y, 5.0, e.color, false); });
+        legend_entry(e.label, [&](double x, double y) {
+            draw_marker(out, e.marker, x + 15, y, 5.0, e.color, false);
+        });
     }
     out << "</g>\n";
 

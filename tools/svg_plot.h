@@ -19,7 +19,7 @@ struct Series {
     std::vector<double> x, y;  // a non-finite y breaks the line and draws no marker
     std::string color;         // CSS colour; empty: the next palette colour
     bool line = true;
-    std::string dash;          // SVG stroke-dasharray, empty: solid
+    std::string dash;  // SVG stroke-dasharray, empty: solid
     double line_width = 2.0;
     Marker marker = Marker::circle;
     bool hollow = false;
@@ -48,8 +48,10 @@ struct Plot {
     std::string y_label;
     bool log_y = false;
     // Axis ranges; NaN: from the data (with nice rounding).
-    double x_min = std::numeric_limits<double>::quiet_NaN(), x_max = std::numeric_limits<double>::quiet_NaN();
-    double y_min = std::numeric_limits<double>::quiet_NaN(), y_max = std::numeric_limits<double>::quiet_NaN();
+    double x_min = std::numeric_limits<double>::quiet_NaN(),
+           x_max = std::numeric_limits<double>::quiet_NaN();
+    double y_min = std::numeric_limits<double>::quiet_NaN(),
+           y_max = std::numeric_limits<double>::quiet_NaN();
     std::vector<Series> series;
     std::vector<EdgeMarkers> edges;
     std::vector<VerticalLine> vertical_lines;

@@ -25,15 +25,18 @@ void answer_admin(RouteId route, ServiceState& state, httplib::Response& respons
     const ServerConfig& config = state.config;
     switch (route) {
         case RouteId::livez:
-            set_json(response, 200, {{"status", "alive"}, {"instance", config.instance}, {"version", version()}},
+            set_json(response, 200,
+                     {{"status", "alive"}, {"instance", config.instance}, {"version", version()}},
                      "application/json");
             return;
         case RouteId::readyz:
             if (state.draining) {
                 state.overloaded(response, "the service is shutting down");
             } else {
-                set_json(response, 200, {{"status", "ready"}, {"instance", config.instance}, {"version", version()}},
-                         "application/json");
+                set_json(
+                    response, 200,
+                    {{"status", "ready"}, {"instance", config.instance}, {"version", version()}},
+                    "application/json");
             }
             return;
         case RouteId::metrics:
@@ -51,28 +54,34 @@ std::string metrics_text(ServiceState& state) {
     const JobCounts counts = state.jobs.counts();
     std::vector<GaugeSample> gauges{
         {"rollgap_workers", "Compute worker threads.", "", static_cast<double>(stats.workers)},
-        {"rollgap_workers_busy", "Compute workers running an analysis.", "", static_cast<double>(stats.busy)},
-        {"rollgap_queue_depth", "Work waiting for a worker, by lane (interactive: synchronous requests, "
-                                "batch: jobs).",
+        {"rollgap_workers_busy", "Compute workers running an analysis.", "",
+         static_cast<double>(stats.busy)},
+        {"rollgap_queue_depth",
+         "Work waiting for a worker, by lane (interactive: synchronous requests, "
+         "batch: jobs).",
          "lane=\"interactive\"", static_cast<double>(stats.interactive_queued)},
         {"rollgap_queue_depth", "", "lane=\"batch\"", static_cast<double>(stats.batch_queued)},
-        {"rollgap_queue_capacity", "Work that may wait for a worker, by lane.", "lane=\"interactive\"",
-         static_cast<double>(stats.interactive_capacity)},
+        {"rollgap_queue_capacity", "Work that may wait for a worker, by lane.",
+         "lane=\"interactive\"", static_cast<double>(stats.interactive_capacity)},
         {"rollgap_queue_capacity", "", "lane=\"batch\"", static_cast<double>(stats.batch_capacity)},
-        {"rollgap_requests_in_flight", "Synchronous compute requests read and not yet answered.", "",
-         static_cast<double>(state.in_flight.load())},
-        {"rollgap_jobs", "Stored jobs by state.", "state=\"queued\"", static_cast<double>(counts.queued)},
+        {"rollgap_requests_in_flight", "Synchronous compute requests read and not yet answered.",
+         "", static_cast<double>(state.in_flight.load())},
+        {"rollgap_jobs", "Stored jobs by state.", "state=\"queued\"",
+         static_cast<double>(counts.queued)},
         {"rollgap_jobs", "", "state=\"running\"", static_cast<double>(counts.running)},
         {"rollgap_jobs", "", "state=\"succeeded\"", static_cast<double>(counts.succeeded)},
         {"rollgap_jobs", "", "state=\"failed\"", static_cast<double>(counts.failed)},
         {"rollgap_jobs", "", "state=\"cancelled\"", static_cast<double>(counts.cancelled)},
-        {"rollgap_jobs_capacity", "Jobs the store holds at most.", "", static_cast<double>(state.jobs.capacity())},
-        {"rollgap_ready", "1 while the service accepts work, 0 while it drains.", "", state.draining ? 0.0 : 1.0},
-        {"process_start_time_seconds", "Start time of the process since the Unix epoch, seconds.", "",
-         std::chrono::duration<double>(state.start_time.time_since_epoch()).count()},
+        {"rollgap_jobs_capacity", "Jobs the store holds at most.", "",
+         static_cast<double>(state.jobs.capacity())},
+        {"rollgap_ready", "1 while the service accepts work, 0 while it drains.", "",
+         state.draining ? 0.0 : 1.0},
+        {"process_start_time_seconds", "Start time of the process since the Unix epoch, seconds.",
+         "", std::chrono::duration<double>(state.start_time.time_since_epoch()).count()},
     };
     if (const auto rss = resident_memory_bytes()) {
-        gauges.push_back({"process_resident_memory_bytes", "Resident memory size, bytes.", "", *rss});
+        gauges.push_back(
+            {"process_resident_memory_bytes", "Resident memory size, bytes.", "", *rss});
     }
     // HELP lines come from the first sample of each name.
     std::string previous_help;

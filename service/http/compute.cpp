@@ -42,13 +42,15 @@ core::Control control_for(const ServiceState& state, std::function<bool()> stop)
 }
 
 api::Problem deadline_problem(std::chrono::milliseconds budget) {
-    return api::make_problem(api::ProblemCode::deadline_exceeded,
-                             api::concat("the analysis did not finish within ", std::to_string(budget.count()),
-                                         " ms and was stopped; run it as a job (POST /v1/jobs) for a longer budget"));
+    return api::make_problem(
+        api::ProblemCode::deadline_exceeded,
+        api::concat("the analysis did not finish within ", std::to_string(budget.count()),
+                    " ms and was stopped; run it as a job (POST /v1/jobs) for a longer budget"));
 }
 
 Outcome compute(ServiceState& state, const json& request, const core::Control& control,
-                const std::function<bool()>& late, const std::function<bool()>& cancelled_by_client) {
+                const std::function<bool()>& late,
+                const std::function<bool()>& cancelled_by_client) {
     const std::string_view analysis = analysis_label(request);
     const auto start = SteadyClock::now();
     Outcome outcome;
@@ -56,12 +58,12 @@ Outcome compute(ServiceState& state, const json& request, const core::Control& c
         outcome = state.evaluator(request, control);
     } catch (const std::exception& error) {
         spdlog::error("analysis {} threw: {}", analysis, error.what());
-        outcome = problem_outcome(api::make_problem(api::ProblemCode::internal,
-                                                    "the analysis failed unexpectedly; the log has the cause"));
+        outcome = problem_outcome(api::make_problem(
+            api::ProblemCode::internal, "the analysis failed unexpectedly; the log has the cause"));
     } catch (...) {
         spdlog::error("analysis {} threw a non-standard exception", analysis);
-        outcome = problem_outcome(api::make_problem(api::ProblemCode::internal,
-                                                    "the analysis failed unexpectedly; the log has the cause"));
+        outcome = problem_outcome(api::make_problem(
+            api::ProblemCode::internal, "the analysis failed unexpectedly; the log has the cause"));
     }
     const double seconds = std::chrono::duration<double>(SteadyClock::now() - start).count();
 
@@ -71,7 +73,8 @@ Outcome compute(ServiceState& state, const json& request, const core::Control& c
     } else if (late() || state.hard_cancel) {
         label = "deadline_exceeded";
     } else if (outcome.ok()) {
-        if (reports_solver_failure(outcome.body)) state.metrics.count_solver_failure(analysis, "solver_failure");
+        if (reports_solver_failure(outcome.body))
+            state.metrics.count_solver_failure(analysis, "solver_failure");
     } else if (outcome.problem == api::ProblemCode::deadline_exceeded) {
         label = "deadline_exceeded";
     } else if (outcome.problem == api::ProblemCode::cancelled) {

@@ -15,7 +15,8 @@ namespace rollgap::service::http {
 
 // `late` and `cancelled_by_client` say, after it returned, why it may have been stopped.
 Outcome compute(ServiceState& state, const nlohmann::json& request, const core::Control& control,
-                const std::function<bool()>& late, const std::function<bool()>& cancelled_by_client);
+                const std::function<bool()>& late,
+                const std::function<bool()>& cancelled_by_client);
 
 // A Control that stops when `stop` says so, with the configured thread budget.
 core::Control control_for(const ServiceState& state, std::function<bool()> stop);

@@ -25,14 +25,16 @@ void JobEndpoints::create(json request, httplib::Response& response) {
         return;
     }
     std::string analysis = request["analysis"].get<std::string>();
-    std::shared_ptr<Job> job =
-        state_.jobs.create(std::move(analysis), std::move(request), SteadyClock::now() + state_.config.job_deadline);
+    std::shared_ptr<Job> job = state_.jobs.create(std::move(analysis), std::move(request),
+                                                  SteadyClock::now() + state_.config.job_deadline);
     if (!job) {
-        state_.overloaded(response, concat("the job store is full (", std::to_string(state_.jobs.capacity()),
-                                           " jobs); retry later or DELETE finished jobs"));
+        state_.overloaded(response,
+                          concat("the job store is full (", std::to_string(state_.jobs.capacity()),
+                                 " jobs); retry later or DELETE finished jobs"));
         return;
     }
-    if (!state_.pool.try_submit(Lane::batch, [this, job] { run(job); }, job.get())) {
+    if (!state_.pool.try_submit(
+            Lane::batch, [this, job] { run(job); }, job.get())) {
         state_.jobs.remove(job->id);
         state_.overloaded(response, "the job queue is full; retry later");
         return;
@@ -52,8 +54,9 @@ void JobEndpoints::run(const std::shared_ptr<Job>& job) {
     }
     const auto late = [job] { return SteadyClock::now() >= job->deadline; };
     const auto cancelled = [job] { return job->cancel_requested.load(); };
-    core::Control control =
-        control_for(state_, [this, late, cancelled] { return cancelled() || late() || state_.hard_cancel.load(); });
+    core::Control control = control_for(state_, [this, late, cancelled] {
+        return cancelled() || late() || state_.hard_cancel.load();
+    });
     control.progress = [job](double fraction) {
         if (std::isfinite(fraction)) job->progress = std::clamp(fraction, 0.0, 1.0);
     };
@@ -88,7 +91,9 @@ void JobEndpoints::cancel(const std::string& id, httplib::Response& response) {
             state_.pool.withdraw(job.get());
             set_json(response, 200, document, "application/json");
             return;
-        case CancelResult::cancel_requested: set_json(response, 202, document, "application/json"); return;
+        case CancelResult::cancel_requested:
+            set_json(response, 202, document, "application/json");
+            return;
         case CancelResult::deleted: response.status = 204; return;
     }
 }

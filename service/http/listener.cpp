@@ -22,7 +22,8 @@ namespace {
 
 // Milliseconds left until `deadline`, for poll(); 0 once it passed.
 int milliseconds_left(Clock::time_point deadline) {
-    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now()).count();
+    const auto left =
+        std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now()).count();
     return left <= 0 ? 0 : static_cast<int>(std::min<long long>(left, INT_MAX));
 }
 
@@ -154,8 +155,12 @@ public:
         return static_cast<ssize_t>(size);
     }
 
-    void get_remote_ip_and_port(std::string& ip, int& port) const override { address_of(fd_, true, ip, port); }
-    void get_local_ip_and_port(std::string& ip, int& port) const override { address_of(fd_, false, ip, port); }
+    void get_remote_ip_and_port(std::string& ip, int& port) const override {
+        address_of(fd_, true, ip, port);
+    }
+    void get_local_ip_and_port(std::string& ip, int& port) const override {
+        address_of(fd_, false, ip, port);
+    }
     socket_t socket() const override { return fd_; }
 
 private:
@@ -228,7 +233,9 @@ namespace {
 thread_local Connection* t_connection = nullptr;
 }
 
-Refusal current_refusal() { return t_connection == nullptr ? Refusal::none : t_connection->refusal(); }
+Refusal current_refusal() {
+    return t_connection == nullptr ? Refusal::none : t_connection->refusal();
+}
 
 Listener::Listener(ListenerLimits limits) : limits_(limits) { set_request_logger(nullptr); }
 
@@ -236,12 +243,13 @@ Listener::~Listener() = default;
 
 void Listener::set_request_logger(httplib::Logger log) {
     log_ = log;
-    httplib::Server::set_logger([log = std::move(log)](const httplib::Request& request, const httplib::Response& response) {
-        if (t_connection != nullptr && response.get_header_value("Connection") == "close") {
-            t_connection->request_close();
-        }
-        if (log) log(request, response);
-    });
+    httplib::Server::set_logger(
+        [log = std::move(log)](const httplib::Request& request, const httplib::Response& response) {
+            if (t_connection != nullptr && response.get_header_value("Connection") == "close") {
+                t_connection->request_close();
+            }
+            if (log) log(request, response);
+        });
 }
 
 bool Listener::raise_backlog(int backlog) {
@@ -266,13 +274,15 @@ bool Listener::process_and_close_socket(socket_t sock) {
     }
     t_connection = &connection;
     bool ok = registered;
-    for (std::size_t served = 0; registered && served < limits_.max_requests_per_connection; ++served) {
+    for (std::size_t served = 0; registered && served < limits_.max_requests_per_connection;
+         ++served) {
         if (stopping_ || !connection.wait_for_request(limits_.idle_timeout)) break;
         connection.begin_request();
         const bool last = served + 1 == limits_.max_requests_per_connection || stopping_;
         bool closed = false;
         // Parsed ranges are dropped before anything answers: no route serves partial content.
-        ok = process_request(connection, last, closed, [](httplib::Request& request) { request.ranges.clear(); });
+        ok = process_request(connection, last, closed,
+                             [](httplib::Request& request) { request.ranges.clear(); });
         if (connection.refusal() != Refusal::none) {
             if (connection.written() == 0) write_refusal(connection, connection.refusal());
             break;
@@ -294,9 +304,11 @@ void Listener::write_refusal(Connection& connection, Refusal refusal) {
     httplib::Response response;
     response.status = 400;
     if (render_refusal_) render_refusal_(refusal, response);
-    std::string head = "HTTP/1.1 " + std::to_string(response.status) + " " + reason_phrase(response.status) + "\r\n";
+    std::string head = "HTTP/1.1 " + std::to_string(response.status) + " " +
+                       reason_phrase(response.status) + "\r\n";
     for (const auto& [name, value] : response.headers) head += name + ": " + value + "\r\n";
-    head += "Content-Length: " + std::to_string(response.body.size()) + "\r\nConnection: close\r\n\r\n";
+    head +=
+        "Content-Length: " + std::to_string(response.body.size()) + "\r\nConnection: close\r\n\r\n";
     if (connection.write(head.data(), head.size()) >= 0 && !response.body.empty()) {
         connection.write(response.body.data(), response.body.size());
     }

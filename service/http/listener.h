@@ -32,11 +32,13 @@ inline constexpr std::size_t default_max_header_bytes = 32 * 1024;
 inline constexpr std::size_t default_max_header_fields = 100;
 
 struct ListenerLimits {
-    std::size_t max_header_bytes = default_max_header_bytes;  // request line and header fields together
+    std::size_t max_header_bytes =
+        default_max_header_bytes;  // request line and header fields together
     std::size_t max_header_fields = default_max_header_fields;
-    std::chrono::milliseconds read_deadline{10'000};   // a request's headers and body, from its first byte
+    std::chrono::milliseconds read_deadline{
+        10'000};  // a request's headers and body, from its first byte
     std::chrono::milliseconds write_deadline{10'000};  // an answer, from its first byte
-    std::chrono::milliseconds idle_timeout{5'000};     // between requests on a kept-alive connection
+    std::chrono::milliseconds idle_timeout{5'000};  // between requests on a kept-alive connection
     std::size_t max_requests_per_connection = 100'000;
 };
 

@@ -16,7 +16,8 @@ using api::concat;
 bool authorized(const httplib::Request& request, const std::string& token) {
     const std::string header = request.get_header_value("Authorization");
     constexpr std::string_view scheme = "bearer ";
-    if (header.size() < scheme.size() || lower(std::string_view(header).substr(0, scheme.size())) != scheme) {
+    if (header.size() < scheme.size() ||
+        lower(std::string_view(header).substr(0, scheme.size())) != scheme) {
         return false;
     }
     return constant_time_equal(trim(std::string_view(header).substr(scheme.size())), token);
@@ -29,14 +30,16 @@ bool refuse(const Route* route, const httplib::Request& request, httplib::Respon
     bool refused = true;
     if (route == nullptr) {
         set_problem(response, api::ProblemCode::not_found,
-                    concat("no route ", api::quoted_for_message(request.path), "; GET /openapi.json lists them"));
+                    concat("no route ", api::quoted_for_message(request.path),
+                           "; GET /openapi.json lists them"));
     } else if (request.method == "OPTIONS") {
         response.status = 204;
         response.set_header("Allow", allow_header(*route));
     } else if (!method_allowed(*route, request.method)) {
         response.set_header("Allow", allow_header(*route));
         set_problem(response, api::ProblemCode::method_not_allowed,
-                    concat(request.method, " is not allowed on ", route->pattern, "; allowed: ", allow_header(*route)));
+                    concat(request.method, " is not allowed on ", route->pattern,
+                           "; allowed: ", allow_header(*route)));
     } else if (route->compute && config.token && !authorized(request, *config.token)) {
         response.set_header("WWW-Authenticate", "Bearer realm=\"rollgap\"");
         set_problem(response, api::ProblemCode::unauthorized,
@@ -45,10 +48,13 @@ bool refuse(const Route* route, const httplib::Request& request, httplib::Respon
                !is_json_media_type(request.get_header_value("Content-Type"))) {
         // An empty body is the request {} whatever its declared type.
         const std::string sent = request.get_header_value("Content-Type");
-        set_problem(response, api::ProblemCode::unsupported_media_type,
-                    sent.empty() ? std::string("the body must be sent as Content-Type: application/json")
-                                 : concat("the body must be application/json, not ", api::quoted_for_message(sent)));
-    } else if (const auto length = content_length(request); length && *length > config.max_body_bytes) {
+        set_problem(
+            response, api::ProblemCode::unsupported_media_type,
+            sent.empty()
+                ? std::string("the body must be sent as Content-Type: application/json")
+                : concat("the body must be application/json, not ", api::quoted_for_message(sent)));
+    } else if (const auto length = content_length(request);
+               length && *length > config.max_body_bytes) {
         set_problem(response, api::ProblemCode::payload_too_large,
                     concat("the body has ", std::to_string(*length), " bytes; the limit is ",
                            std::to_string(config.max_body_bytes)));

@@ -16,7 +16,8 @@ std::string dump(const json& document) {
     return document.dump(-1, ' ', false, json::error_handler_t::replace);
 }
 
-void set_json(httplib::Response& response, int status, const json& body, std::string_view media_type) {
+void set_json(httplib::Response& response, int status, const json& body,
+              std::string_view media_type) {
     response.status = status;
     response.set_content(dump(body), std::string(media_type));
 }
@@ -25,41 +26,57 @@ void set_problem(httplib::Response& response, const api::Problem& problem) {
     set_json(response, problem.http_status(), api::problem_json(problem), api::problem_media_type);
 }
 
-void set_problem(httplib::Response& response, ProblemCode code, std::string detail, std::vector<api::FieldError> errors) {
+void set_problem(httplib::Response& response, ProblemCode code, std::string detail,
+                 std::vector<api::FieldError> errors) {
     set_problem(response, api::make_problem(code, std::move(detail), std::move(errors)));
 }
 
 api::Problem problem_for_status(int status) {
     switch (status) {
-        case 400: return api::make_problem(ProblemCode::unreadable_input, "the HTTP request could not be parsed");
+        case 400:
+            return api::make_problem(ProblemCode::unreadable_input,
+                                     "the HTTP request could not be parsed");
         case 404: return api::make_problem(ProblemCode::not_found, "no such route");
-        case 413: return api::make_problem(ProblemCode::payload_too_large, "the request body exceeds the size limit");
-        case 414: return api::make_problem(ProblemCode::uri_too_long, api::concat("the request line exceeds ", std::to_string(CPPHTTPLIB_REQUEST_URI_MAX_LENGTH), " bytes"));
+        case 413:
+            return api::make_problem(ProblemCode::payload_too_large,
+                                     "the request body exceeds the size limit");
+        case 414:
+            return api::make_problem(
+                ProblemCode::uri_too_long,
+                api::concat("the request line exceeds ",
+                            std::to_string(CPPHTTPLIB_REQUEST_URI_MAX_LENGTH), " bytes"));
         case 416:
-            return api::make_problem(ProblemCode::range_not_satisfiable,
-                                     "the Range header is malformed; no route serves partial content, send none");
+            return api::make_problem(
+                ProblemCode::range_not_satisfiable,
+                "the Range header is malformed; no route serves partial content, send none");
         default:
-            return api::make_problem(ProblemCode::internal,
-                                     api::concat("the request failed with HTTP status ", std::to_string(status)));
+            return api::make_problem(
+                ProblemCode::internal,
+                api::concat("the request failed with HTTP status ", std::to_string(status)));
     }
 }
 
 api::Problem problem_for_refusal(Refusal refusal) {
     switch (refusal) {
         case Refusal::request_line_too_long:
-            return api::make_problem(ProblemCode::uri_too_long, "the request line exceeds the header size limit");
+            return api::make_problem(ProblemCode::uri_too_long,
+                                     "the request line exceeds the header size limit");
         case Refusal::header_too_large:
-            return api::make_problem(ProblemCode::header_fields_too_large,
-                                     api::concat("the request line and header fields exceed ",
-                                                 std::to_string(default_max_header_bytes), " bytes"));
+            return api::make_problem(
+                ProblemCode::header_fields_too_large,
+                api::concat("the request line and header fields exceed ",
+                            std::to_string(default_max_header_bytes), " bytes"));
         case Refusal::too_many_header_fields:
-            return api::make_problem(ProblemCode::header_fields_too_large, api::concat("the request has more than ",
-                                                 std::to_string(default_max_header_fields), " header fields"));
+            return api::make_problem(
+                ProblemCode::header_fields_too_large,
+                api::concat("the request has more than ", std::to_string(default_max_header_fields),
+                            " header fields"));
         case Refusal::header_nul:
             return api::make_problem(ProblemCode::invalid_header, "a header contains a NUL byte");
         case Refusal::read_deadline:
-            return api::make_problem(ProblemCode::request_timeout,
-                                     "the request did not arrive within the read deadline; the connection closes");
+            return api::make_problem(
+                ProblemCode::request_timeout,
+                "the request did not arrive within the read deadline; the connection closes");
         case Refusal::none: break;
     }
     return api::make_problem(ProblemCode::internal, "the request was refused for no known reason");

@@ -18,7 +18,8 @@ namespace rollgap::service::http {
 
 std::string dump(const nlohmann::json& document);
 
-void set_json(httplib::Response& response, int status, const nlohmann::json& body, std::string_view media_type);
+void set_json(httplib::Response& response, int status, const nlohmann::json& body,
+              std::string_view media_type);
 void set_problem(httplib::Response& response, const api::Problem& problem);
 void set_problem(httplib::Response& response, api::ProblemCode code, std::string detail,
                  std::vector<api::FieldError> errors = {});

@@ -73,8 +73,8 @@ bool method_allowed(const Route& route, std::string_view method) {
 }
 
 std::string_view method_label(std::string_view method) {
-    static constexpr std::array<std::string_view, 9> known{"GET", "HEAD", "POST", "PUT", "DELETE",
-                                                           "OPTIONS", "PATCH", "CONNECT", "TRACE"};
+    static constexpr std::array<std::string_view, 9> known{
+        "GET", "HEAD", "POST", "PUT", "DELETE", "OPTIONS", "PATCH", "CONNECT", "TRACE"};
     const auto found = std::find(known.begin(), known.end(), method);
     return found == known.end() ? std::string_view("other") : *found;
 }

@@ -11,13 +11,28 @@ namespace rollgap::service::http {
 enum Method : unsigned { get = 1, post = 2, del = 4 };
 
 enum class RouteId {
-    scenarios_default, roll_gap, stability, amplitude, tension_cycle, sweeps, maps, evaluate, calibrate,
-    jobs, job, openapi, livez, readyz, metrics, page, static_file,
+    scenarios_default,
+    roll_gap,
+    stability,
+    amplitude,
+    tension_cycle,
+    sweeps,
+    maps,
+    evaluate,
+    calibrate,
+    jobs,
+    job,
+    openapi,
+    livez,
+    readyz,
+    metrics,
+    page,
+    static_file,
 };
 
 struct Route {
     RouteId id;
-    std::string_view pattern;   // also the metrics label
+    std::string_view pattern;  // also the metrics label
     unsigned methods;
     bool compute;               // needs the bearer token when one is configured
     std::string_view analysis;  // the facade's analysis for the synchronous compute routes
@@ -31,7 +46,6 @@ std::span<const Route> all_routes();
 
 // The route of `path`, or nullptr.
 const Route* match_route(std::string_view path);
-
 
 // "GET, HEAD, POST, OPTIONS": the Allow header of `route`.
 std::string allow_header(const Route& route);

@@ -14,8 +14,8 @@ using nlohmann::json;
 struct SyncCall {
     std::mutex mutex;
     std::condition_variable done;
-    std::optional<Outcome> outcome;  // under mutex
-    bool stopped = false;            // under mutex: the drain answered it
+    std::optional<Outcome> outcome;      // under mutex
+    bool stopped = false;                // under mutex: the drain answered it
     std::atomic<bool> abandoned{false};  // the connection thread answered and left
     SteadyClock::time_point deadline;
 
@@ -41,7 +41,8 @@ private:
     std::atomic<int>& counter_;
 };
 
-constexpr std::string_view stopped_detail = "the service is shutting down; the analysis was stopped before it finished";
+constexpr std::string_view stopped_detail =
+    "the service is shutting down; the analysis was stopped before it finished";
 
 }  // namespace
 
@@ -63,30 +64,34 @@ void SyncDispatch::run(json request, SteadyClock::time_point arrival, httplib::R
     } unregister{*this, call};
 
     ServiceState& state = state_;
-    const bool queued = state_.pool.try_submit(Lane::interactive, [&state, call, request = std::move(request)] {
-        const auto late = [call] { return SteadyClock::now() >= call->deadline; };
-        if (call->abandoned || late() || state.hard_cancel) {
-            // Taken too late: complete it now so that nobody waits for it.
-            state.metrics.count_skipped(state.hard_cancel ? "cancelled" : "deadline_exceeded");
-            call->complete(problem_outcome(state.hard_cancel
-                                               ? api::make_problem(api::ProblemCode::overloaded, std::string(stopped_detail))
-                                               : deadline_problem(state.config.deadline)));
-            return;
-        }
-        const core::Control control = control_for(state, [&state, call] {
-            return call->abandoned.load(std::memory_order_relaxed) || SteadyClock::now() >= call->deadline ||
-                   state.hard_cancel.load(std::memory_order_relaxed);
+    const bool queued =
+        state_.pool.try_submit(Lane::interactive, [&state, call, request = std::move(request)] {
+            const auto late = [call] { return SteadyClock::now() >= call->deadline; };
+            if (call->abandoned || late() || state.hard_cancel) {
+                // Taken too late: complete it now so that nobody waits for it.
+                state.metrics.count_skipped(state.hard_cancel ? "cancelled" : "deadline_exceeded");
+                call->complete(problem_outcome(state.hard_cancel
+                                                   ? api::make_problem(api::ProblemCode::overloaded,
+                                                                       std::string(stopped_detail))
+                                                   : deadline_problem(state.config.deadline)));
+                return;
+            }
+            const core::Control control = control_for(state, [&state, call] {
+                return call->abandoned.load(std::memory_order_relaxed) ||
+                       SteadyClock::now() >= call->deadline ||
+                       state.hard_cancel.load(std::memory_order_relaxed);
+            });
+            call->complete(compute(state, request, control, late, [] { return false; }));
         });
-        call->complete(compute(state, request, control, late, [] { return false; }));
-    });
     if (!queued) {
-        state_.overloaded(response, api::concat("every worker is busy and ", std::to_string(state_.config.queue_length),
+        state_.overloaded(response, api::concat("every worker is busy and ",
+                                                std::to_string(state_.config.queue_length),
                                                 " requests are waiting; retry later"));
         return;
     }
     std::unique_lock lock(call->mutex);
-    const bool answered =
-        call->done.wait_until(lock, call->deadline, [&] { return call->outcome.has_value() || call->stopped; });
+    const bool answered = call->done.wait_until(
+        lock, call->deadline, [&] { return call->outcome.has_value() || call->stopped; });
     if (!call->outcome) {
         call->abandoned = true;
         if (answered) {
@@ -97,7 +102,8 @@ void SyncDispatch::run(json request, SteadyClock::time_point arrival, httplib::R
         return;
     }
     const Outcome& outcome = *call->outcome;
-    if (outcome.problem == api::ProblemCode::cancelled || outcome.problem == api::ProblemCode::overloaded) {
+    if (outcome.problem == api::ProblemCode::cancelled ||
+        outcome.problem == api::ProblemCode::overloaded) {
         // The facade cannot say why it was stopped (evaluate.h); here it is known.
         if (state_.hard_cancel) {
             state_.overloaded(response, std::string(stopped_detail));

@@ -35,7 +35,9 @@ struct Result {
     std::string detail;      // for logs; never contains request bodies
 
     bool ok() const { return status == StoreStatus::ok; }
-    static Result failure(StoreStatus s, std::string why = {}) { return {s, std::nullopt, std::move(why)}; }
+    static Result failure(StoreStatus s, std::string why = {}) {
+        return {s, std::nullopt, std::move(why)};
+    }
 };
 
 enum class JobState { queued, running, succeeded, failed, cancelled };
@@ -67,7 +69,7 @@ struct JobRecord {
     std::string analysis;
     std::string request;
     JobState state = JobState::queued;
-    double progress = 0.0;  // 0..1; for chunked jobs the share of finished points
+    double progress = 0.0;               // 0..1; for chunked jobs the share of finished points
     std::optional<std::string> result;   // JSON text, when succeeded
     std::optional<std::string> problem;  // JSON text, when failed
     std::string instance;
@@ -138,7 +140,7 @@ struct Scenario {
 };
 
 struct StoreLimits {
-    std::size_t max_jobs = 1000;                  // jobs in any state
+    std::size_t max_jobs = 1000;                     // jobs in any state
     std::chrono::milliseconds retention{3'600'000};  // a finished job is kept this long
 };
 
@@ -155,12 +157,14 @@ public:
     virtual Result<CancelResult> cancel(const std::string& id) = 0;
 
     // Work. `owner` names the replica (for the job document and logs).
-    virtual Result<std::optional<WorkItem>> claim(const std::string& owner, std::chrono::milliseconds lease) = 0;
+    virtual Result<std::optional<WorkItem>> claim(const std::string& owner,
+                                                  std::chrono::milliseconds lease) = 0;
     virtual Result<Renewed> renew(const Lease& lease, std::chrono::milliseconds extend) = 0;
     virtual StoreStatus progress(const Lease& lease, double fraction) = 0;
     // Writes the item's result (or the job's problem) in one transaction, only while `lease`
     // is held (conflict otherwise). Returns the job's state afterwards.
-    virtual Result<JobState> complete(const Lease& lease, Outcome outcome, const std::string& text) = 0;
+    virtual Result<JobState> complete(const Lease& lease, Outcome outcome,
+                                      const std::string& text) = 0;
     // Gives the item back (draining replica): it is queued again for any replica.
     virtual StoreStatus release(const Lease& lease) = 0;
     // Queues again every item whose lease ran out; returns how many.
@@ -173,7 +177,8 @@ public:
     virtual Result<Scenario> put_scenario(const std::string& name, const std::string& body,
                                           std::optional<std::int64_t> if_match) = 0;
     virtual Result<Scenario> get_scenario(const std::string& name) = 0;
-    virtual StoreStatus delete_scenario(const std::string& name, std::optional<std::int64_t> if_match) = 0;
+    virtual StoreStatus delete_scenario(const std::string& name,
+                                        std::optional<std::int64_t> if_match) = 0;
     virtual Result<std::vector<Scenario>> list_scenarios() = 0;  // by name, bodies omitted
 };
 

@@ -60,8 +60,9 @@ std::string dialect_sql(std::string_view sql, Dialect dialect) {
     std::string text(sql);
     const std::string_view key = "{SEQ}";
     if (const auto at = text.find(key); at != std::string::npos) {
-        text.replace(at, key.size(), dialect == Dialect::sqlite ? "seq INTEGER PRIMARY KEY AUTOINCREMENT"
-                                                                : "seq BIGSERIAL PRIMARY KEY");
+        text.replace(at, key.size(),
+                     dialect == Dialect::sqlite ? "seq INTEGER PRIMARY KEY AUTOINCREMENT"
+                                                : "seq BIGSERIAL PRIMARY KEY");
     }
     return text;
 }
@@ -77,11 +78,13 @@ StoreStatus migrate(Backend& backend, std::string& detail) {
                 // Any constant: the key of "the schema is being migrated".
                 s.exec("SELECT pg_advisory_xact_lock(7216541)");
             }
-            s.exec("CREATE TABLE IF NOT EXISTS schema_migrations (version BIGINT PRIMARY KEY, applied_ms BIGINT NOT NULL)");
+            s.exec(
+                "CREATE TABLE IF NOT EXISTS schema_migrations (version BIGINT PRIMARY KEY, applied_ms BIGINT NOT NULL)");
             const Rows rows = s.exec("SELECT COALESCE(MAX(version), 0) FROM schema_migrations");
             const std::int64_t current = to_int(rows.at(0).at(0));
             if (current < 1) {
-                for (std::string_view statement : version_1) s.exec(dialect_sql(statement, dialect));
+                for (std::string_view statement : version_1)
+                    s.exec(dialect_sql(statement, dialect));
                 s.exec("INSERT INTO schema_migrations (version, applied_ms) VALUES ($1, $2)",
                        {std::int64_t{1}, system_millis()});
             }

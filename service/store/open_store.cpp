@@ -8,7 +8,9 @@
 namespace rollgap::service::store {
 namespace {
 
-bool starts_with(const std::string& text, std::string_view prefix) { return text.rfind(prefix, 0) == 0; }
+bool starts_with(const std::string& text, std::string_view prefix) {
+    return text.rfind(prefix, 0) == 0;
+}
 
 std::string trimmed(std::string text) {
     const auto first = text.find_first_not_of(" \t\r\n");
@@ -19,7 +21,8 @@ std::string trimmed(std::string text) {
 
 }  // namespace
 
-Result<std::shared_ptr<JobStore>> open_store(const std::string& setting, StoreLimits limits, Clock clock) {
+Result<std::shared_ptr<JobStore>> open_store(const std::string& setting, StoreLimits limits,
+                                             Clock clock) {
     using R = Result<std::shared_ptr<JobStore>>;
     Result<std::unique_ptr<detail::Backend>> backend;
     if (starts_with(setting, "sqlite:")) {
@@ -36,18 +39,23 @@ Result<std::shared_ptr<JobStore>> open_store(const std::string& setting, StoreLi
         text << file.rdbuf();
         const std::string dsn = trimmed(text.str());
         if (!starts_with(dsn, "postgresql://") && !starts_with(dsn, "postgres://")) {
-            return R::failure(StoreStatus::invalid, "the DSN file does not hold a postgresql:// DSN");
+            return R::failure(StoreStatus::invalid,
+                              "the DSN file does not hold a postgresql:// DSN");
         }
         backend = detail::open_postgresql(dsn);
     } else {
-        return R::failure(StoreStatus::invalid, "expected sqlite:PATH, postgresql://… or postgresql-file:PATH");
+        return R::failure(StoreStatus::invalid,
+                          "expected sqlite:PATH, postgresql://… or postgresql-file:PATH");
     }
     if (!backend.ok()) return R::failure(backend.status, backend.detail);
     std::string detail;
-    if (const auto migrated = detail::migrate(**backend.value, detail); migrated != StoreStatus::ok) {
+    if (const auto migrated = detail::migrate(**backend.value, detail);
+        migrated != StoreStatus::ok) {
         return R::failure(StoreStatus::unavailable, detail);
     }
-    return {StoreStatus::ok, detail::make_sql_job_store(std::move(*backend.value), limits, std::move(clock)), {}};
+    return {StoreStatus::ok,
+            detail::make_sql_job_store(std::move(*backend.value), limits, std::move(clock)),
+            {}};
 }
 
 }  // namespace rollgap::service::store

@@ -40,16 +40,19 @@ public:
         values.reserve(params.size());
         for (const Param& p : params) texts.push_back(param_text(p));
         for (std::size_t i = 0; i < params.size(); ++i) {
-            values.push_back(std::holds_alternative<std::nullptr_t>(params[i]) ? nullptr : texts[i].c_str());
+            values.push_back(std::holds_alternative<std::nullptr_t>(params[i]) ? nullptr
+                                                                               : texts[i].c_str());
         }
-        const pqxx::result result = tx_.exec_params(std::string(sql), pqxx::prepare::make_dynamic_params(values));
+        const pqxx::result result =
+            tx_.exec_params(std::string(sql), pqxx::prepare::make_dynamic_params(values));
         Rows rows;
         rows.reserve(result.size());
         for (const auto& r : result) {
             Row row;
             row.reserve(r.size());
             for (const auto& field : r) {
-                row.emplace_back(field.is_null() ? Value{} : Value{std::string(field.c_str(), field.size())});
+                row.emplace_back(field.is_null() ? Value{}
+                                                 : Value{std::string(field.c_str(), field.size())});
             }
             rows.push_back(std::move(row));
         }
@@ -69,7 +72,8 @@ public:
 
     Dialect dialect() const override { return Dialect::postgresql; }
 
-    StoreStatus transact(bool, const std::function<void(Session&)>& body, const std::function<bool(Session&)>& verify,
+    StoreStatus transact(bool, const std::function<void(Session&)>& body,
+                         const std::function<bool(Session&)>& verify,
                          std::string& detail) override {
         for (int attempt = 1;; ++attempt) {
             try {

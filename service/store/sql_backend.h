@@ -45,14 +45,16 @@ public:
     // new transaction and says whether the body's effect is there (then the result is ok);
     // without `verify` an unknown outcome is reported as unavailable.
     virtual StoreStatus transact(bool write, const std::function<void(Session&)>& body,
-                                 const std::function<bool(Session&)>& verify, std::string& detail) = 0;
+                                 const std::function<bool(Session&)>& verify,
+                                 std::string& detail) = 0;
 };
 
 // Both open lazily enough to report `unavailable` through the returned status.
 Result<std::unique_ptr<Backend>> open_sqlite(const std::string& path);
 Result<std::unique_ptr<Backend>> open_postgresql(const std::string& dsn);
 
-std::shared_ptr<JobStore> make_sql_job_store(std::unique_ptr<Backend> backend, StoreLimits limits, Clock clock);
+std::shared_ptr<JobStore> make_sql_job_store(std::unique_ptr<Backend> backend, StoreLimits limits,
+                                             Clock clock);
 // Creates or migrates the schema; ok when it is at the newest version.
 StoreStatus migrate(Backend& backend, std::string& detail);
 

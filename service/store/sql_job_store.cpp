@@ -27,10 +27,13 @@ std::string_view status_name(StoreStatus status) {
 }
 
 namespace {
-constexpr std::array<std::string_view, 5> state_names = {"queued", "running", "succeeded", "failed", "cancelled"};
+constexpr std::array<std::string_view, 5> state_names = {"queued", "running", "succeeded", "failed",
+                                                         "cancelled"};
 }
 
-std::string_view job_state_name(JobState state) { return state_names.at(static_cast<std::size_t>(state)); }
+std::string_view job_state_name(JobState state) {
+    return state_names.at(static_cast<std::size_t>(state));
+}
 
 std::optional<JobState> job_state_from_name(std::string_view name) {
     for (std::size_t i = 0; i < state_names.size(); ++i) {
@@ -40,7 +43,8 @@ std::optional<JobState> job_state_from_name(std::string_view name) {
 }
 
 Millis system_millis() {
-    return std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::system_clock::now().time_since_epoch())
+    return std::chrono::duration_cast<std::chrono::milliseconds>(
+               std::chrono::system_clock::now().time_since_epoch())
         .count();
 }
 
@@ -123,8 +127,8 @@ JobRecord job_from_row(const Row& r) {
 bool valid_scenario_name(const std::string& name) {
     if (name.empty() || name.size() > 64) return false;
     return std::all_of(name.begin(), name.end(), [](char c) {
-        return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '-' || c == '_' ||
-               c == '.';
+        return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
+               c == '-' || c == '_' || c == '.';
     });
 }
 
@@ -148,17 +152,19 @@ public:
                     if (existing) return;
                 }
                 const auto count = to_int(s.exec("SELECT COUNT(*) FROM jobs").at(0).at(0));
-                if (count >= static_cast<std::int64_t>(limits_.max_jobs)) throw Abort{StoreStatus::full, "max_jobs"};
+                if (count >= static_cast<std::int64_t>(limits_.max_jobs))
+                    throw Abort{StoreStatus::full, "max_jobs"};
                 const std::int64_t chunks =
                     spec.points > 0 ? (spec.points + spec.chunk_size - 1) / spec.chunk_size : 1;
-                const Param key = spec.idempotency_key ? Param{*spec.idempotency_key} : Param{nullptr};
+                const Param key =
+                    spec.idempotency_key ? Param{*spec.idempotency_key} : Param{nullptr};
                 const Rows inserted = s.exec(
                     "INSERT INTO jobs (id, analysis, request, state, instance, created_ms, deadline_ms, "
                     "idempotency_key, body_hash, points, chunk_size, chunks) "
                     "VALUES ($1, $2, $3, 'queued', $4, $5, $6, $7, $8, $9, $10, $11) "
                     "ON CONFLICT (idempotency_key) DO NOTHING RETURNING seq",
-                    {id, spec.analysis, spec.request, spec.instance, now, spec.deadline_ms, key, spec.body_hash,
-                     spec.points, spec.chunk_size, chunks});
+                    {id, spec.analysis, spec.request, spec.instance, now, spec.deadline_ms, key,
+                     spec.body_hash, spec.points, spec.chunk_size, chunks});
                 if (inserted.empty()) {
                     // Another replica inserted the same key meanwhile (it is committed now).
                     existing = earlier_job(s, *spec.idempotency_key, spec.body_hash);
@@ -168,14 +174,17 @@ public:
                 const std::int64_t seq = to_int(inserted.at(0).at(0));
                 for (std::int64_t i = 0; i < chunks; ++i) {
                     const std::int64_t begin = spec.points > 0 ? i * spec.chunk_size : 0;
-                    const std::int64_t end = spec.points > 0 ? std::min(spec.points, begin + spec.chunk_size) : 0;
-                    s.exec("INSERT INTO chunks (job_id, idx, job_seq, begin_point, end_point, state) "
-                           "VALUES ($1, $2, $3, $4, $5, 'queued')",
-                           {id, i, seq, begin, end});
+                    const std::int64_t end =
+                        spec.points > 0 ? std::min(spec.points, begin + spec.chunk_size) : 0;
+                    s.exec(
+                        "INSERT INTO chunks (job_id, idx, job_seq, begin_point, end_point, state) "
+                        "VALUES ($1, $2, $3, $4, $5, 'queued')",
+                        {id, i, seq, begin, end});
                 }
             },
             [&](Session& s) { return !s.exec("SELECT 1 FROM jobs WHERE id = $1", {id}).empty(); });
-        if (status.status != StoreStatus::ok) return Result<Created>::failure(status.status, status.detail);
+        if (status.status != StoreStatus::ok)
+            return Result<Created>::failure(status.status, status.detail);
         auto job = get(existing.value_or(id));
         if (!job.ok()) return Result<Created>::failure(job.status, job.detail);
         return {StoreStatus::ok, Created{*job.value, !existing}, {}};
@@ -184,11 +193,13 @@ public:
     Result<JobRecord> get(const std::string& id) override {
         std::optional<JobRecord> job;
         auto status = read([&](Session& s) {
-            const Rows rows = s.exec("SELECT " + std::string(job_columns) + " FROM jobs j WHERE j.id = $1", {id});
+            const Rows rows =
+                s.exec("SELECT " + std::string(job_columns) + " FROM jobs j WHERE j.id = $1", {id});
             if (rows.empty()) throw Abort{StoreStatus::not_found, {}};
             job = job_from_row(rows.at(0));
         });
-        if (status.status != StoreStatus::ok) return Result<JobRecord>::failure(status.status, status.detail);
+        if (status.status != StoreStatus::ok)
+            return Result<JobRecord>::failure(status.status, status.detail);
         return {StoreStatus::ok, std::move(job), {}};
     }
 
@@ -215,21 +226,25 @@ public:
         JobPage page;
         auto status = read([&](Session& s) {
             const Rows rows = s.exec(sql, params);
-            for (std::size_t i = 0; i < rows.size() && i < limit; ++i) page.jobs.push_back(job_from_row(rows[i]));
+            for (std::size_t i = 0; i < rows.size() && i < limit; ++i)
+                page.jobs.push_back(job_from_row(rows[i]));
             if (rows.size() > limit) page.next_cursor = rows.at(limit - 1).at(15);
         });
-        if (status.status != StoreStatus::ok) return Result<JobPage>::failure(status.status, status.detail);
+        if (status.status != StoreStatus::ok)
+            return Result<JobPage>::failure(status.status, status.detail);
         return {StoreStatus::ok, std::move(page), {}};
     }
 
     Result<std::vector<ChunkResult>> finished_chunks(const std::string& id) override {
         std::vector<ChunkResult> chunks;
         auto status = read([&](Session& s) {
-            if (s.exec("SELECT 1 FROM jobs WHERE id = $1", {id}).empty()) throw Abort{StoreStatus::not_found, {}};
+            if (s.exec("SELECT 1 FROM jobs WHERE id = $1", {id}).empty())
+                throw Abort{StoreStatus::not_found, {}};
             for (const Row& r : s.exec("SELECT idx, begin_point, end_point, result FROM chunks "
                                        "WHERE job_id = $1 AND state = 'done' ORDER BY idx",
                                        {id})) {
-                chunks.push_back({to_int(r.at(0)), to_int(r.at(1)), to_int(r.at(2)), r.at(3).value_or("")});
+                chunks.push_back(
+                    {to_int(r.at(0)), to_int(r.at(1)), to_int(r.at(2)), r.at(3).value_or("")});
             }
         });
         if (status.status != StoreStatus::ok) {
@@ -247,8 +262,10 @@ public:
                 if (rows.empty()) throw Abort{StoreStatus::not_found, {}};
                 const auto state = job_state_from_name(rows.at(0).at(0).value_or(""));
                 if (state == JobState::queued || state == JobState::running) {
-                    const bool leased = !s.exec("SELECT 1 FROM chunks WHERE job_id = $1 AND state = 'running'", {id})
-                                             .empty();
+                    const bool leased =
+                        !s.exec("SELECT 1 FROM chunks WHERE job_id = $1 AND state = 'running'",
+                                {id})
+                             .empty();
                     if (leased) {
                         s.exec("UPDATE jobs SET cancel_requested = 1 WHERE id = $1", {id});
                         result = CancelResult::cancel_requested;
@@ -263,18 +280,21 @@ public:
                 }
             },
             {});
-        if (status.status != StoreStatus::ok) return Result<CancelResult>::failure(status.status, status.detail);
+        if (status.status != StoreStatus::ok)
+            return Result<CancelResult>::failure(status.status, status.detail);
         return {StoreStatus::ok, result, {}};
     }
 
-    Result<std::optional<WorkItem>> claim(const std::string& owner, std::chrono::milliseconds lease) override {
+    Result<std::optional<WorkItem>> claim(const std::string& owner,
+                                          std::chrono::milliseconds lease) override {
         std::optional<WorkItem> item;
         const std::string token = random_hex();
         auto status = write(
             [&](Session& s) {
                 const Millis now = clock_();
-                const std::string skip_locked =
-                    backend_->dialect() == Dialect::postgresql ? " FOR UPDATE OF c SKIP LOCKED" : "";
+                const std::string skip_locked = backend_->dialect() == Dialect::postgresql
+                                                    ? " FOR UPDATE OF c SKIP LOCKED"
+                                                    : "";
                 const Rows rows = s.exec(
                     "SELECT c.job_id, c.idx, c.begin_point, c.end_point, j.analysis, j.request, j.chunks "
                     "FROM chunks c JOIN jobs j ON j.id = c.job_id "
@@ -293,14 +313,18 @@ public:
                 w.request = r.at(5).value_or("");
                 w.chunks = to_int(r.at(6));
                 w.lease_until_ms = now + lease.count();
-                s.exec("UPDATE chunks SET state = 'running', lease_token = $3, lease_owner = $4, lease_until_ms = $5 "
-                       "WHERE job_id = $1 AND idx = $2",
-                       {w.lease.job_id, w.lease.chunk, token, owner, w.lease_until_ms});
-                s.exec("UPDATE jobs SET state = 'running', started_ms = $2, worker = $3 WHERE id = $1 AND state = 'queued'",
-                       {w.lease.job_id, now, owner});
+                s.exec(
+                    "UPDATE chunks SET state = 'running', lease_token = $3, lease_owner = $4, lease_until_ms = $5 "
+                    "WHERE job_id = $1 AND idx = $2",
+                    {w.lease.job_id, w.lease.chunk, token, owner, w.lease_until_ms});
+                s.exec(
+                    "UPDATE jobs SET state = 'running', started_ms = $2, worker = $3 WHERE id = $1 AND state = 'queued'",
+                    {w.lease.job_id, now, owner});
                 item = std::move(w);
             },
-            [&](Session& s) { return !s.exec("SELECT 1 FROM chunks WHERE lease_token = $1", {token}).empty(); });
+            [&](Session& s) {
+                return !s.exec("SELECT 1 FROM chunks WHERE lease_token = $1", {token}).empty();
+            });
         if (status.status != StoreStatus::ok) {
             return Result<std::optional<WorkItem>>::failure(status.status, status.detail);
         }
@@ -317,11 +341,13 @@ public:
                     "AND state = 'running' RETURNING idx",
                     {lease.job_id, lease.chunk, lease.token, renewed.lease_until_ms});
                 if (rows.empty()) throw Abort{StoreStatus::conflict, "lease lost"};
-                const Rows job = s.exec("SELECT cancel_requested FROM jobs WHERE id = $1", {lease.job_id});
+                const Rows job =
+                    s.exec("SELECT cancel_requested FROM jobs WHERE id = $1", {lease.job_id});
                 renewed.cancel_requested = !job.empty() && to_int(job.at(0).at(0)) != 0;
             },
             {});
-        if (status.status != StoreStatus::ok) return Result<Renewed>::failure(status.status, status.detail);
+        if (status.status != StoreStatus::ok)
+            return Result<Renewed>::failure(status.status, status.detail);
         return {StoreStatus::ok, renewed, {}};
     }
 
@@ -332,19 +358,22 @@ public:
                            "UPDATE jobs SET progress = $4 WHERE id = $1 AND EXISTS (SELECT 1 FROM chunks c "
                            "WHERE c.job_id = $1 AND c.idx = $2 AND c.lease_token = $3 AND c.state = 'running') "
                            "RETURNING id",
-                           {lease.job_id, lease.chunk, lease.token, std::clamp(fraction, 0.0, 1.0)});
+                           {lease.job_id, lease.chunk, lease.token,
+                            std::clamp(fraction, 0.0, 1.0)});
                        if (rows.empty()) throw Abort{StoreStatus::conflict, "lease lost"};
                    },
                    {})
             .status;
     }
 
-    Result<JobState> complete(const Lease& lease, Outcome outcome, const std::string& text) override {
+    Result<JobState> complete(const Lease& lease, Outcome outcome,
+                              const std::string& text) override {
         JobState after = JobState::running;
         auto status = write(
             [&](Session& s) {
                 const Millis now = clock_();
-                const Rows job = s.exec("SELECT state, points FROM jobs WHERE id = $1" + lock(), {lease.job_id});
+                const Rows job =
+                    s.exec("SELECT state, points FROM jobs WHERE id = $1" + lock(), {lease.job_id});
                 if (job.empty()) throw Abort{StoreStatus::not_found, {}};
                 const Rows chunk = s.exec(
                     "SELECT begin_point, end_point FROM chunks WHERE job_id = $1 AND idx = $2 AND lease_token = $3 "
@@ -364,15 +393,19 @@ public:
                 if (chunked) {
                     const auto points = nlohmann::json::parse(text, nullptr, false);
                     const auto expected = to_int(chunk.at(0).at(1)) - to_int(chunk.at(0).at(0));
-                    if (!points.is_array() || static_cast<std::int64_t>(points.size()) != expected) {
-                        throw Abort{StoreStatus::invalid, "a chunk's result is an array of its points"};
+                    if (!points.is_array() ||
+                        static_cast<std::int64_t>(points.size()) != expected) {
+                        throw Abort{StoreStatus::invalid,
+                                    "a chunk's result is an array of its points"};
                     }
                 }
-                s.exec("UPDATE chunks SET state = 'done', result = $4, lease_until_ms = NULL "
-                       "WHERE job_id = $1 AND idx = $2 AND lease_token = $3",
-                       {lease.job_id, lease.chunk, lease.token, text});
+                s.exec(
+                    "UPDATE chunks SET state = 'done', result = $4, lease_until_ms = NULL "
+                    "WHERE job_id = $1 AND idx = $2 AND lease_token = $3",
+                    {lease.job_id, lease.chunk, lease.token, text});
                 const auto left = to_int(
-                    s.exec("SELECT COUNT(*) FROM chunks WHERE job_id = $1 AND state <> 'done'", {lease.job_id})
+                    s.exec("SELECT COUNT(*) FROM chunks WHERE job_id = $1 AND state <> 'done'",
+                           {lease.job_id})
                         .at(0)
                         .at(0));
                 if (left > 0) return;
@@ -380,8 +413,10 @@ public:
                 if (chunked) {
                     auto all = nlohmann::json::array();
                     for (const Row& r :
-                         s.exec("SELECT result FROM chunks WHERE job_id = $1 ORDER BY idx", {lease.job_id})) {
-                        for (auto& point : nlohmann::json::parse(r.at(0).value_or("[]"))) all.push_back(std::move(point));
+                         s.exec("SELECT result FROM chunks WHERE job_id = $1 ORDER BY idx",
+                                {lease.job_id})) {
+                        for (auto& point : nlohmann::json::parse(r.at(0).value_or("[]")))
+                            all.push_back(std::move(point));
                     }
                     result = all.dump();
                 }
@@ -390,12 +425,14 @@ public:
                 after = JobState::succeeded;
             },
             [&](Session& s) {
-                return !s.exec("SELECT 1 FROM chunks WHERE job_id = $1 AND idx = $2 AND lease_token = $3 "
-                               "AND state <> 'running'",
-                               {lease.job_id, lease.chunk, lease.token})
+                return !s.exec(
+                             "SELECT 1 FROM chunks WHERE job_id = $1 AND idx = $2 AND lease_token = $3 "
+                             "AND state <> 'running'",
+                             {lease.job_id, lease.chunk, lease.token})
                             .empty();
             });
-        if (status.status != StoreStatus::ok) return Result<JobState>::failure(status.status, status.detail);
+        if (status.status != StoreStatus::ok)
+            return Result<JobState>::failure(status.status, status.detail);
         return {StoreStatus::ok, after, {}};
     }
 
@@ -418,26 +455,33 @@ public:
         auto status = write(
             [&](Session& s) {
                 const Millis now = clock_();
-                count = s.exec("UPDATE chunks SET state = 'queued', lease_token = NULL, lease_owner = NULL, "
-                               "lease_until_ms = NULL WHERE state = 'running' AND lease_until_ms < $1 RETURNING idx",
-                               {now})
-                            .size();
-                // A cancel waiting for a worker that died: nobody will report it, so finish it here.
-                for (const Row& r : s.exec("SELECT id FROM jobs j WHERE j.cancel_requested = 1 AND j.state = 'running' "
-                                           "AND NOT EXISTS (SELECT 1 FROM chunks c WHERE c.job_id = j.id "
-                                           "AND c.state = 'running')")) {
+                count =
+                    s.exec(
+                         "UPDATE chunks SET state = 'queued', lease_token = NULL, lease_owner = NULL, "
+                         "lease_until_ms = NULL WHERE state = 'running' AND lease_until_ms < $1 RETURNING idx",
+                         {now})
+                        .size();
+                // A cancel waiting for a worker that died: nobody will report it, so finish it
+                // here.
+                for (
+                    const Row& r : s.exec(
+                        "SELECT id FROM jobs j WHERE j.cancel_requested = 1 AND j.state = 'running' "
+                        "AND NOT EXISTS (SELECT 1 FROM chunks c WHERE c.job_id = j.id "
+                        "AND c.state = 'running')")) {
                     finish_job(s, r.at(0).value_or(""), "cancelled", now);
                 }
             },
             {});
-        if (status.status != StoreStatus::ok) return Result<std::size_t>::failure(status.status, status.detail);
+        if (status.status != StoreStatus::ok)
+            return Result<std::size_t>::failure(status.status, status.detail);
         return {StoreStatus::ok, count, {}};
     }
 
     Result<std::size_t> purge() override {
         std::size_t count = 0;
         auto status = write([&](Session& s) { count = purge_in(s, clock_()); }, {});
-        if (status.status != StoreStatus::ok) return Result<std::size_t>::failure(status.status, status.detail);
+        if (status.status != StoreStatus::ok)
+            return Result<std::size_t>::failure(status.status, status.detail);
         return {StoreStatus::ok, count, {}};
     }
 
@@ -448,24 +492,29 @@ public:
         auto status = write(
             [&](Session& s) {
                 stored.updated_ms = clock_();
-                const Rows rows = s.exec("SELECT version FROM scenarios WHERE name = $1" + lock(), {name});
+                const Rows rows =
+                    s.exec("SELECT version FROM scenarios WHERE name = $1" + lock(), {name});
                 if (rows.empty()) {
                     if (if_match) throw Abort{StoreStatus::conflict, "no such version"};
                     stored.version = 1;
-                    s.exec("INSERT INTO scenarios (name, body, version, updated_ms) VALUES ($1, $2, 1, $3)",
-                           {name, body, stored.updated_ms});
+                    s.exec(
+                        "INSERT INTO scenarios (name, body, version, updated_ms) VALUES ($1, $2, 1, $3)",
+                        {name, body, stored.updated_ms});
                     return;
                 }
                 const std::int64_t current = to_int(rows.at(0).at(0));
                 // Replacing a stored scenario needs the version the editor started from, so
                 // that two editors cannot overwrite each other.
-                if (!if_match || *if_match != current) throw Abort{StoreStatus::conflict, "version mismatch"};
+                if (!if_match || *if_match != current)
+                    throw Abort{StoreStatus::conflict, "version mismatch"};
                 stored.version = current + 1;
-                s.exec("UPDATE scenarios SET body = $2, version = $3, updated_ms = $4 WHERE name = $1",
-                       {name, body, stored.version, stored.updated_ms});
+                s.exec(
+                    "UPDATE scenarios SET body = $2, version = $3, updated_ms = $4 WHERE name = $1",
+                    {name, body, stored.version, stored.updated_ms});
             },
             {});
-        if (status.status != StoreStatus::ok) return Result<Scenario>::failure(status.status, status.detail);
+        if (status.status != StoreStatus::ok)
+            return Result<Scenario>::failure(status.status, status.detail);
         return {StoreStatus::ok, std::move(stored), {}};
     }
 
@@ -473,20 +522,24 @@ public:
         if (auto refused = refuse_name(name)) return Result<Scenario>::failure(*refused, "name");
         Scenario found;
         auto status = read([&](Session& s) {
-            const Rows rows = s.exec("SELECT name, body, version, updated_ms FROM scenarios WHERE name = $1", {name});
+            const Rows rows = s.exec(
+                "SELECT name, body, version, updated_ms FROM scenarios WHERE name = $1", {name});
             if (rows.empty()) throw Abort{StoreStatus::not_found, {}};
             const Row& r = rows.at(0);
             found = {r.at(0).value_or(""), r.at(1).value_or(""), to_int(r.at(2)), to_int(r.at(3))};
         });
-        if (status.status != StoreStatus::ok) return Result<Scenario>::failure(status.status, status.detail);
+        if (status.status != StoreStatus::ok)
+            return Result<Scenario>::failure(status.status, status.detail);
         return {StoreStatus::ok, std::move(found), {}};
     }
 
-    StoreStatus delete_scenario(const std::string& name, std::optional<std::int64_t> if_match) override {
+    StoreStatus delete_scenario(const std::string& name,
+                                std::optional<std::int64_t> if_match) override {
         if (auto refused = refuse_name(name)) return *refused;
         return write(
                    [&](Session& s) {
-                       const Rows rows = s.exec("SELECT version FROM scenarios WHERE name = $1" + lock(), {name});
+                       const Rows rows =
+                           s.exec("SELECT version FROM scenarios WHERE name = $1" + lock(), {name});
                        if (rows.empty()) throw Abort{StoreStatus::not_found, {}};
                        if (if_match && *if_match != to_int(rows.at(0).at(0))) {
                            throw Abort{StoreStatus::conflict, "version mismatch"};
@@ -500,11 +553,13 @@ public:
     Result<std::vector<Scenario>> list_scenarios() override {
         std::vector<Scenario> all;
         auto status = read([&](Session& s) {
-            for (const Row& r : s.exec("SELECT name, version, updated_ms FROM scenarios ORDER BY name")) {
+            for (const Row& r :
+                 s.exec("SELECT name, version, updated_ms FROM scenarios ORDER BY name")) {
                 all.push_back({r.at(0).value_or(""), {}, to_int(r.at(1)), to_int(r.at(2))});
             }
         });
-        if (status.status != StoreStatus::ok) return Result<std::vector<Scenario>>::failure(status.status, status.detail);
+        if (status.status != StoreStatus::ok)
+            return Result<std::vector<Scenario>>::failure(status.status, status.detail);
         return {StoreStatus::ok, std::move(all), {}};
     }
 
@@ -514,7 +569,8 @@ private:
         std::string detail;
     };
 
-    Done write(const std::function<void(Session&)>& body, const std::function<bool(Session&)>& verify) {
+    Done write(const std::function<void(Session&)>& body,
+               const std::function<bool(Session&)>& verify) {
         Done done{StoreStatus::ok, {}};
         done.status = backend_->transact(true, body, verify, done.detail);
         return done;
@@ -527,32 +583,41 @@ private:
 
     // Row lock for read-then-write on PostgreSQL; SQLite's BEGIN IMMEDIATE already holds the
     // database's write lock.
-    std::string lock() const { return backend_->dialect() == Dialect::postgresql ? " FOR UPDATE" : ""; }
+    std::string lock() const {
+        return backend_->dialect() == Dialect::postgresql ? " FOR UPDATE" : "";
+    }
 
     static std::optional<StoreStatus> refuse_name(const std::string& name) {
-        if (name == reserved_scenario_name || !valid_scenario_name(name)) return StoreStatus::invalid;
+        if (name == reserved_scenario_name || !valid_scenario_name(name))
+            return StoreStatus::invalid;
         return std::nullopt;
     }
 
     // The id of the job created earlier with `key`; conflict if its body differs.
-    static std::optional<std::string> earlier_job(Session& s, const std::string& key, const std::string& hash) {
-        const Rows rows = s.exec("SELECT id, body_hash FROM jobs WHERE idempotency_key = $1", {key});
+    static std::optional<std::string> earlier_job(Session& s, const std::string& key,
+                                                  const std::string& hash) {
+        const Rows rows =
+            s.exec("SELECT id, body_hash FROM jobs WHERE idempotency_key = $1", {key});
         if (rows.empty()) return std::nullopt;
-        if (rows.at(0).at(1).value_or("") != hash) throw Abort{StoreStatus::conflict, "idempotency key reused"};
+        if (rows.at(0).at(1).value_or("") != hash)
+            throw Abort{StoreStatus::conflict, "idempotency key reused"};
         return rows.at(0).at(0);
     }
 
     // Every unfinished chunk stops counting as work; the job gets its final state.
-    static void finish_job(Session& s, const std::string& id, const std::string& state, Millis now) {
-        s.exec("UPDATE chunks SET state = 'cancelled', lease_token = NULL, lease_until_ms = NULL "
-               "WHERE job_id = $1 AND state IN ('queued', 'running')",
-               {id});
+    static void finish_job(Session& s, const std::string& id, const std::string& state,
+                           Millis now) {
+        s.exec(
+            "UPDATE chunks SET state = 'cancelled', lease_token = NULL, lease_until_ms = NULL "
+            "WHERE job_id = $1 AND state IN ('queued', 'running')",
+            {id});
         s.exec("UPDATE jobs SET state = $2, finished_ms = $3 WHERE id = $1", {id, state, now});
     }
 
     std::size_t purge_in(Session& s, Millis now) {
         const Millis cutoff = now - limits_.retention.count();
-        s.exec("DELETE FROM chunks WHERE job_id IN (SELECT id FROM jobs WHERE finished_ms < $1)", {cutoff});
+        s.exec("DELETE FROM chunks WHERE job_id IN (SELECT id FROM jobs WHERE finished_ms < $1)",
+               {cutoff});
         return s.exec("DELETE FROM jobs WHERE finished_ms < $1 RETURNING id", {cutoff}).size();
     }
 
@@ -563,7 +628,8 @@ private:
 
 }  // namespace
 
-std::shared_ptr<JobStore> make_sql_job_store(std::unique_ptr<Backend> backend, StoreLimits limits, Clock clock) {
+std::shared_ptr<JobStore> make_sql_job_store(std::unique_ptr<Backend> backend, StoreLimits limits,
+                                             Clock clock) {
     return std::make_shared<SqlJobStore>(std::move(backend), limits, std::move(clock));
 }
 

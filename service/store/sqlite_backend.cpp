@@ -52,11 +52,14 @@ public:
             const int at = static_cast<int>(i + 1);
             const Param& p = params[i];
             if (std::holds_alternative<std::nullptr_t>(p)) check(sqlite3_bind_null(raw, at));
-            else if (const auto* n = std::get_if<std::int64_t>(&p)) check(sqlite3_bind_int64(raw, at, *n));
-            else if (const auto* d = std::get_if<double>(&p)) check(sqlite3_bind_double(raw, at, *d));
+            else if (const auto* n = std::get_if<std::int64_t>(&p))
+                check(sqlite3_bind_int64(raw, at, *n));
+            else if (const auto* d = std::get_if<double>(&p))
+                check(sqlite3_bind_double(raw, at, *d));
             else {
                 const auto& s = std::get<std::string>(p);
-                check(sqlite3_bind_text(raw, at, s.data(), static_cast<int>(s.size()), SQLITE_TRANSIENT));
+                check(sqlite3_bind_text(raw, at, s.data(), static_cast<int>(s.size()),
+                                        SQLITE_TRANSIENT));
             }
         }
         Rows rows;
@@ -71,7 +74,8 @@ public:
                     row.emplace_back(std::nullopt);
                 } else {
                     const auto* bytes = reinterpret_cast<const char*>(sqlite3_column_text(raw, c));
-                    row.emplace_back(std::string(bytes, static_cast<std::size_t>(sqlite3_column_bytes(raw, c))));
+                    row.emplace_back(
+                        std::string(bytes, static_cast<std::size_t>(sqlite3_column_bytes(raw, c))));
                 }
             }
             rows.push_back(std::move(row));
@@ -98,8 +102,8 @@ public:
 
     Dialect dialect() const override { return Dialect::sqlite; }
 
-    StoreStatus transact(bool write, const std::function<void(Session&)>& body, const std::function<bool(Session&)>&,
-                         std::string& detail) override {
+    StoreStatus transact(bool write, const std::function<void(Session&)>& body,
+                         const std::function<bool(Session&)>&, std::string& detail) override {
         // A failed COMMIT in SQLite leaves the transaction not committed (no unknown outcome),
         // so `verify` is never needed here.
         std::lock_guard guard(mutex_);
@@ -143,7 +147,8 @@ private:
 Result<std::unique_ptr<Backend>> open_sqlite(const std::string& path) {
     using R = Result<std::unique_ptr<Backend>>;
     sqlite3* db = nullptr;
-    const int opened = sqlite3_open_v2(path.c_str(), &db, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE, nullptr);
+    const int opened =
+        sqlite3_open_v2(path.c_str(), &db, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE, nullptr);
     if (opened != SQLITE_OK) {
         std::string why = db != nullptr ? sqlite3_errmsg(db) : "cannot open";
         sqlite3_close_v2(db);

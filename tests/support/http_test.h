@@ -124,14 +124,16 @@ inline bool response_complete(const std::string& received) {
     if (end == std::string::npos) return false;
     const std::size_t field = received.find("Content-Length: ");
     if (field == std::string::npos || field > end) return true;  // no body
-    const std::size_t length = std::stoul(received.substr(field + 16, received.find("\r\n", field) - field - 16));
+    const std::size_t length =
+        std::stoul(received.substr(field + 16, received.find("\r\n", field) - field - 16));
     return received.size() >= end + 4 + length;
 }
 
 // Sends `bytes` to 127.0.0.1:port on a fresh connection and returns everything received until
 // the server closes or `timeout` passes without data.
-inline std::string raw_exchange(int port, std::string_view bytes,
-                                std::chrono::milliseconds timeout = std::chrono::milliseconds(2000)) {
+inline std::string raw_exchange(
+    int port, std::string_view bytes,
+    std::chrono::milliseconds timeout = std::chrono::milliseconds(2000)) {
     const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
     REQUIRE(fd >= 0);
     sockaddr_in address{};
@@ -199,7 +201,8 @@ public:
         const auto until = std::chrono::steady_clock::now() + timeout;
         char buffer[8192];
         while (!done(received_) && !closed_) {
-            const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(until - std::chrono::steady_clock::now());
+            const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
+                until - std::chrono::steady_clock::now());
             if (left.count() <= 0) break;
             timeval tv{};
             tv.tv_sec = static_cast<time_t>(left.count() / 1000);
@@ -236,7 +239,8 @@ inline int complete_responses(std::string_view received) {
         std::size_t length = 0;
         const std::size_t field = received.find("Content-Length: ");
         if (field != std::string_view::npos && field < end) {
-            length = std::stoul(std::string(received.substr(field + 16, received.find("\r\n", field) - field - 16)));
+            length = std::stoul(std::string(
+                received.substr(field + 16, received.find("\r\n", field) - field - 16)));
         }
         received.remove_prefix(end + 4 + length);
     }
@@ -301,12 +305,14 @@ public:
             lock.unlock();
             if (control.should_stop()) {
                 ++saw_cancel_;
-                return service::problem_outcome(api::make_problem(api::ProblemCode::cancelled, "cancelled"));
+                return service::problem_outcome(
+                    api::make_problem(api::ProblemCode::cancelled, "cancelled"));
             }
             ++finished_;
             if (after) return after(request);
-            return service::Outcome{200, json{{"analysis", request.value("analysis", "")}, {"result", {{"ok", true}}}},
-                                    std::nullopt};
+            return service::Outcome{
+                200, json{{"analysis", request.value("analysis", "")}, {"result", {{"ok", true}}}},
+                std::nullopt};
         };
     }
     void open() {

@@ -20,14 +20,18 @@ inline Eigenpair least_damped_mode(const core::CoupledModel& model) {
     const Eigen::MatrixXd J = core::linearise(model, z0).jacobian;
     const int n = model.size();
     Eigen::VectorXd scale(n);  // characteristic sizes: 1 um, 1 mm/s, the film, 1 MPa
-    for (int j = 0; j < n; ++j) scale(j) = j < 6 ? 1e-6 : j < 12 ? 1e-3 : j == core::CoupledModel::kFilm ? z0(j) : 1e6;
-    Eigen::EigenSolver<Eigen::MatrixXd> solver(scale.cwiseInverse().asDiagonal() * J * scale.asDiagonal());
+    for (int j = 0; j < n; ++j)
+        scale(j) = j < 6 ? 1e-6 : j < 12 ? 1e-3 : j == core::CoupledModel::kFilm ? z0(j) : 1e6;
+    Eigen::EigenSolver<Eigen::MatrixXd> solver(scale.cwiseInverse().asDiagonal() * J *
+                                               scale.asDiagonal());
     int best = -1;
     for (int i = 0; i < n; ++i) {
         const auto lambda = solver.eigenvalues()(i);
-        if (lambda.imag() > 0 && (best < 0 || lambda.real() > solver.eigenvalues()(best).real())) best = i;
+        if (lambda.imag() > 0 && (best < 0 || lambda.real() > solver.eigenvalues()(best).real()))
+            best = i;
     }
-    return {solver.eigenvalues()(best), scale.cast<std::complex<double>>().asDiagonal() * solver.eigenvectors().col(best)};
+    return {solver.eigenvalues()(best),
+            scale.cast<std::complex<double>>().asDiagonal() * solver.eigenvectors().col(best)};
 }
 
 }  // namespace rollgap::test

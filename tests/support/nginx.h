@@ -34,14 +34,16 @@ inline std::string read_text_file(const std::filesystem::path& path) {
 inline std::string replace_once(std::string text, const std::string& from, const std::string& to) {
     const std::size_t at = text.find(from);
     REQUIRE_MESSAGE(at != std::string::npos, "not found in the configuration: " << from);
-    REQUIRE_MESSAGE(text.find(from, at + 1) == std::string::npos, "more than once in the configuration: " << from);
+    REQUIRE_MESSAGE(text.find(from, at + 1) == std::string::npos,
+                    "more than once in the configuration: " << from);
     return text.replace(at, from.size(), to);
 }
 
 // The repository's root: this file is tests/support/nginx.h. With ccache's base directory
 // __FILE__ is relative to the compiler's directory, the test executable's (build/tests).
 inline std::filesystem::path repository_root() {
-    const std::filesystem::path root = std::filesystem::path(__FILE__).parent_path().parent_path().parent_path();
+    const std::filesystem::path root =
+        std::filesystem::path(__FILE__).parent_path().parent_path().parent_path();
     if (root.is_absolute()) return root;
     return std::filesystem::canonical("/proc/self/exe").parent_path() / root;
 }
@@ -53,8 +55,10 @@ inline std::string product_proxy_config(int listen_port, int service_port) {
     const auto path = repository_root() / "deploy" / "nginx" / "rollgap.conf";
     std::string text = read_text_file(path);
     REQUIRE_MESSAGE(!text.empty(), "cannot read " << path);
-    text = replace_once(text, "\n        listen 8080;", "\n        listen 127.0.0.1:" + std::to_string(listen_port) + ";");
-    return replace_once(text, "server 127.0.0.1:8090 ", "server 127.0.0.1:" + std::to_string(service_port) + " ");
+    text = replace_once(text, "\n        listen 8080;",
+                        "\n        listen 127.0.0.1:" + std::to_string(listen_port) + ";");
+    return replace_once(text, "server 127.0.0.1:8090 ",
+                        "server 127.0.0.1:" + std::to_string(service_port) + " ");
 }
 
 // nginx in the foreground with `config` as its configuration and `directory` as its prefix
@@ -62,7 +66,8 @@ inline std::string product_proxy_config(int listen_port, int service_port) {
 // the product configuration) and stderr (its error log) go to files in the directory.
 class Nginx {
 public:
-    Nginx(const std::filesystem::path& directory, const std::string& config) : directory_(directory) {
+    Nginx(const std::filesystem::path& directory, const std::string& config)
+        : directory_(directory) {
         std::filesystem::create_directories(directory_);
         {
             std::ofstream file(directory_ / "nginx.conf");
@@ -81,8 +86,8 @@ public:
             if (err >= 0) ::dup2(err, STDERR_FILENO);
             // -e: the error log until the configuration names one (the compiled-in default is
             // /var/log/nginx, which need not be writable).
-            ::execl(nginx_binary, "nginx", "-p", prefix.c_str(), "-c", conf_path.c_str(), "-e", "stderr",
-                    static_cast<char*>(nullptr));
+            ::execl(nginx_binary, "nginx", "-p", prefix.c_str(), "-c", conf_path.c_str(), "-e",
+                    "stderr", static_cast<char*>(nullptr));
             ::_exit(127);
         }
     }

@@ -52,7 +52,8 @@ public:
         dir_ = pattern;
         std::filesystem::permissions(dir_, std::filesystem::perms::all);
         port_ = free_loopback_port();
-        if (!run(tool("initdb") + " -D " + dir_ + "/data --auth=trust -U postgres -E UTF8 --no-sync")) {
+        if (!run(tool("initdb") + " -D " + dir_ +
+                 "/data --auth=trust -U postgres -E UTF8 --no-sync")) {
             error_ = "initdb failed (see " + dir_ + "/cmd.log)";
             return;
         }
@@ -69,9 +70,10 @@ public:
     PostgresServer& operator=(const PostgresServer&) = delete;
 
     bool start() {
-        running_ = run(tool("pg_ctl") + " -D " + dir_ + "/data -l " + dir_ + "/server.log -w -t 30 start -o \"-p " +
-                       std::to_string(port_) + " -k " + dir_ +
-                       " -c listen_addresses=127.0.0.1 -c fsync=off -c max_connections=200\"");
+        running_ =
+            run(tool("pg_ctl") + " -D " + dir_ + "/data -l " + dir_ +
+                "/server.log -w -t 30 start -o \"-p " + std::to_string(port_) + " -k " + dir_ +
+                " -c listen_addresses=127.0.0.1 -c fsync=off -c max_connections=200\"");
         if (!running_) error_ = "pg_ctl start failed (see " + dir_ + "/server.log)";
         return running_;
     }
@@ -84,8 +86,8 @@ public:
 
     // A new empty database and its DSN.
     std::string create_database(const std::string& name) const {
-        if (!run(std::string(postgres_bin) + "/createdb -h 127.0.0.1 -p " + std::to_string(port_) + " -U postgres " +
-                 name)) {
+        if (!run(std::string(postgres_bin) + "/createdb -h 127.0.0.1 -p " + std::to_string(port_) +
+                 " -U postgres " + name)) {
             return {};
         }
         return "postgresql://postgres@127.0.0.1:" + std::to_string(port_) + "/" + name;

@@ -22,10 +22,10 @@
 namespace rollgap::test {
 
 struct QuadratureResult {
-    double value = 0.0;       // the integral
-    double error = 0.0;       // the summed |K15 - G7| estimate
-    int intervals = 0;        // number of subintervals at the end
-    bool converged = false;   // error <= max(abs_tol, rel_tol |value|)
+    double value = 0.0;      // the integral
+    double error = 0.0;      // the summed |K15 - G7| estimate
+    int intervals = 0;       // number of subintervals at the end
+    bool converged = false;  // error <= max(abs_tol, rel_tol |value|)
 };
 
 struct QuadratureOptions {

@@ -39,7 +39,8 @@ inline nlohmann::json refused_options(const std::string& analysis, const nlohman
 
 // As refused_options, and the error names this bound and unit (when given).
 inline void check_refused_options(const std::string& analysis, const nlohmann::json& options,
-                                  const std::string& pointer, const std::optional<std::string>& bound,
+                                  const std::string& pointer,
+                                  const std::optional<std::string>& bound,
                                   const std::optional<std::string>& unit,
                                   const nlohmann::json& scenario = nlohmann::json::object()) {
     const nlohmann::json error = refused_options(analysis, options, pointer, scenario);
