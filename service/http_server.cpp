@@ -333,7 +333,7 @@ struct HttpServer::Impl {
             for (const Route& route : all_routes()) {
                 if ((route.methods & post) == 0) continue;
                 listener.Post(std::string(route.pattern),
-                              [this](const httplib::Request&, httplib::Response& response,
+                              [this](const httplib::Request& request, httplib::Response& response,
                                      const httplib::ContentReader& reader) {
                                   handle_post(request, response, reader);
                               });

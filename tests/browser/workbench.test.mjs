@@ -25,7 +25,7 @@ function startServer() {
     const timer = setTimeout(() => { child.kill('SIGKILL'); reject(new Error(`server did not start:\n${log}`)); }, 30000);
     child.stderr.on('data', (chunk) => {
       log += chunk;
-      const match = /msg=listening .*address=127\.0\.0\.1:(\d+)/.exec(log);
+      const match = /msg=listening\b.*?\saddress=127\.0\.0\.1:(\d+)/.exec(log); // not admin_address
       if (match) { clearTimeout(timer); child.stderr.removeAllListeners('data'); child.stderr.resume(); resolve({ child, base: `http://127.0.0.1:${match[1]}` }); }
     });
     child.on('exit', (code) => { clearTimeout(timer); reject(new Error(`server exited ${code}:\n${log}`)); });
