@@ -508,8 +508,6 @@ struct CalibrationOutput {
     nlohmann::json calibrated_scenario;
 };
 
-constexpr std::string_view in_field_unit = " In the field's unit.";
-
 const ResultTable<ParameterRow>& parameter_table() {
     static const ResultTable<ParameterRow> table{
         "CalibratedParameter",

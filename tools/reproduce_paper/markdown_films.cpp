@@ -14,7 +14,6 @@ namespace rollgap::tools::paper {
 
 // The paper's inlet film against the frame-corrected (eulerian) one.
 void md_film_comparison(std::ostringstream& md, const Results& R, const Output& out) {
-    const Scenario defaults;
     // ----- Paper vs eulerian
     {
         md << "## Paper vs eulerian inlet film\n\n";
