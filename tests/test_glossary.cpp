@@ -113,12 +113,14 @@ TEST_CASE("glossary: every option of every analysis is described in the served O
     std::size_t described = 0;
     for (const auto& [name, schema] : document.at("components").at("schemas").items()) {
         if (!name.ends_with("Options")) continue;
-        CAPTURE(name);
+        const std::string& schema_name = name;  // clang 14 cannot CAPTURE a structured binding
+        CAPTURE(schema_name);
         CHECK(!schema.value("description", "").empty());
         std::vector<std::pair<std::string, json>> properties;
         collect_option_properties(schema, "", properties);
         for (const auto& [path, property] : properties) {
-            CAPTURE(path);
+            const std::string& option = path;  // clang 14 cannot CAPTURE a structured binding
+            CAPTURE(option);
             const std::string description = property.value("description", "");
             // more than the generated type/unit/bounds sentence
             CHECK(description.size() > 20);
