@@ -41,6 +41,8 @@ rollgap_configure_asan() {
 rollgap_sanitizer_env() {
     export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:strict_string_checks=1:check_initialization_order=1:detect_stack_use_after_return=1"
     export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
+    # Leaks inside Debian's libpq/libpqxx when a server goes away (scripts/lsan.supp).
+    export LSAN_OPTIONS="suppressions=$ROLLGAP_ROOT/scripts/lsan.supp:print_suppressions=0"
 }
 
 # rollgap_build_in <dir> [target...]: build everything in <dir>, or only the given targets.
