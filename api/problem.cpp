@@ -37,7 +37,16 @@ constexpr std::array kinds{
     ProblemKind{ProblemCode::invalid_header, "invalid_header", 400, "Request header is invalid"},
     ProblemKind{ProblemCode::not_acceptable, "not_acceptable", 406,
                 "No representation in the format asked for"},
+    ProblemKind{ProblemCode::conflict, "conflict", 409, "Request conflicts with stored state"},
+    ProblemKind{ProblemCode::precondition_failed, "precondition_failed", 412,
+                "Stored version has changed"},
+    ProblemKind{ProblemCode::precondition_required, "precondition_required", 428,
+                "If-Match is required"},
     ProblemKind{ProblemCode::overloaded, "overloaded", 503, "Service is overloaded"},
+    // Synchronous analyses never need the store, so this is not `overloaded`: the service is
+    // ready, only what is kept in the database waits for it.
+    ProblemKind{ProblemCode::store_unavailable, "store_unavailable", 503,
+                "Job store is unavailable"},
     ProblemKind{ProblemCode::deadline_exceeded, "deadline_exceeded", 504,
                 "Analysis exceeded its deadline"},
     // The facade cannot tell why its Control said stop: a caller whose reason is a deadline

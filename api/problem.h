@@ -30,7 +30,12 @@ enum class ProblemCode {
     header_fields_too_large,  // HTTP: the header section exceeds its size or field count limit
     invalid_header,           // HTTP: a header the server cannot take as sent (a NUL byte)
     not_acceptable,           // the result has no table in the format asked for (Accept: text/csv)
+    conflict,                 // HTTP: the request conflicts with stored state (an Idempotency-Key
+                              // reused with another body)
+    precondition_failed,      // HTTP: If-Match names a version that is no longer current
+    precondition_required,    // HTTP: overwriting a stored scenario needs If-Match
     overloaded,               // HTTP: every worker busy and the queue full
+    store_unavailable,        // HTTP: the job store cannot be reached; retry later
     deadline_exceeded,        // the analysis did not finish within its time budget
     cancelled,                // the caller stopped the analysis (core::Control), e.g. a deleted job
     internal,                 // a bug: an exception escaped an analysis

@@ -72,6 +72,17 @@ constexpr std::array settings{
                   "file holding the bearer token required by the compute endpoints"},
     ConfigSetting{"--instance", "ROLLGAP_INSTANCE", "NAME",
                   "this replica's name in job documents (default: the host name)"},
+    ConfigSetting{"--data-dir", "ROLLGAP_DATA_DIR", "DIR",
+                  "directory of the embedded job store (default rollgap-data; the container "
+                  "image sets /var/lib/rollgap)"},
+    ConfigSetting{"--store", "ROLLGAP_STORE", "SETTING",
+                  "job store: sqlite:PATH, postgresql://USER@HOST:PORT/DB or "
+                  "postgresql-file:PATH (a file holding the DSN) (default sqlite:DIR/jobs.db)"},
+    ConfigSetting{"--lease-ms", "ROLLGAP_LEASE_MS", "MS",
+                  "lease of a claimed job or chunk, renewed while it runs; a replica that dies "
+                  "loses its work to the others after this long (default 15000)"},
+    ConfigSetting{"--chunk-points", "ROLLGAP_CHUNK_POINTS", "N",
+                  "sweep points or map cells per work item that one replica claims (default 25)"},
 };
 
 // The numeric settings: the range a value must lie in and where it goes.
@@ -125,6 +136,11 @@ constexpr std::array integer_settings{
     IntegerSetting{
         "ROLLGAP_MAX_BODY_BYTES", 1024, 64LL * 1024 * 1024, "1024..67108864 bytes",
         [](ServerConfig& c, long long n) { c.max_body_bytes = static_cast<std::size_t>(n); }},
+    IntegerSetting{"ROLLGAP_LEASE_MS", 500, 3'600'000, "500..3600000 ms",
+                   [](ServerConfig& c, long long n) { c.lease = milliseconds(n); }},
+    IntegerSetting{
+        "ROLLGAP_CHUNK_POINTS", 1, 100'000, "1..100000",
+        [](ServerConfig& c, long long n) { c.chunk_points = static_cast<std::size_t>(n); }},
 };
 
 std::optional<long long> parse_integer(std::string_view text, long long min, long long max) {
@@ -178,6 +194,17 @@ std::optional<std::string> apply(ServerConfig& config, const ConfigSetting& sett
             std::string(std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>()));
         if (token.empty()) return concat("the token file named by ", source, " is empty");
         config.token = std::move(token);
+    } else if (env == "ROLLGAP_DATA_DIR") {
+        if (value.empty()) return bad("a directory");
+        config.data_dir = value;
+    } else if (env == "ROLLGAP_STORE") {
+        // The value may be a DSN with a password: never echoed in a message.
+        if (!value.starts_with("sqlite:") && !value.starts_with("postgresql://") &&
+            !value.starts_with("postgres://") && !value.starts_with("postgresql-file:")) {
+            return concat("invalid ", source,
+                          ": expected sqlite:PATH, postgresql://… or postgresql-file:PATH");
+        }
+        config.store = value;
     } else if (env == "ROLLGAP_INSTANCE") {
         if (value.empty() || value.size() > 64) return bad("1..64 characters");
         config.instance = value;
@@ -201,6 +228,7 @@ ServerConfig ServerConfig::resolved() const {
     if (config.job_workers == 0) config.job_workers = std::max<std::size_t>(1, config.workers / 2);
     config.job_workers = std::min(config.job_workers, config.workers);
     if (config.instance.empty()) config.instance = host_name();
+    if (config.store.empty()) config.store = concat("sqlite:", config.data_dir, "/jobs.db");
     // Instances started on any free port (tests, side-by-side runs) must not all claim 8081.
     if (config.port == 0 && !config.admin_port_set) config.admin_port = 0;
     return config;
@@ -299,8 +327,22 @@ std::string describe(const ServerConfig& config) {
          << " job_retention_ms=" << config.job_retention.count() << " max_jobs=" << config.max_jobs
          << " job_workers=" << config.job_workers << " max_body_bytes=" << config.max_body_bytes
          << " log_level=" << config.log_level << " instance=" << config.instance
+         << " store=" << redacted_store(config.store) << " lease_ms=" << config.lease.count()
+         << " chunk_points=" << config.chunk_points
          << " token=" << (config.token ? "set" : "unset");
     return text.str();
+}
+
+std::string redacted_store(std::string_view setting) {
+    for (const std::string_view scheme : {"postgresql://", "postgres://"}) {
+        if (!setting.starts_with(scheme)) continue;
+        std::string_view rest = setting.substr(scheme.size());
+        rest = rest.substr(0, rest.find_first_of("/?"));  // host[:port], with user info
+        if (const auto at = rest.rfind('@'); at != std::string_view::npos)
+            rest = rest.substr(at + 1);
+        return concat(scheme, "…@", rest);
+    }
+    return std::string(setting);  // sqlite:PATH or postgresql-file:PATH: no secret in it
 }
 
 }  // namespace rollgap::service

@@ -43,6 +43,12 @@ struct ServerConfig {
     std::string log_level = "info";    // trace debug info warn error critical off
     std::optional<std::string> token;  // bearer token for the compute endpoints; never logged
     std::string instance;              // names this replica in job documents; default: host name
+    // The job store (docs/job-store.md). `store` empty: sqlite:<data_dir>/jobs.db, so one
+    // machine keeps its jobs across restarts with no server to run.
+    std::string data_dir = "rollgap-data";  // relative to the working directory
+    std::string store;                      // sqlite:PATH | postgresql://… | postgresql-file:PATH
+    std::chrono::milliseconds lease{15'000};  // a claimed work item's lease, renewed at a third
+    std::size_t chunk_points = 25;            // sweep points / map cells per work item
 
     // Resolved values (workers = cores, job_workers = ...); call after parsing.
     ServerConfig resolved() const;
@@ -74,5 +80,8 @@ std::string config_usage();
 
 // "bind=127.0.0.1 port=8080 workers=2 ... token=set": for the start-up log line, no secret.
 std::string describe(const ServerConfig& config);
+
+// The store setting for logs: a DSN's user, password and parameters left out.
+std::string redacted_store(std::string_view setting);
 
 }  // namespace rollgap::service

@@ -76,6 +76,10 @@ std::string metrics_text(ServiceState& state) {
          static_cast<double>(state.jobs.capacity())},
         {"rollgap_ready", "1 while the service accepts work, 0 while it drains.", "",
          state.draining ? 0.0 : 1.0},
+        {"rollgap_store_up",
+         "1 while the job store answered its last operation, 0 while it is unavailable (jobs "
+         "and stored scenarios answer 503; synchronous analyses are unaffected).",
+         "", state.store.up() ? 1.0 : 0.0},
         {"process_start_time_seconds", "Start time of the process since the Unix epoch, seconds.",
          "", std::chrono::duration<double>(state.start_time.time_since_epoch()).count()},
     };

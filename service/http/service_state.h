@@ -9,6 +9,7 @@
 #include <httplib.h>
 
 #include "service/config.h"
+#include "service/http/store_handle.h"
 #include "service/http_server.h"
 #include "service/jobs.h"
 #include "service/metrics.h"
@@ -26,6 +27,7 @@ struct ServiceState {
     Metrics metrics;
     WorkerPool pool;
     JobStore jobs;
+    StoreHandle store;  // the durable store: jobs, chunks, stored scenarios
 
     std::atomic<bool> draining{false};     // SIGTERM: no new work, /readyz fails
     std::atomic<bool> hard_cancel{false};  // the drain timeout passed: stop everything
@@ -34,6 +36,8 @@ struct ServiceState {
 
     // 503 + Retry-After.
     void overloaded(httplib::Response& response, std::string detail) const;
+    // 503 store_unavailable + Retry-After; marks the store down.
+    void store_unavailable(httplib::Response& response, std::string detail);
     bool busy() { return in_flight.load() > 0 || !pool.idle() || jobs.counts().active() > 0; }
 };
 

@@ -8,6 +8,7 @@
 // replica still running during a restart), because a deferred transaction that reads and
 // then writes fails with SQLITE_BUSY instead of waiting.
 
+#include <filesystem>
 #include <mutex>
 #include <string>
 
@@ -146,6 +147,17 @@ private:
 
 Result<std::unique_ptr<Backend>> open_sqlite(const std::string& path) {
     using R = Result<std::unique_ptr<Backend>>;
+    // The data directory of a fresh installation: created (owner only), so the first start
+    // needs no step of its own.
+    if (const auto parent = std::filesystem::path(path).parent_path(); !parent.empty()) {
+        std::error_code error;
+        // Only a directory made here gets its permissions set: an existing one is the
+        // operator's.
+        if (std::filesystem::create_directories(parent, error) && !error) {
+            std::filesystem::permissions(parent, std::filesystem::perms::owner_all,
+                                         std::filesystem::perm_options::replace, error);
+        }
+    }
     sqlite3* db = nullptr;
     const int opened =
         sqlite3_open_v2(path.c_str(), &db, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE, nullptr);
