@@ -128,14 +128,17 @@ Series named(std::string label) {
     return s;
 }
 
-SweepRun run_sweep(const SweepFigure& fig, InletFilmModel film, int threads) {
+SweepRun run_sweep(const SweepFigure& fig, InletFilmModel film, int threads,
+                   double asperity_factor) {
     const auto t0 = Clock::now();
     SweepRun run;
     run.film = film;
+    run.asperity_factor = asperity_factor;
     std::vector<Scenario> scenarios;
     for (double x : fig.xs) {
         Scenario s;
         s.inlet_film = film;
+        s.friction.asperity_factor = asperity_factor;
         fig.apply(s, x);
         scenarios.push_back(s);
     }
@@ -236,7 +239,7 @@ void write_sweep_csv(Output& out, const SweepFigure& fig, const SweepRun& run) {
                  csv_number(d.dP_dback),
                  csv_number(d.du1_dgap * s.strip.entry_thickness / std::max(v, 1e-300))});
     }
-    out.csv(fig.id + "_" + film_name(run.film) + ".csv", csv);
+    out.csv(fig.id + "_" + film_name(run.film) + variant_suffix(run.asperity_factor) + ".csv", csv);
 }
 
 void add_status_edges(Plot& plot, const SweepFigure& fig, const SweepRun& run,
