@@ -68,18 +68,17 @@ std::string variant_label(double m_a) {
     return m_a == 1.0 ? "m_a = 1 (the paper)" : "m_a = " + fmt(m_a, 1) + " (boundary friction)";
 }
 
+// "m_a = 1, 0.7, 0.3": short enough for a plot's title.
+std::string asperity_factors_text(const std::vector<FrictionVariant>& variants) {
+    std::string s = "m_a = ";
+    for (std::size_t k = 0; k < variants.size(); ++k)
+        s += (k ? ", " : "") + fmtg(variants[k].asperity_factor, 2);
+    return s;
+}
+
 void plot_friction_sweep(Output& out, const SweepFigure& fig,
                          const std::vector<FrictionVariant>& variants, std::size_t index) {
-    Plot plot;
-    plot.title = "Fig. " + std::to_string(fig.number) + ": critical speed vs " + fig.x_symbol +
-                 " — paper film, asperity factor m_a = 1 and the boundary-friction variants";
-    plot.x_label = fig.x_label();
-    plot.y_label = "critical speed (m/s)";
-    plot.y_min = 0.0;
-    plot.y_max = 62.0;
-    const double pad = 0.02 * (fig.xs.back() - fig.xs.front());
-    plot.x_min = fig.xs.front() - pad;
-    plot.x_max = fig.xs.back() + pad;
+    Plot plot = critical_speed_plot(fig, "paper film, " + asperity_factors_text(variants));
     for (std::size_t k = 0; k < variants.size(); ++k) {
         const SweepRun& run = variants[k].sweeps[index];
         Series s = critical_series(fig, run,
@@ -98,7 +97,7 @@ void plot_friction_sweep(Output& out, const SweepFigure& fig,
 void plot_friction_amplitude(Output& out, const std::vector<FrictionVariant>& variants) {
     Plot plot;
     plot.title =
-        "Fig. 13: vibration amplitude vs rolling speed — paper film, m_a = 1 and the boundary-friction variants";
+        "Fig. 13: vibration amplitude vs speed — paper film, " + asperity_factors_text(variants);
     plot.x_label = "roll speed v (m/s)";
     plot.y_label = "upper work roll x3, half peak-to-peak (µm)";
     plot.log_y = true;

@@ -284,11 +284,10 @@ Series critical_series(const SweepFigure& fig, const SweepRun& run, const std::s
     return s;
 }
 
-void plot_sweep(Output& out, const SweepFigure& fig, const SweepRun& run, const SweepRun& paper,
-                const SweepRun* fixed_friction, double fixed_mu) {
+Plot critical_speed_plot(const SweepFigure& fig, const std::string& what) {
     Plot plot;
-    plot.title = "Fig. " + std::to_string(fig.number) + ": critical speed vs " + fig.x_symbol +
-                 " — " + film_name(run.film) + " inlet film";
+    plot.title =
+        "Fig. " + std::to_string(fig.number) + ": critical speed vs " + fig.x_symbol + " — " + what;
     plot.x_label = fig.x_label();
     plot.y_label = "critical speed (m/s)";
     plot.y_min = 0.0;
@@ -296,6 +295,12 @@ void plot_sweep(Output& out, const SweepFigure& fig, const SweepRun& run, const 
     const double pad = 0.02 * (fig.xs.back() - fig.xs.front());
     plot.x_min = fig.xs.front() - pad;
     plot.x_max = fig.xs.back() + pad;
+    return plot;
+}
+
+void plot_sweep(Output& out, const SweepFigure& fig, const SweepRun& run, const SweepRun& paper,
+                const SweepRun* fixed_friction, double fixed_mu) {
+    Plot plot = critical_speed_plot(fig, std::string(film_name(run.film)) + " inlet film");
     if (run.film == InletFilmModel::paper) {
         Series main = critical_series(fig, run, "critical speed");
         main.color = "#1f77b4";

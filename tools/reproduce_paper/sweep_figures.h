@@ -78,6 +78,8 @@ void write_sweep_csv(Output& out, const SweepFigure& fig, const SweepRun& run);
 void add_status_edges(Plot& plot, const SweepFigure& fig, const SweepRun& run,
                       const std::string& suffix);
 Series critical_series(const SweepFigure& fig, const SweepRun& run, const std::string& label);
+// The axes and title of a critical-speed plot of one of Figs. 8-12; `what` ends the title.
+Plot critical_speed_plot(const SweepFigure& fig, const std::string& what);
 void plot_sweep(Output& out, const SweepFigure& fig, const SweepRun& run, const SweepRun& paper,
                 const SweepRun* fixed_friction, double fixed_mu);
 
