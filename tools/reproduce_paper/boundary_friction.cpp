@@ -86,7 +86,7 @@ void plot_friction_sweep(Output& out, const SweepFigure& fig,
         s.color = variant_colors[k % std::size(variant_colors)];
         s.dash = variant_dashes[k % std::size(variant_dashes)];
         plot.series.push_back(s);
-        add_status_edges(plot, fig, run, " (m_a = " + fmt(variants[k].asperity_factor, 1) + ")");
+        add_status_edges(plot, fig, run, " (m_a = " + fmtg(variants[k].asperity_factor, 2) + ")");
     }
     plot.notes.push_back(
         "Search range 1–60 m/s (0.5 m/s scan, refined to 1e-4). Points without a critical speed are markers on "
@@ -103,6 +103,7 @@ void plot_friction_amplitude(Output& out, const std::vector<FrictionVariant>& va
     plot.log_y = true;
     plot.x_min = 0.0;
     plot.x_max = 25.0;
+    std::string critical;
     for (std::size_t k = 0; k < variants.size(); ++k) {
         const AmplitudeRun& run = variants[k].amplitude;
         const std::string color = variant_colors[k % std::size(variant_colors)];
@@ -111,7 +112,7 @@ void plot_friction_amplitude(Output& out, const std::vector<FrictionVariant>& va
         x3.color = color;
         x3.dash = variant_dashes[k % std::size(variant_dashes)];
         Series limit = named("x3 when a physical limit ended the run, m_a = " +
-                             fmt(variants[k].asperity_factor, 1));
+                             fmtg(variants[k].asperity_factor, 2));
         limit.line = false;
         limit.marker = Marker::triangle_up;
         limit.color = color;
@@ -126,13 +127,16 @@ void plot_friction_amplitude(Output& out, const std::vector<FrictionVariant>& va
             if (std::any_of(s->y.begin(), s->y.end(), [](double y) { return std::isfinite(y); }))
                 plot.series.push_back(*s);
         }
+        // Unlabelled lines (the critical speeds lie too close for labels): the note names them.
         if (run.critical.status == CriticalSpeedStatus::found) {
-            plot.vertical_lines.push_back(
-                {run.critical.critical_speed,
-                 "v_c " + fmt(run.critical.critical_speed, 1) +
-                     " m/s (m_a = " + fmt(variants[k].asperity_factor, 1) + ")"});
+            plot.vertical_lines.push_back({run.critical.critical_speed, "", color});
+            critical += (critical.empty() ? "" : ", ") + fmt(run.critical.critical_speed, 2) +
+                        " m/s (m_a = " + fmtg(variants[k].asperity_factor, 2) + ")";
         }
     }
+    if (!critical.empty())
+        plot.notes.push_back("Dotted lines, in the variants' colours: the critical speeds " +
+                             critical + ".");
     plot.notes.push_back(
         "Excitation: 1 MPa back-tension ripple at the least-damped eigenfrequency of each speed; window 2 s.");
     out.svg(friction_amplitude_plot, plot);
