@@ -1,8 +1,10 @@
 # rollgap HTTP service: multi-stage build on Debian 12 (bookworm).
 #   build:   the project's own dependency script, then a Release build of build/rollgap
-#   runtime: the shared libraries rollgap links, and Debian's nginx with the front proxy
-#            configuration (deploy/nginx/rollgap.conf), as a non-root user. The Kubernetes pod
-#            runs this image twice: the service, and nginx in front of it (deploy/kubernetes).
+#   runtime: the shared libraries rollgap links (the job store's SQLite and libpqxx/libpq
+#            included), a data directory its user can write (/var/lib/rollgap), and Debian's
+#            nginx with the front proxy configuration (deploy/nginx/rollgap.conf), as a non-root
+#            user. The Kubernetes pod runs this image twice: the service, and nginx in front of
+#            it (deploy/kubernetes).
 # Build with scripts/build-image.sh (buildah, no Docker engine needed) or `docker build .`.
 
 FROM debian:bookworm-slim AS build
@@ -18,13 +20,15 @@ RUN cmake -S . -B /build -DCMAKE_BUILD_TYPE=Release -DROLLGAP_WERROR=ON \
 
 FROM debian:bookworm-slim AS runtime
 # Runtime libraries of build/rollgap (ldd → dpkg -S): cpp-httplib (pulls OpenSSL, zlib,
-# brotli), spdlog (pulls fmt), SUNDIALS CVODE. Not the -dev packages, not OpenMPI/PETSc.
+# brotli), spdlog (pulls fmt), SUNDIALS CVODE, and the job store's SQLite and libpqxx (pulls
+# libpq). Not the -dev packages, not OpenMPI/PETSc, not a PostgreSQL server.
 # nginx: the front proxy, the same Debian package the tests run.
 RUN apt-get update \
  && DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends \
-      libcpp-httplib0.11 libspdlog1.10 libsundials-cvode6 nginx \
+      libcpp-httplib0.11 libspdlog1.10 libsundials-cvode6 libsqlite3-0 libpqxx-6.4 libpq5 nginx \
  && rm -rf /var/lib/apt/lists/* \
- && useradd --system --uid 10001 --user-group --no-create-home --shell /usr/sbin/nologin rollgap
+ && useradd --system --uid 10001 --user-group --no-create-home --shell /usr/sbin/nologin rollgap \
+ && install -d -o 10001 -g 10001 -m 0750 /var/lib/rollgap
 COPY --from=build /build/rollgap /usr/local/bin/rollgap
 # The front proxy's configuration (Kubernetes mounts the same file from a ConfigMap over it).
 COPY deploy/nginx/rollgap.conf /etc/rollgap/nginx/rollgap.conf
@@ -36,8 +40,13 @@ RUN ! ldd /usr/local/bin/rollgap | grep -q "not found" && rollgap --version \
 
 USER 10001:10001
 # In a container the service listens on every interface (outside one it defaults to 127.0.0.1).
+# The data directory (the default SQLite job store, sqlite:/var/lib/rollgap/jobs.db) is the
+# image's own, writable by its user; mount a volume there to keep jobs across containers
+# (Kubernetes mounts an emptyDir there and keeps the jobs in PostgreSQL instead).
 ENV ROLLGAP_BIND=0.0.0.0 \
-    ROLLGAP_PORT=8080
+    ROLLGAP_PORT=8080 \
+    ROLLGAP_DATA_DIR=/var/lib/rollgap
+VOLUME ["/var/lib/rollgap"]
 EXPOSE 8080
 # No curl in the image: the binary checks its own /readyz (127.0.0.1:$ROLLGAP_PORT).
 HEALTHCHECK --interval=10s --timeout=3s --start-period=5s --retries=3 \

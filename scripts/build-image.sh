@@ -7,8 +7,11 @@
 # 2. buildah bud builds the Dockerfile (chroot isolation, vfs storage: works unprivileged in
 #    a container and needs no daemon).
 # 3. Smoke test: the image's root filesystem is mounted and its /usr/local/bin/rollgap runs in a
-#    chroot as the image's user (uid 10001) on 127.0.0.1:$PORT; the script waits for /readyz to
-#    answer 200, runs the image's HEALTHCHECK command, sends SIGTERM and expects exit status 0.
+#    chroot as the image's user (uid 10001) on 127.0.0.1:$PORT with the image's data directory
+#    (ROLLGAP_DATA_DIR=/var/lib/rollgap); the script waits for /readyz to answer 200, computes a
+#    roll gap, runs a job to the end (with the job store: kept in the SQLite file under the data
+#    directory, which the image's user must be able to create), runs the image's HEALTHCHECK
+#    command, sends SIGTERM and expects exit status 0.
 #
 # Runs as root (debootstrap, buildah, chroot). Takes several minutes the first time.
 # Environment: ROLLGAP_IMAGE (default rollgap:dev), ROLLGAP_SMOKE_PORT (default 18181).
@@ -72,7 +75,9 @@ trap cleanup EXIT
 
 CHROOT=$(command -v chroot)
 log "starting the image's rollgap serve on 127.0.0.1:$PORT (chroot, uid 10001)"
+# A chroot does not apply the image's ENV: the data directory is passed as the image sets it.
 env -i PATH=/usr/local/bin:/usr/bin:/bin ROLLGAP_BIND=127.0.0.1 ROLLGAP_PORT="$PORT" ROLLGAP_INSTANCE=smoke \
+    ROLLGAP_DATA_DIR=/var/lib/rollgap \
     "$CHROOT" --userspec=10001:10001 "$m" /usr/local/bin/rollgap serve >&2 &
 server_pid=$!
 
@@ -94,6 +99,32 @@ if [[ "$answer" != *'"status":"ok"'* ]]; then
     exit 1
 fi
 log "POST /v1/roll-gap: a result with status ok"
+job=$(curl -s -o /dev/null -w '%header{location}' -X POST "http://127.0.0.1:$PORT/v1/jobs" \
+    -H 'Content-Type: application/json' -d '{"analysis": "evaluate"}')
+if [[ "$job" != /v1/jobs/* ]]; then
+    log "FAIL: POST /v1/jobs gave no job location ($job)"
+    exit 1
+fi
+state=""
+for _ in $(seq 1 300); do
+    state=$(curl -s "http://127.0.0.1:$PORT$job" | sed -n 's/.*"state":"\([a-z_]*\)".*/\1/p')
+    [[ "$state" == succeeded || "$state" == failed || "$state" == cancelled ]] && break
+    sleep 0.1
+done
+if [[ "$state" != succeeded ]]; then
+    log "FAIL: the job $job ended as '$state'"
+    exit 1
+fi
+log "job $job: succeeded"
+# A binary with the job store (it knows --data-dir) keeps the job in the data directory's
+# SQLite file, created by the image's user.
+if "$CHROOT" "$m" /usr/local/bin/rollgap serve --help 2>/dev/null | grep -q -- '--data-dir'; then
+    if [[ ! -s "$m/var/lib/rollgap/jobs.db" ]]; then
+        log "FAIL: no job store at /var/lib/rollgap/jobs.db in the image's data directory"
+        exit 1
+    fi
+    log "job store: /var/lib/rollgap/jobs.db ($(stat -c 'uid %u, gid %g, %s bytes' "$m/var/lib/rollgap/jobs.db"))"
+fi
 env -i ROLLGAP_PORT="$PORT" "$CHROOT" --userspec=10001:10001 "$m" /usr/local/bin/rollgap healthcheck >&2
 log "HEALTHCHECK command: exit 0"
 kill -TERM "$server_pid"

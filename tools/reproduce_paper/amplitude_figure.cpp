@@ -13,15 +13,17 @@ namespace rollgap::tools::paper {
 
 bool completed(const core::AmplitudeResult& a) { return a.end_status == core::DynamicsStatus::ok; }
 
-AmplitudeRun run_amplitude(InletFilmModel film, int threads) {
+AmplitudeRun run_amplitude(InletFilmModel film, int threads, double asperity_factor) {
     const auto t0 = Clock::now();
     AmplitudeRun run;
     run.film = film;
+    run.asperity_factor = asperity_factor;
     run.speeds = range(2.0, 24.0, 1.0);
     std::vector<Scenario> scenarios;
     for (double v : run.speeds) {
         Scenario s;
         s.inlet_film = film;
+        s.friction.asperity_factor = asperity_factor;
         s.rolls.speed = v;
         scenarios.push_back(s);
     }
@@ -29,6 +31,7 @@ AmplitudeRun run_amplitude(InletFilmModel film, int threads) {
     run.results = core::sweep_amplitude(scenarios, options, threads);
     Scenario s;
     s.inlet_film = film;
+    s.friction.asperity_factor = asperity_factor;
     core::CriticalSpeedOptions search = search_options;
     search.threads = threads;
     run.critical = core::critical_speed(s, search);
@@ -51,11 +54,13 @@ void write_amplitude_outputs(Output& out, const AmplitudeRun& run) {
                  csv_number(a.growth_rate), csv_number(a.end_time), a.settled ? "true" : "false",
                  core::to_string(a.end_status), a.message});
     }
-    out.csv(std::string("fig13_") + film_name(run.film) + ".csv", csv);
+    const std::string name =
+        std::string("fig13_") + film_name(run.film) + variant_suffix(run.asperity_factor);
+    out.csv(name + ".csv", csv);
 
     Plot plot;
     plot.title = std::string("Fig. 13: vibration amplitude vs rolling speed — ") +
-                 film_name(run.film) + " inlet film";
+                 film_name(run.film) + " inlet film" + variant_title(run.asperity_factor);
     plot.x_label = "roll speed v (m/s)";
     plot.y_label = "amplitude, half peak-to-peak (µm)";
     plot.log_y = true;
@@ -113,7 +118,7 @@ void write_amplitude_outputs(Output& out, const AmplitudeRun& run) {
     plot.notes.push_back(
         "Excitation: 1 MPa back-tension ripple at the least-damped eigenfrequency of each speed; window 2 s; "
         "amplitude over the last 10 % of the window (or of the run, when a limit ended it).");
-    out.svg(std::string("fig13_") + film_name(run.film) + ".svg", plot);
+    out.svg(name + ".svg", plot);
 }
 
 }  // namespace rollgap::tools::paper

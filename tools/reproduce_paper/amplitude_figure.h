@@ -11,6 +11,7 @@ namespace rollgap::tools::paper {
 
 struct AmplitudeRun {
     InletFilmModel film = InletFilmModel::paper;
+    double asperity_factor = 1.0;  // m_a of the run (docs/model.md §4; 1 is the paper's)
     std::vector<double> speeds;
     std::vector<core::AmplitudeResult> results;
     core::CriticalSpeedResult critical;  // of the default scenario, for the reference line
@@ -20,7 +21,7 @@ struct AmplitudeRun {
 
 // The run reached the end of its window (no physical limit ended it).
 bool completed(const core::AmplitudeResult& a);
-AmplitudeRun run_amplitude(InletFilmModel film, int threads);
+AmplitudeRun run_amplitude(InletFilmModel film, int threads, double asperity_factor = 1.0);
 void write_amplitude_outputs(Output& out, const AmplitudeRun& run);
 
 }  // namespace rollgap::tools::paper

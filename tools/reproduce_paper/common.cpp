@@ -55,4 +55,14 @@ const char* film_name(InletFilmModel m) {
     return m == InletFilmModel::paper ? "paper" : "eulerian";
 }
 
+std::string variant_suffix(double asperity_factor) {
+    return asperity_factor == 1.0 ? "" : "_ma" + fmt(asperity_factor, 1);
+}
+
+std::string variant_title(double asperity_factor) {
+    return asperity_factor == 1.0
+               ? ""
+               : " (boundary-friction variant m_a = " + fmt(asperity_factor, 1) + ")";
+}
+
 }  // namespace rollgap::tools::paper

@@ -42,5 +42,9 @@ std::string csv_number(double v);
 // "+12.3 %" / "−4.5 %" of a relative change.
 std::string percent(double fraction, int decimals = 1);
 const char* film_name(InletFilmModel m);
+// The file-name suffix of a boundary-friction variant: "" for the paper's m_a = 1, "_ma0.7" else.
+std::string variant_suffix(double asperity_factor);
+// "" for m_a = 1, " (boundary-friction variant m_a = 0.7)" else: appended to plot titles.
+std::string variant_title(double asperity_factor);
 
 }  // namespace rollgap::tools::paper

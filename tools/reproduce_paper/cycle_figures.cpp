@@ -11,9 +11,10 @@
 
 namespace rollgap::tools::paper {
 
-Scenario cycle_scenario(InletFilmModel film, double rq_um) {
+Scenario cycle_scenario(InletFilmModel film, double rq_um, double asperity_factor) {
     Scenario s;
     s.inlet_film = film;
+    s.friction.asperity_factor = asperity_factor;
     s.roughness.roll_rq = rq_um * 1e-6;
     s.roughness.strip_rq = 0.0;
     s.tensions.back.stress = 18e6;  // 18 +- 9 MPa at 10 Hz (Section 6.2; docs/model.md §6 defaults)
@@ -22,16 +23,17 @@ Scenario cycle_scenario(InletFilmModel film, double rq_um) {
     return s;
 }
 
-CycleRun run_cycles(InletFilmModel film, int threads) {
+CycleRun run_cycles(InletFilmModel film, int threads, double asperity_factor) {
     const auto t0 = Clock::now();
     CycleRun run;
     run.film = film;
+    run.asperity_factor = asperity_factor;
     run.cases.resize(2);
     run.cases[0].rq_um = 1.0;
     run.cases[1].rq_um = 6.0;
     core::parallel_for(2, threads, [&](int i) {
         CycleCase& c = run.cases[static_cast<std::size_t>(i)];
-        const Scenario s = cycle_scenario(film, c.rq_um);
+        const Scenario s = cycle_scenario(film, c.rq_um, asperity_factor);
         c.result = core::tension_cycle(s);  // 2 cycles, T = 0.25, 0.5, 0.75 of the last
         Scenario input = s;
         input.tensions.back.mode = core::TensionMode::constant;
@@ -67,7 +69,7 @@ CycleRun run_cycles(InletFilmModel film, int threads) {
 std::string rq_label(double rq) { return "Rq = " + fmt(rq, 0) + " µm"; }
 
 void write_cycle_outputs(Output& out, const CycleRun& run) {
-    const std::string film = film_name(run.film);
+    const std::string film = film_name(run.film) + variant_suffix(run.asperity_factor);
     Csv pressure({"Rq_um", "T", "back_tension_MPa", "x_mm", "pressure_MPa", "film_ratio",
                   "contact_ratio", "regime"});
     Csv friction({"Rq_um", "T", "back_tension_MPa", "x_mm", "friction_MPa", "strip_speed_m_s",
@@ -113,7 +115,8 @@ void write_cycle_outputs(Output& out, const CycleRun& run) {
         Plot plot;
         plot.title = "Fig. " + std::to_string(figure) + ": " +
                      (figure == 14 ? "compressive stress" : "friction stress") +
-                     " over a back-tension cycle — " + film + " inlet film";
+                     " over a back-tension cycle — " + film_name(run.film) + " inlet film" +
+                     variant_title(run.asperity_factor);
         plot.x_label = "x (mm), from the exit (0) to the entry";
         plot.y_label =
             figure == 14 ? "compressive stress p (MPa)" : "friction stress τ on the strip (MPa)";

@@ -26,12 +26,13 @@ struct CycleCase {
 
 struct CycleRun {
     InletFilmModel film = InletFilmModel::paper;
+    double asperity_factor = 1.0;  // m_a of the run (docs/model.md §4; 1 is the paper's)
     std::vector<CycleCase> cases;  // Rq = 1, 6 µm
     double seconds = 0.0;
 };
 
-Scenario cycle_scenario(InletFilmModel film, double rq_um);
-CycleRun run_cycles(InletFilmModel film, int threads);
+Scenario cycle_scenario(InletFilmModel film, double rq_um, double asperity_factor = 1.0);
+CycleRun run_cycles(InletFilmModel film, int threads, double asperity_factor = 1.0);
 std::string rq_label(double rq);
 void write_cycle_outputs(Output& out, const CycleRun& run);
 

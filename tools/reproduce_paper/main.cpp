@@ -117,6 +117,13 @@ int main(int argc, char** argv) {
         log(std::string("Figs. 14-15 (") + film_name(film_models[k]) +
             " film): " + fmt(R.cycles[k].seconds, 1) + " s");
     }
+    // The boundary-friction variant: Figs. 8-15 (paper film) with m_a < 1
+    R.friction.push_back(paper_friction_reference(R.sweeps, R.amplitude[0], R.cycles[0], threads));
+    for (double m_a : boundary_asperity_factors) {
+        R.friction.push_back(run_friction_variant(R.figures, m_a, threads));
+        log("boundary-friction variant m_a = " + fmt(m_a, 1) +
+            " (Figs. 8-15, paper film): " + fmt(R.friction.back().seconds, 1) + " s");
+    }
     // Mechanism studies
     {
         const auto t1 = Clock::now();
@@ -237,6 +244,7 @@ int main(int argc, char** argv) {
     for (std::size_t k = 0; k < 2; ++k) write_amplitude_outputs(out, R.amplitude[k]);
     for (std::size_t k = 0; k < 2; ++k) write_cycle_outputs(out, R.cycles[k]);
     write_stability_map(out, R.map);
+    write_friction_variant_outputs(out, R.figures, R.friction);
 
     R.seconds = seconds_since(t0);
     const std::string markdown = write_markdown(R, out);

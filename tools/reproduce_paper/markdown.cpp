@@ -39,7 +39,9 @@ void md_introduction(std::ostringstream& md, const Results& R, const Output& out
           "10 Hz, Rq = 1 and 6 µm, distributions at T = 0.25, 0.5, 0.75 of the second cycle.\n"
        << "- Diagnostics (labelled as such; none of them is a model change): the Jacobian at selected points with single "
           "states removed, equivalent dampers of each coupling path, and variants of the assumptions docs/model.md adds to "
-          "the paper.\n\n";
+          "the paper.\n"
+       << "- A labelled variant: Figs. 8–15 (paper film) with the asperity factor m_a below the paper's 1 "
+          "(boundary-lubricated asperities), in [Boundary friction variant](#boundary-friction-variant-m_a--1).\n\n";
     md << "Command: `bash scripts/reproduce-paper.sh` (builds the `reproduce_paper` target in `build/` and runs "
           "`build/tools/reproduce_paper --out docs/paper-reproduction --doc docs/paper-reproduction.md`). The CSV and "
           "SVG files are in `"
@@ -148,6 +150,7 @@ std::string write_markdown(const Results& R, const Output& out) {
     md_amplitude_figure(md, R, out);
     md_cycle_figures(md, R, out);
     md_film_comparison(md, R, out);
+    md_boundary_friction(md, R, out);
     md_notes_and_files(md, out);
     return md.str();
 }

@@ -22,6 +22,8 @@ void md_amplitude_figure(std::ostringstream& md, const Results& R, const Output&
 void md_cycle_figures(std::ostringstream& md, const Results& R, const Output& out);
 // The paper's inlet film against the frame-corrected (eulerian) one.
 void md_film_comparison(std::ostringstream& md, const Results& R, const Output& out);
+// The boundary-friction variant (m_a < 1): force over speed and the verdicts per variant.
+void md_boundary_friction(std::ostringstream& md, const Results& R, const Output& out);
 // Notes for the core and the list of files.
 void md_notes_and_files(std::ostringstream& md, const Output& out);
 

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "tools/reproduce_paper/amplitude_figure.h"
+#include "tools/reproduce_paper/boundary_friction.h"
 #include "tools/reproduce_paper/cycle_figures.h"
 #include "tools/reproduce_paper/mechanism.h"
 #include "tools/reproduce_paper/sweep_figures.h"
@@ -27,6 +28,8 @@ struct Results {
     SpeedDiagnostics high_mode_eulerian,
         high_mode_paper;  // the eulerian's least-damped mode, both films
     StabilityMap map;
+    // The boundary-friction variant: [0] the paper's m_a = 1 runs above, then m_a < 1.
+    std::vector<FrictionVariant> friction;
     double seconds = 0.0;
     int threads = 1;
 };

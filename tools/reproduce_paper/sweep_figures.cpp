@@ -128,14 +128,17 @@ Series named(std::string label) {
     return s;
 }
 
-SweepRun run_sweep(const SweepFigure& fig, InletFilmModel film, int threads) {
+SweepRun run_sweep(const SweepFigure& fig, InletFilmModel film, int threads,
+                   double asperity_factor) {
     const auto t0 = Clock::now();
     SweepRun run;
     run.film = film;
+    run.asperity_factor = asperity_factor;
     std::vector<Scenario> scenarios;
     for (double x : fig.xs) {
         Scenario s;
         s.inlet_film = film;
+        s.friction.asperity_factor = asperity_factor;
         fig.apply(s, x);
         scenarios.push_back(s);
     }
@@ -236,7 +239,7 @@ void write_sweep_csv(Output& out, const SweepFigure& fig, const SweepRun& run) {
                  csv_number(d.dP_dback),
                  csv_number(d.du1_dgap * s.strip.entry_thickness / std::max(v, 1e-300))});
     }
-    out.csv(fig.id + "_" + film_name(run.film) + ".csv", csv);
+    out.csv(fig.id + "_" + film_name(run.film) + variant_suffix(run.asperity_factor) + ".csv", csv);
 }
 
 void add_status_edges(Plot& plot, const SweepFigure& fig, const SweepRun& run,
@@ -281,11 +284,10 @@ Series critical_series(const SweepFigure& fig, const SweepRun& run, const std::s
     return s;
 }
 
-void plot_sweep(Output& out, const SweepFigure& fig, const SweepRun& run, const SweepRun& paper,
-                const SweepRun* fixed_friction, double fixed_mu) {
+Plot critical_speed_plot(const SweepFigure& fig, const std::string& what) {
     Plot plot;
-    plot.title = "Fig. " + std::to_string(fig.number) + ": critical speed vs " + fig.x_symbol +
-                 " — " + film_name(run.film) + " inlet film";
+    plot.title =
+        "Fig. " + std::to_string(fig.number) + ": critical speed vs " + fig.x_symbol + " — " + what;
     plot.x_label = fig.x_label();
     plot.y_label = "critical speed (m/s)";
     plot.y_min = 0.0;
@@ -293,6 +295,12 @@ void plot_sweep(Output& out, const SweepFigure& fig, const SweepRun& run, const 
     const double pad = 0.02 * (fig.xs.back() - fig.xs.front());
     plot.x_min = fig.xs.front() - pad;
     plot.x_max = fig.xs.back() + pad;
+    return plot;
+}
+
+void plot_sweep(Output& out, const SweepFigure& fig, const SweepRun& run, const SweepRun& paper,
+                const SweepRun* fixed_friction, double fixed_mu) {
+    Plot plot = critical_speed_plot(fig, std::string(film_name(run.film)) + " inlet film");
     if (run.film == InletFilmModel::paper) {
         Series main = critical_series(fig, run, "critical speed");
         main.color = "#1f77b4";

@@ -57,6 +57,7 @@ struct SweepPoint {
 
 struct SweepRun {
     InletFilmModel film = InletFilmModel::paper;
+    double asperity_factor = 1.0;  // m_a of the run (docs/model.md §4; 1 is the paper's)
     std::vector<SweepPoint> points;
     Trend trend;      // of the critical speed (censored points at the range ends)
     Trend gap_trend;  // of the gap-mode crossing
@@ -70,11 +71,15 @@ inline const core::CriticalSpeedOptions search_options{};
 double trend_value(const core::CriticalSpeedResult& r);
 std::string speed_text(double v);
 Series named(std::string label);
-SweepRun run_sweep(const SweepFigure& fig, InletFilmModel film, int threads);
+// asperity_factor: m_a of every scenario (1, the paper's, unless a labelled variant asks).
+SweepRun run_sweep(const SweepFigure& fig, InletFilmModel film, int threads,
+                   double asperity_factor = 1.0);
 void write_sweep_csv(Output& out, const SweepFigure& fig, const SweepRun& run);
 void add_status_edges(Plot& plot, const SweepFigure& fig, const SweepRun& run,
                       const std::string& suffix);
 Series critical_series(const SweepFigure& fig, const SweepRun& run, const std::string& label);
+// The axes and title of a critical-speed plot of one of Figs. 8-12; `what` ends the title.
+Plot critical_speed_plot(const SweepFigure& fig, const std::string& what);
 void plot_sweep(Output& out, const SweepFigure& fig, const SweepRun& run, const SweepRun& paper,
                 const SweepRun* fixed_friction, double fixed_mu);
 
