@@ -21,7 +21,8 @@ SANITIZER_PACKAGES=(clang libclang-rt-14-dev llvm)
 # instances behind a load balancer. (wrk and prometheus/promtool are installed by the scripts
 # that use them, bench-http.sh and check-http.sh, not in CI.)
 # clang-format: the format check of scripts/test.sh (scripts/check-format.sh).
-TOOL_PACKAGES=(curl nginx clang-format)
+# python3-yaml: deploy/check.py, the static check of the Kubernetes files (ctest deploy_check).
+TOOL_PACKAGES=(curl nginx clang-format python3-yaml)
 # The browser workbench: Chart.js embedded at build time; chromium runs its browser tests.
 WEB_PACKAGES=(libjs-chart.js chromium)
 
