@@ -145,7 +145,7 @@ function readInput(input) {
 function writeInput(input, value) {
   if (input.type === 'checkbox') input.checked = Boolean(value);
   else if (value === undefined || value === null) input.value = '';
-  else if (input.dataset.kind === 'json') input.value = JSON.stringify(value, null, 1);
+  else if (input.dataset.kind === 'json') input.value = Array.isArray(value) ? `[\n${value.map((item) => ' ' + JSON.stringify(item)).join(',\n')}\n]` : JSON.stringify(value);
   else if (Array.isArray(value)) input.value = value.join(', ');
   else input.value = String(value);
 }
