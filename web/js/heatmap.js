@@ -54,6 +54,9 @@ export function drawHeatmap(container, { id, title, description, rows, columns, 
   };
   canvas.heatmap = model;
 
+  // Room for the rows: 36 px each, within what fits on a screen beside the controls.
+  frame.style.height = `${Math.min(640, Math.max(260, rows.values.length * 36 + margin.top + margin.bottom))}px`;
+
   function draw() {
     const ratio = window.devicePixelRatio || 1;
     model.width = Math.max(320, frame.clientWidth);
@@ -71,7 +74,9 @@ export function drawHeatmap(container, { id, title, description, rows, columns, 
     const index = (i, j) => i * nc + j;
     model.stable = cells.map((c) => Boolean(c) && model.speed != null && stableAt(c, model.speed));
 
-    // Cells: colour (or the class's own fill), symbol.
+    // Cells: colour (or the class's own fill), symbol (as large as the cell allows).
+    const { w: cellW, h: cellH } = model.rect(0, 0);
+    const symbolSize = Math.floor(Math.min(14, cellW * 0.7, cellH * 0.7));
     for (let i = 0; i < nr; i++) {
       for (let j = 0; j < nc; j++) {
         const cell = cells[index(i, j)];
@@ -82,11 +87,11 @@ export function drawHeatmap(container, { id, title, description, rows, columns, 
         ctx.strokeStyle = '#ffffff';
         ctx.lineWidth = 1;
         ctx.strokeRect(r.x, r.y, r.w, r.h);
-        if (!cell) continue;
+        if (!cell || symbolSize < 6) continue;
         ctx.fillStyle = dark(fill) ? '#ffffff' : '#000000';
         ctx.textAlign = 'center';
         ctx.textBaseline = 'middle';
-        ctx.font = 'bold 14px system-ui, sans-serif';
+        ctx.font = `bold ${symbolSize}px system-ui, sans-serif`;
         ctx.fillText(cell.symbol, r.x + r.w / 2, r.y + r.h / 2);
         ctx.font = '12px system-ui, sans-serif';
       }
@@ -125,10 +130,13 @@ export function drawHeatmap(container, { id, title, description, rows, columns, 
     ctx.fillStyle = '#1b1f24';
     ctx.textBaseline = 'middle';
     ctx.textAlign = 'right';
-    rows.values.forEach((v, i) => { const r = model.rect(i, 0); ctx.fillText(tick(v), r.x - 6, r.y + r.h / 2); });
+    // Every k-th value only, where the labels would overlap.
+    const rowStep = Math.ceil(16 / cellH);
+    const columnStep = Math.ceil(56 / cellW);
+    rows.values.forEach((v, i) => { if (i % rowStep) return; const r = model.rect(i, 0); ctx.fillText(tick(v), r.x - 6, r.y + r.h / 2); });
     ctx.textAlign = 'center';
     ctx.textBaseline = 'top';
-    columns.values.forEach((v, j) => { const r = model.rect(nr - 1, j); ctx.fillText(tick(v), r.x + r.w / 2, r.y + r.h + 4); });
+    columns.values.forEach((v, j) => { if (j % columnStep) return; const r = model.rect(nr - 1, j); ctx.fillText(tick(v), r.x + r.w / 2, r.y + r.h + 4); });
     const plotBottom = model.height - margin.bottom;
     ctx.fillText(columns.label, margin.left + (model.width - margin.left - margin.right) / 2, plotBottom + 24);
     ctx.save();
