@@ -354,6 +354,7 @@ export const analyses = [
       const apply = document.createElement('button');
       apply.type = 'button';
       apply.id = 'use-calibrated';
+      apply.className = 'no-print';
       apply.textContent = 'Use the calibrated scenario in the editor';
       apply.addEventListener('click', () => plots.dispatchEvent(new CustomEvent('use-scenario', { bubbles: true, detail: r.calibrated_scenario })));
       const fitted = panel(plots, 'Fitted parameters');
