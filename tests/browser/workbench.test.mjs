@@ -120,7 +120,7 @@ async function holdJob(fake) {
 }
 const heatmap = () => page.evaluate(() => {
   const m = document.getElementById('plot-map').heatmap;
-  return { rows: m.rows, columns: m.columns, values: m.values, symbols: m.symbols, legend: m.legend, edges: m.edges, stable: m.stable, speed: m.speed,
+  return { axes: m.axes, rows: m.rows, columns: m.columns, values: m.values, symbols: m.symbols, legend: m.legend, edges: m.edges, stable: m.stable, speed: m.speed,
     pixels: m.values.map((_, k) => m.pixel(Math.floor(k / m.columns.length), k % m.columns.length)),
     colours: m.values.map((v) => (v === null ? null : m.colorOf(v))) };
 });
@@ -340,6 +340,9 @@ try {
     const drawn = await heatmap();
     equalArrays(drawn.rows, api.parameters[0].values, 'row values');
     equalArrays(drawn.columns, api.parameters[1].values, 'column values');
+    const doc = await (await fetch(base + '/openapi.json')).json();
+    const stressUnit = doc.components.schemas.Scenario.properties.strip.properties.flow_stress_MPa['x-unit'];
+    equalArrays(drawn.axes, ['/mill/rayleigh/damping_ratio', `/strip/flow_stress_MPa [${stressUnit}]`], 'axis titles with the document\'s units');
     equalArrays(drawn.values, api.cells.map((c) => c.critical_speed_m_per_s), 'critical speed per cell');
     const found = api.cells.map((c) => c.critical_speed_m_per_s).filter((v) => v !== null);
     check(drawn.legend.min === Math.min(...found) && drawn.legend.max === Math.max(...found), `legend ${drawn.legend.min}..${drawn.legend.max}`);

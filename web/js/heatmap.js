@@ -30,7 +30,7 @@ export function drawHeatmap(container, { id, title, description, rows, columns, 
   const values = cells.map((c) => (c && c.value != null ? c.value : null));
   const finite = values.filter((v) => v !== null);
   const model = {
-    rows: rows.values, columns: columns.values, values,
+    rows: rows.values, columns: columns.values, values, axes: [rows.label, columns.label],
     symbols: cells.map((c) => (c ? c.symbol : null)),
     legend: { min: finite.length ? Math.min(...finite) : null, max: finite.length ? Math.max(...finite) : null, label: valueLabel },
     edges, speed, stable: [],
