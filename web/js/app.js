@@ -125,12 +125,14 @@ function renderPartial(job, body) {
   if (partial.points.length === app.partialShown) return;
   app.partialShown = partial.points.length;
   clearPlots($('plots'));
-  view.render({ analysis: body.analysis, options: body.options, result: view.partial(body, partial), partial: true }, $('plots'), context());
+  const headline = view.render({ analysis: body.analysis, options: body.options, result: view.partial(body, partial), partial: true }, $('plots'), context());
+  $('headline').replaceChildren(table(`${view.label} (running): the finished points`, headline, ['quantity', 'value', 'unit']));
 }
 
 async function run(asJob) {
   clearFieldErrors(document.body);
   $('problem').hidden = true;
+  clearResult();  // the earlier answer is not this run's
   saveState();
   const body = request();
   $('run').disabled = $('run-job').disabled = true;

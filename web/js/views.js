@@ -267,7 +267,7 @@ export const analyses = [
         ] : [line('gap amplitude [µm]', points(v, y('gap_amplitude_um')), 0, { pointRadius: 3 })] },
       });
       const rows = [row('parameter', r.parameter), row('values', r.points.filter((p) => !p.missing).length), row('quantity', r.quantity)];
-      if (critical) {
+      if (critical && !response.partial) {  // the changes come with the complete result
         rows.push(row('chatter type changes', (r.chatter_type_changes || []).length));
         for (const c of r.chatter_type_changes || []) rows.push([`between ${fmt(c.from)} and ${fmt(c.to)}`, `${chatterName(c.from_chatter_type)} → ${chatterName(c.to_chatter_type)}`, '']);
       }
@@ -340,7 +340,7 @@ export const analyses = [
         row('rows', `${rowsAxis.parameter} (${rowsAxis.values.length})`), row('columns', `${columnsAxis.parameter} (${nc})`),
         row('cells done', `${done.length} of ${r.cells.length}`),
         row('lowest critical speed', found.length ? min(found) : null, 'm/s'), row('highest critical speed', found.length ? max(found) : null, 'm/s'),
-        row('chatter type changes', (r.chatter_type_changes || []).length),
+        row('chatter type changes', response.partial ? null : (r.chatter_type_changes || []).length),
       ];
     },
     csv: (response) => records(response.result.cells.map((c) => ({ row: c.values[0], column: c.values[1], ...c }))),
