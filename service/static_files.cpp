@@ -6,9 +6,11 @@
 #include "embedded/charts_js.h"
 #include "embedded/editor_js.h"
 #include "embedded/favicon_svg.h"
+#include "embedded/heatmap_js.h"
 #include "embedded/index_html.h"
 #include "embedded/jobs_js.h"
 #include "embedded/report_js.h"
+#include "embedded/scenarios_js.h"
 #include "embedded/state_js.h"
 #include "embedded/style_css.h"
 #include "embedded/views_js.h"
@@ -40,8 +42,10 @@ constexpr std::array files{
     StaticFile{"/static/js/api.js", javascript, web::api_js},
     StaticFile{"/static/js/charts.js", javascript, web::charts_js},
     StaticFile{"/static/js/editor.js", javascript, web::editor_js},
+    StaticFile{"/static/js/heatmap.js", javascript, web::heatmap_js},
     StaticFile{"/static/js/jobs.js", javascript, web::jobs_js},
     StaticFile{"/static/js/report.js", javascript, web::report_js},
+    StaticFile{"/static/js/scenarios.js", javascript, web::scenarios_js},
     StaticFile{"/static/js/state.js", javascript, web::state_js},
     StaticFile{"/static/js/views.js", javascript, web::views_js},
 };

@@ -96,6 +96,35 @@ const dataset = (chart, label) => {
   check(found, `no dataset '${label}' among ${chart.datasets.map((d) => d.label).join(', ')}`);
   return found.data;
 };
+const chatterNames = { third_octave: 'third-octave', fifth_octave: 'fifth-octave', other: 'other' };
+const axeAudit = (target = page) => target.evaluate(async () => (await axe.run(document, { resultTypes: ['violations'] })).violations
+  .filter((v) => v.impact === 'serious' || v.impact === 'critical')
+  .map((v) => `${v.impact} ${v.id}: ${v.help} (${v.nodes.slice(0, 3).map((n) => n.target.join(' ')).join('; ')})`));
+async function checkAxe(target = page) {
+  if (!(await target.evaluate(() => typeof axe !== 'undefined'))) await target.evaluate(axeSource);
+  const found = await axeAudit(target);
+  check(found.length === 0, found.join('\n'));
+}
+// Answers the page's polls of a job with `fake(job)` (a running job with a partial result)
+// until `release()`; the job itself runs on in the service.
+async function holdJob(fake) {
+  let held = true;
+  const route = async (route) => {
+    if (!held || route.request().method() !== 'GET') return route.fallback();
+    const real = await (await route.fetch()).json();
+    return route.fulfill({ status: 200, contentType: 'application/json', body: JSON.stringify(fake(real)) });
+  };
+  await page.route(/\/v1\/jobs\/[0-9a-f]{32}$/, route);
+  // Released, it passes every request on (not unrouted: a poll may be in flight in it).
+  return () => { held = false; };
+}
+const heatmap = () => page.evaluate(() => {
+  const m = document.getElementById('plot-map').heatmap;
+  return { axes: m.axes, rows: m.rows, columns: m.columns, values: m.values, symbols: m.symbols, legend: m.legend, edges: m.edges, stable: m.stable, speed: m.speed,
+    pixels: m.values.map((_, k) => m.pixel(Math.floor(k / m.columns.length), k % m.columns.length)),
+    colours: m.values.map((v) => (v === null ? null : m.colorOf(v))) };
+});
+
 async function runAndWait(plot) {
   await page.evaluate(() => document.getElementById('plots').replaceChildren());
   await page.click('#run');
@@ -103,7 +132,10 @@ async function runAndWait(plot) {
 }
 
 try {
-  await test('the page is served from the binary under a strict CSP', async () => {
+  await test('the page is served from the binary under a strict CSP; it asks today\'s service for no job list nor stored scenarios', async () => {
+    const asked = [];
+    const listen = (request) => { if (request.method() === 'GET' && /\/v1\/(scenarios(?!\/default)|jobs(\?|$))/.test(request.url())) asked.push(request.url()); };
+    page.on('request', listen);
     const response = await page.goto(base + '/');
     check(response.status() === 200, `GET / answered ${response.status()}`);
     const csp = response.headers()['content-security-policy'] || '';
@@ -111,6 +143,11 @@ try {
     await page.waitForSelector('body[data-ready="true"]', { timeout: 30000 });
     const html = await (await fetch(base + '/')).text();
     check(!/<script(?![^>]*\bsrc=)[^>]*>/i.test(html) && !/\sstyle=/i.test(html), 'the page has inline script or style');
+    page.off('request', listen);
+    // The OpenAPI document lists neither GET /v1/jobs nor /v1/scenarios: not asked, no 404 in the console.
+    check(asked.length === 0, `asked: ${asked.join(', ')}`);
+    check(await page.isHidden('#base-row'), 'no stored scenarios offered');
+    await page.waitForFunction(() => /this browser/.test(document.getElementById('jobs-title').textContent));  // the jobs this browser remembers
   });
 
   await test('the scenario editor has one labelled input per field of the served OpenAPI Scenario', async () => {
@@ -131,6 +168,16 @@ try {
     check(/\[mm\]/.test(thickness.label), `unit in the label: ${thickness.label}`);
     check(await page.inputValue('#f-scenario-strip-reduction') === '0.15', 'the default reduction is filled in');
     await shot('editor');
+  });
+
+  await test("the editor's groups and fields follow the field table's order (the document's required lists)", async () => {
+    const doc = await (await fetch(base + '/openapi.json')).json();
+    const scenario = doc.components.schemas.Scenario;
+    const groups = await page.$$eval('#scenario-form > details > summary', (all) => all.map((s) => s.textContent));
+    equalArrays(groups, scenario.required.map((name) => name.replace(/_/g, ' ')), 'editor groups');
+    check(groups[0] === 'strip', `the first group is ${groups[0]}`);
+    const strip = await page.$$eval('#scenario-form > details:first-of-type > .field [data-pointer]', (all) => all.map((i) => i.dataset.pointer));
+    equalArrays(strip, scenario.properties.strip.required.map((name) => `/scenario/strip/${name}`), 'strip fields');
   });
 
   const patch = { strip: { reduction: 0.2 } };
@@ -169,6 +216,9 @@ try {
     check(dataset(chart, 'critical speed')[0].x === critical.critical_speed_m_per_s, 'critical speed marker');
     const shape = await chartData('mode-shape');
     equalArrays(shape.datasets[0].data, critical.unstable_mode.shape, 'unstable mode shape');
+    const caption = await page.textContent('figure:has(#plot-mode-shape) figcaption');
+    check(caption.includes(`chatter type ${chatterNames[critical.unstable_mode.chatter_type]}`), `chatter type beside the mode shape: ${caption}`);
+    check((await page.textContent('#headline')).includes(chatterNames[api.least_damped_mode.chatter_type]), 'the least-damped mode\'s chatter type in the headline');
     await shot('stability');
   });
 
@@ -237,6 +287,141 @@ try {
     await shot('sweep');
   });
 
+  await test('a sweep over a field with a unit: chatter type per point, its changes marked, finished points drawn while it runs', async () => {
+    const options = { parameter: '/strip/flow_stress_MPa', range: { from: 500, to: 1000, count: 6 } };
+    const api = (await post('/v1/sweeps', { scenario: patch, options })).body.result;
+    check(api.chatter_type_changes.length >= 1, 'the sweep chosen has a change of chatter type');
+    await page.selectOption('#f-options-parameter', options.parameter);
+    await page.fill('#f-options-range-from', '500');
+    await page.fill('#f-options-range-to', '1000');
+    await page.fill('#f-options-range-count', '6');
+    // While the job runs: points 1 and 4 done (the contract of a chunked job's partial_result).
+    const release = await holdJob((job) => ({ ...job, state: 'running', result: undefined, progress: 0.33, points_total: 6, points_done: 2,
+      partial_result: { partial: true, points_total: 6, points_done: 2, points: [1, 4].map((i) => ({ index: i, point: api.points[i] })) } }));
+    await page.evaluate(() => document.getElementById('plots').replaceChildren());
+    await page.click('#run');
+    await page.waitForSelector('#plot-sweep', { timeout: 60000 });
+    const partial = dataset(await chartData('sweep'), 'critical speed [m/s]');
+    equalArrays(partial.map((p) => p.x), api.points.map((p) => p[api.value_name]), 'swept values while running');
+    equalArrays(partial.map((p) => p.y), api.points.map((p, i) => ([1, 4].includes(i) ? p.critical_speed_m_per_s : null)), 'finished points while running');
+    check(/2 of 6 points/.test(await page.textContent('#status')), 'the status counts the points');
+    await shot('sweep-running');
+    await release();
+    await page.waitForFunction(() => /job succeeded/.test(document.getElementById('status').textContent), null, { timeout: 120000 });
+    const chart = await chartData('sweep');
+    equalArrays(dataset(chart, 'critical speed [m/s]').map((p) => p.x), api.points.map((p) => p[api.value_name]), `swept values (${api.value_name})`);
+    for (const [type, name] of Object.entries(chatterNames)) {
+      const expected = api.points.filter((p) => p.chatter_type === type);
+      const found = chart.datasets.find((d) => d.label === `chatter type ${name}`);
+      check(expected.length === (found ? found.data.length : 0), `${name}: ${found ? found.data.length : 0} points drawn, the API has ${expected.length}`);
+      if (found) equalArrays(found.data.map((p) => p.x), expected.map((p) => p[api.value_name]), `${name} points`);
+    }
+    const changes = chart.datasets.filter((d) => d.label === 'chatter type changes');
+    equalArrays(changes.map((d) => d.data[0].x), api.chatter_type_changes.map((c) => (c.from + c.to) / 2), 'chatter type change markers');
+    check((await page.textContent('#headline')).includes(`${chatterNames[api.chatter_type_changes[0].from_chatter_type]} → ${chatterNames[api.chatter_type_changes[0].to_chatter_type]}`), 'the change is listed');
+    await shot('sweep-chatter-types');
+  });
+
+  // A 3 x 4 map with changes of chatter type and cells stable over the whole search range.
+  const mapOptions = { parameters: [
+    { parameter: '/mill/rayleigh/damping_ratio', values: [0.03, 0.06, 0.1] },
+    { parameter: '/strip/flow_stress_MPa', values: [400, 600, 800, 1000] },
+  ] };
+  await test('map: cell colours, chatter types, type changes and the stable window are the API data', async () => {
+    const options = mapOptions;
+    const response = (await post('/v1/maps', { scenario: patch, options })).body;
+    const api = response.result;
+    await page.click('#tab-map');
+    await page.fill('#f-options-parameters', JSON.stringify(options.parameters));
+    // While the job runs: cells 0, 5 and 11 done.
+    const doneCells = [0, 5, 11];
+    const release = await holdJob((job) => ({ ...job, state: 'running', result: undefined, progress: 0.25, points_total: 12, points_done: 3,
+      partial_result: { partial: true, points_total: 12, points_done: 3, points: doneCells.map((i) => ({ index: i, point: api.cells[i] })) } }));
+    await page.evaluate(() => document.getElementById('plots').replaceChildren());
+    await page.click('#run');
+    await page.waitForSelector('#plot-map', { timeout: 60000 });
+    const running = await heatmap();
+    equalArrays(running.values, api.cells.map((c, i) => (doneCells.includes(i) ? c.critical_speed_m_per_s : null)), 'cells while running');
+    await shot('map-running');
+    await release();
+    await page.waitForFunction(() => /job succeeded/.test(document.getElementById('status').textContent), null, { timeout: 120000 });
+    const drawn = await heatmap();
+    equalArrays(drawn.rows, api.parameters[0].values, 'row values');
+    equalArrays(drawn.columns, api.parameters[1].values, 'column values');
+    const doc = await (await fetch(base + '/openapi.json')).json();
+    const stressUnit = doc.components.schemas.Scenario.properties.strip.properties.flow_stress_MPa['x-unit'];
+    equalArrays(drawn.axes, ['/mill/rayleigh/damping_ratio', `/strip/flow_stress_MPa [${stressUnit}]`], 'axis titles with the document\'s units');
+    equalArrays(drawn.values, api.cells.map((c) => c.critical_speed_m_per_s), 'critical speed per cell');
+    const found = api.cells.map((c) => c.critical_speed_m_per_s).filter((v) => v !== null);
+    check(drawn.legend.min === Math.min(...found) && drawn.legend.max === Math.max(...found), `legend ${drawn.legend.min}..${drawn.legend.max}`);
+    drawn.values.forEach((v, k) => {
+      if (v === null) return;
+      check(drawn.pixels[k].every((c, i) => Math.abs(c - drawn.colours[k][i]) <= 1), `cell ${k}: drawn ${drawn.pixels[k]}, its value's colour ${drawn.colours[k]}`);
+    });
+    check(new Set(drawn.colours.filter(Boolean).map(String)).size > 1, 'different values, different colours');
+    const symbols = { third_octave: '3', fifth_octave: '5', other: 'o' };
+    equalArrays(drawn.symbols, api.cells.map((c) => (c.chatter_type ? symbols[c.chatter_type] : { stable_in_range: 'S', unstable_at_lower_bound: 'U', no_steady_state: '×' }[c.status])), 'symbols');
+    const at = (values) => api.cells.findIndex((c) => c.values[0] === values[0] && c.values[1] === values[1]);
+    equalArrays(drawn.edges.map(String), api.chatter_type_changes.map((c) => String([at(c.from), at(c.to)])), 'chatter type change edges');
+    check(api.chatter_type_changes.length > 0, 'the map chosen has type changes');
+    const stableAt = (speed) => api.cells.map((c) => c.status === 'stable_in_range' || (c.critical_speed_m_per_s !== null && speed < c.critical_speed_m_per_s));
+    check(drawn.speed === response.scenario.rolls.speed_m_per_s, 'operating speed: the scenario\'s');
+    equalArrays(drawn.stable, stableAt(drawn.speed), 'stable cells at the scenario speed');
+    await page.fill('#map-speed', '30');
+    equalArrays((await heatmap()).stable, stableAt(30), 'stable cells at 30 m/s');
+    await page.fill('#map-speed', String(response.scenario.rolls.speed_m_per_s));
+    await shot('map');
+    await checkAxe();
+  });
+
+  await test('calibration: observed vs fitted with error bars, the fitted values and standard errors are the API data', async () => {
+    // The README example (examples/calibrate.json) without its critical-speed observations and
+    // the span length only they determine: a critical-speed search per evaluation makes the
+    // full fit 4x dearer, and this suite runs under the sanitizers too.
+    const example = JSON.parse(readFileSync(new URL('../../examples/calibrate.json', import.meta.url), 'utf8')).options;
+    const options = {
+      parameters: example.parameters.filter((p) => p.field !== '/tension/back/span_length_m'),
+      observations: example.observations.filter((o) => !['critical_speed_m_per_s', 'chatter_frequency_Hz'].includes(o.quantity)),
+    };
+    await page.click('#reset');  // the README example starts from the default scenario
+    await page.click('#tab-calibrate');
+    await page.fill('#f-options-parameters', JSON.stringify(options.parameters));
+    await page.fill('#f-options-observations', JSON.stringify(options.observations));
+    const [api] = await Promise.all([post('/v1/calibrate', { options }).then((r) => r.body.result), runAndWait('calibration-residuals')]);
+    await page.waitForFunction(() => /job succeeded/.test(document.getElementById('status').textContent), null, { timeout: 120000 });
+    const cells = await page.$$eval('#plots table:first-of-type tbody tr', (rows) => rows.map((tr) => [...tr.cells].map((c) => c.dataset.value ?? c.textContent)));
+    equalArrays(cells.map((c) => c[0]), api.parameters.map((p) => p.field), 'fitted fields');
+    equalArrays(cells.map((c) => Number(c[3])), api.parameters.map((p) => p.value), 'fitted values');
+    equalArrays(cells.map((c) => Number(c[4])), api.parameters.map((p) => p.standard_error), 'standard errors');
+    equalArrays(cells.map((c) => c[1]), api.parameters.map((p) => (p.unit === '1' ? '-' : p.unit)), 'units');
+    for (const quantity of new Set(api.observations.map((o) => o.quantity))) {
+      const chart = await chartData(`calibration-${quantity}`);
+      const mine = api.observations.filter((o) => o.quantity === quantity);
+      const observed = await page.evaluate((id) => Chart.getChart(document.getElementById(id)).data.datasets[0].data, `plot-calibration-${quantity}`);
+      equalArrays(observed.map((p) => p.y), mine.map((o) => o.value), `${quantity} observed`);
+      equalArrays(observed.map((p) => p.yError), mine.map((o) => o.standard_uncertainty), `${quantity} error bars`);
+      equalArrays(dataset(chart, 'fitted').map((p) => p.y), mine.map((o) => o.predicted), `${quantity} fitted`);
+    }
+    equalArrays((await chartData('calibration-residuals')).datasets[0].data, api.observations.map((o) => o.normalised_residual), 'normalised residuals');
+    const headline = await page.textContent('#headline');
+    check(headline.includes('χ² of the observations') && headline.includes(api.status), `headline: ${headline}`);
+    check((await page.$$('#calibration-warnings li')).length === Math.max(1, api.warnings.length), 'warnings listed');
+    await shot('calibration');
+    await checkAxe();
+    await page.click('#use-calibrated');
+    for (const p of api.parameters) {
+      const id = `#f-scenario${p.field.replace(/[^A-Za-z0-9]+/g, '-')}`;
+      check(Number(await page.inputValue(id)) === p.value, `${p.field} in the editor: ${await page.inputValue(id)}, fitted ${p.value}`);
+    }
+    check(new RegExp(`${api.parameters.length} fields differ`).test(await page.textContent('#diff-count')), `diff: ${await page.textContent('#diff-count')}`);
+    await page.click('#reset');
+    await page.fill('#f-scenario-strip-reduction', '0.2');
+    await page.click('#tab-sweep');
+    await page.selectOption('#f-options-parameter', '/strip/reduction');
+    await page.fill('#f-options-range-from', '0.1');
+    await page.fill('#f-options-range-to', '0.3');
+  });
+
   await test("a job's progress moves and cancel stops it", async () => {
     await page.fill('#f-options-range-count', '400');
     await page.click('#run');
@@ -269,7 +454,68 @@ try {
     const width = await touch.evaluate(() => document.documentElement.scrollWidth);
     check(width <= 1024, `the page is ${width} px wide at 1024`);
     await shot('touch-1024x768', touch);
+    const map = new URLSearchParams({ analysis: 'map', options: JSON.stringify(mapOptions) });
+    await touch.goto(`${base}/#${map}`);
+    await touch.reload();  // a new fragment alone does not reload the page
+    await touch.waitForSelector('#plot-map', { timeout: 120000 });
+    const mapWidth = await touch.evaluate(() => document.documentElement.scrollWidth);
+    check(mapWidth <= 1024, `the map view is ${mapWidth} px wide at 1024`);
+    await shot('map-1024x768', touch);
     await tablet.close();
+  });
+
+  await test('stored scenarios and the service\'s job list, when the document offers them (contract, answered by routes)', async () => {
+    const scenarios = await browser.newContext({ viewport: { width: 1280, height: 800 } });
+    const other = watch(await scenarios.newPage());
+    const stand = structuredClone((await (await fetch(base + '/v1/scenarios/default')).json()));
+    stand.strip.flow_stress_MPa = 520;
+    const json = (body, headers = {}) => ({ status: 200, contentType: 'application/json', headers, body: JSON.stringify(body) });
+    await other.route('**/openapi.json', async (route) => {
+      const doc = await (await route.fetch()).json();
+      doc.paths['/v1/scenarios'] = { get: { operationId: 'listScenarios' } };
+      doc.paths['/v1/scenarios/{name}'] = { get: { operationId: 'getScenario' } };
+      doc.paths['/v1/jobs'].get = { operationId: 'listJobs' };
+      return route.fulfill(json(doc));
+    });
+    await other.route('**/v1/scenarios', (route) => route.fulfill(json({ scenarios: [{ name: 'stand-3', version: '7', updated_at: '2026-11-30T08:00:00Z' }] })));
+    await other.route('**/v1/scenarios/stand-3', (route) => route.fulfill(json(stand, { ETag: '"7"' })));
+    let listed = 0;
+    await other.route(/\/v1\/jobs\?/, (route) => {
+      listed++;
+      const cursor = new URL(route.request().url()).searchParams.get('cursor');
+      return route.fulfill(json(cursor ? { jobs: [{ id: 'b'.repeat(32), analysis: 'map', state: 'succeeded', created_at: '2026-11-30T07:00:00Z' }] }
+        : { jobs: [{ id: 'a'.repeat(32), analysis: 'sweep', state: 'running', created_at: '2026-11-30T08:00:00Z' }], next_cursor: 'c2' }));
+    });
+    const sent = [];
+    await other.route('**/v1/roll-gap', async (route) => {
+      const body = route.request().postDataJSON();
+      sent.push(body);
+      // The service of today has no `base`: answer what it gives for the merged scenario.
+      const merged = structuredClone(stand);
+      merged.strip.reduction = body.scenario.strip.reduction;
+      const answer = await post('/v1/roll-gap', { scenario: merged });
+      return route.fulfill(json(answer.body));
+    });
+    await other.goto(base + '/');
+    await other.waitForSelector('body[data-ready="true"]');
+    check(await other.isVisible('#base-row'), 'the stored scenarios are offered');
+    check(/this service/.test(await other.textContent('#jobs-title')) && (await other.$$('#job-list li')).length === 2, 'the service\'s jobs, and a button for older ones');
+    await other.click('#job-list button:text("Older jobs")');
+    await other.waitForFunction(() => /map/.test(document.getElementById('job-list').textContent));
+    check(/sweep/.test(await other.textContent('#job-list')) && !/Older jobs/.test(await other.textContent('#job-list')), 'older jobs appended; no more pages');
+    check(listed === 2, `the list was asked ${listed} times`);
+    await other.selectOption('#base', 'stand-3');
+    await other.waitForFunction(() => document.getElementById('f-scenario-strip-flow-stress-MPa').value === '520');
+    check(/stored scenario stand-3/.test(await other.textContent('#diff-count')), 'the base is named');
+    check(/version 7/.test(await other.textContent('#base-version')), 'its version (ETag) is shown');
+    await other.fill('#f-scenario-strip-reduction', '0.25');
+    check(/\/strip\/reduction: 0\.15 → 0\.25/.test(await other.textContent('#diff')) && !/flow_stress/.test(await other.textContent('#diff')), 'differences from the base only');
+    await other.click('#run');
+    await other.waitForSelector('#plot-pressure', { timeout: 60000 });
+    check(sent.length === 1 && sent[0].base === 'stand-3' && JSON.stringify(sent[0].scenario) === '{"strip":{"reduction":0.25}}', `request: ${JSON.stringify(sent)}`);
+    check(other.url().includes('base=stand-3'), 'the base is in the link');
+    await shot('stored-scenario', other);
+    await scenarios.close();
   });
 
   await test('no console errors', async () => {

@@ -25,7 +25,7 @@ export async function call(method, path, body) {
   let document = null;
   try { document = text ? JSON.parse(text) : null; } catch { document = { detail: text }; }
   if (!response.ok) throw new ProblemError(response.status, document);
-  return { status: response.status, location: response.headers.get('Location'), body: document };
+  return { status: response.status, location: response.headers.get('Location'), etag: response.headers.get('ETag'), body: document };
 }
 
 export const getJson = async (path) => (await call('GET', path)).body;

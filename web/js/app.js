@@ -2,14 +2,15 @@
 // report together. Everything it knows about fields comes from /openapi.json.
 import { ProblemError, getJson, call, setToken, token } from './api.js';
 import { clearPlots } from './charts.js';
-import { OptionsForm, ScenarioForm, clearFieldErrors, resolve, showFieldErrors } from './editor.js';
-import { JobRunner, openJob, recentJobs } from './jobs.js';
+import { OptionsForm, ScenarioForm, clearFieldErrors, mergePatch, resolve, showFieldErrors } from './editor.js';
+import { JobRunner, openJob, recentJobs, useServerJobList } from './jobs.js';
+import { storedScenario, storedScenarios } from './scenarios.js';
 import { downloadCsv, downloadJson, fillReport, table } from './report.js';
 import { readState, writeState } from './state.js';
 import { analyses, analysisByKey } from './views.js';
 
 const $ = (id) => document.getElementById(id);
-const app = { doc: null, scenario: null, options: null, analysis: null, response: null, report: false };
+const app = { doc: null, defaults: null, baseName: '', scenario: null, options: null, analysis: null, response: null, report: false, partialShown: -1 };
 
 function optionsSchema(analysis) {
   const request = resolve(app.doc, app.doc.paths[analysis.path].post.requestBody.content['application/json'].schema);
@@ -51,13 +52,15 @@ function buildTabs() {
 }
 
 function saveState() {
-  return writeState({ analysis: app.analysis.key, scenario: app.scenario.patch(), options: app.options.options(), view: app.report ? 'report' : null });
+  return writeState({ analysis: app.analysis.key, base: app.baseName, scenario: app.scenario.patch(), options: app.options.options(), view: app.report ? 'report' : null });
 }
 
 function showDiff() {
   app.scenario.markChanges();
   const changes = app.scenario.changes();
-  $('diff-count').textContent = changes.length ? `${changes.length} field${changes.length > 1 ? 's differ' : ' differs'} from the default` : 'the default scenario';
+  const base = app.baseName ? `stored scenario ${app.baseName}` : 'default scenario';
+  $('diff-count').textContent = changes.length ? `${changes.length} field${changes.length > 1 ? 's differ' : ' differs'} from the ${base}` : `the ${base}`;
+  $('diff').setAttribute('aria-label', `Fields that differ from the ${base}`);
   $('diff').replaceChildren(...changes.map(([pointer, base, value]) => {
     const item = document.createElement('li');
     item.textContent = `${pointer}: ${base} → ${value}`;
@@ -86,12 +89,19 @@ function showProblem(problem) {
   box.hidden = false;
 }
 
+// What a view needs besides the answer: the document (units of the fields) and the rolling
+// speed the editor shows (a running map's operating speed).
+function context() {
+  const full = mergePatch(structuredClone(app.scenario.base), app.scenario.patch());
+  return { doc: app.doc, speed: full.rolls && full.rolls.speed_m_per_s };
+}
+
 function render(response) {
   app.response = response;
   const plots = $('plots');
   clearPlots(plots);
   const view = analysisByKey(response.analysis);
-  const headline = view.render(response, plots);
+  const headline = view.render(response, plots, context());
   $('headline').replaceChildren(table(`${view.label}: headline figures`, headline, ['quantity', 'value', 'unit']));
   $('result-actions').hidden = false;
   if (app.report) fillReportView();
@@ -105,11 +115,24 @@ function clearResult() {
   $('result-actions').hidden = true;
 }
 
-const request = () => ({ analysis: app.analysis.key, scenario: app.scenario.patch(), options: app.options.options() });
+const request = () => ({ analysis: app.analysis.key, ...(app.baseName ? { base: app.baseName } : {}), scenario: app.scenario.patch(), options: app.options.options() });
+
+// A running sweep or map: its finished points (the job's partial_result) drawn as they arrive.
+function renderPartial(job, body) {
+  const view = analysisByKey(body.analysis);
+  const partial = job.partial_result;
+  if (job.state !== 'running' || !view.partial || !partial || !Array.isArray(partial.points)) return;
+  if (partial.points.length === app.partialShown) return;
+  app.partialShown = partial.points.length;
+  clearPlots($('plots'));
+  const headline = view.render({ analysis: body.analysis, options: body.options, result: view.partial(body, partial), partial: true }, $('plots'), context());
+  $('headline').replaceChildren(table(`${view.label} (running): the finished points`, headline, ['quantity', 'value', 'unit']));
+}
 
 async function run(asJob) {
   clearFieldErrors(document.body);
   $('problem').hidden = true;
+  clearResult();  // the earlier answer is not this run's
   saveState();
   const body = request();
   $('run').disabled = $('run-job').disabled = true;
@@ -119,6 +142,7 @@ async function run(asJob) {
     if (asJob || app.analysis.job) {
       $('progress').hidden = $('cancel').hidden = false;
       $('progress').value = 0;
+      app.partialShown = -1;
       const job = await runner.run(body);
       if (job.state === 'succeeded') render(job.result.result ? job.result : { ...body, result: job.result });
       else clearResult();
@@ -142,25 +166,29 @@ async function run(asJob) {
 }
 
 const runner = new JobRunner({
-  onProgress(job) {
+  onProgress(job, body) {
     $('progress').value = job.progress || 0;
-    setStatus(`job ${job.state}, ${Math.round((job.progress || 0) * 100)} %`);
+    const points = Number.isInteger(job.points_total) ? `, ${job.points_done || 0} of ${job.points_total} points` : '';
+    setStatus(`job ${job.state}, ${Math.round((job.progress || 0) * 100)} %${points}`);
+    renderPartial(job, body);
   },
 });
 
-function listJobs() {
-  $('job-list').replaceChildren(...recentJobs().map((job) => {
+async function listJobs(cursor) {
+  let page;
+  try { page = await recentJobs(cursor); } catch { return; }  // the list is a convenience: the page works without it
+  const items = page.jobs.map((job) => {
     const item = document.createElement('li');
     const open = document.createElement('button');
     open.type = 'button';
-    open.textContent = `${job.analysis} · ${job.created_at || ''}`;
+    open.textContent = `${job.analysis} · ${job.state ? job.state + ' · ' : ''}${job.created_at || ''}`;
     open.addEventListener('click', async () => {
       try {
         const stored = await openJob(job.id);
         if (stored.state !== 'succeeded') { setStatus(`job ${stored.state}`); return; }
         selectAnalysis(stored.analysis);
-        app.scenario.apply(job.request.scenario || {});
-        app.options.apply(job.request.options || {});
+        app.scenario.applyFull(stored.result.scenario || {});
+        app.options.apply(stored.result.options || {});
         showDiff();
         render(stored.result);
         saveState();
@@ -170,12 +198,55 @@ function listJobs() {
     });
     item.append(open);
     return item;
-  }));
+  });
+  if (page.next) {
+    const more = document.createElement('button');
+    more.type = 'button';
+    more.textContent = 'Older jobs';
+    more.addEventListener('click', () => listJobs(page.next));
+    const item = document.createElement('li');
+    item.append(more);
+    items.push(item);
+  }
+  $('jobs-title').textContent = page.source === 'service' ? 'Recent jobs (this service)' : 'Recent jobs (this browser)';
+  if (cursor) {  // older ones: after those shown, in place of their "Older jobs" button
+    $('job-list').lastElementChild.remove();
+    $('job-list').append(...items);
+  } else {
+    $('job-list').replaceChildren(...items);
+  }
+}
+
+// Start from a stored scenario (or the default, name ''): the editor shows it, the diff and
+// the requests' patch are relative to it, the requests name it as `base`.
+async function chooseBase(name, patch = {}) {
+  if (name) {
+    const { scenario, version } = await storedScenario(name);
+    app.scenario.setBase(scenario);
+    $('base-version').textContent = version ? `version ${version.replace(/"/g, '')}` : '';
+  } else {
+    app.scenario.setBase(app.defaults);
+    $('base-version').textContent = '';
+  }
+  app.baseName = name;
+  $('base').value = name;
+  app.scenario.apply(patch);
+  showDiff();
+}
+
+async function offerStoredScenarios(wanted) {
+  const list = await storedScenarios(app.doc).catch(() => null);
+  if (!list) return;
+  $('base').append(...list.map((s) => Object.assign(document.createElement('option'), { value: s.name, textContent: `${s.name}${s.updated_at ? ` (${s.updated_at})` : ''}` })));
+  $('base-row').hidden = false;
+  $('base').addEventListener('change', () => chooseBase($('base').value).then(saveState).catch((error) => showProblem(error.problem || { detail: String(error) })));
+  if (wanted && list.some((s) => s.name === wanted)) await chooseBase(wanted);
 }
 
 function fillReportView() {
   fillReport($('report-head'), $('report-scenario'), app.response,
-    { label: app.analysis.label, version: app.doc.info.version, link: saveState(), changes: app.scenario.changes() });
+    { label: app.analysis.label, version: app.doc.info.version, link: saveState(), changes: app.scenario.changes(),
+      base: app.baseName ? `stored scenario ${app.baseName}` : 'default scenario' });
 }
 
 function setReport(on) {
@@ -191,11 +262,14 @@ function setReport(on) {
 async function start() {
   const [doc, base] = await Promise.all([getJson('/openapi.json'), getJson('/v1/scenarios/default')]);
   app.doc = doc;
+  app.defaults = base;
+  useServerJobList(doc);
   $('version').textContent = doc.info.version;
   app.scenario = new ScenarioForm($('scenario-form'), doc, base);
   buildTabs();
   const state = readState();
   selectAnalysis(state.analysis || 'roll_gap');
+  await offerStoredScenarios(state.base);
   app.scenario.apply(state.scenario);
   app.options.apply(state.options);
   showDiff();
@@ -204,6 +278,13 @@ async function start() {
   $('scenario-form').addEventListener('input', showDiff);
   $('scenario-form').addEventListener('change', showDiff);
   $('reset').addEventListener('click', () => { app.scenario.apply({}); showDiff(); clearFieldErrors(document.body); });
+  // The calibration's answer: a merge patch onto the defaults, shown as the editor's scenario.
+  $('plots').addEventListener('use-scenario', (event) => {
+    app.scenario.applyFull(mergePatch(structuredClone(app.defaults), event.detail || {}));
+    showDiff();
+    saveState();
+    setStatus('the calibrated scenario is in the editor');
+  });
   $('run').addEventListener('click', () => run(false));
   $('run-job').addEventListener('click', () => run(true));
   $('cancel').addEventListener('click', () => runner.cancel().catch(() => {}));

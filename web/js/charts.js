@@ -6,18 +6,23 @@ const palette = ['#1f5fa8', '#c0392b', '#2e8b57', '#8e44ad', '#d35400', '#16a085
 export const color = (i) => palette[i % palette.length];
 
 const charts = [];
+const cleanups = [];
 
 export function clearPlots(container) {
   while (charts.length) charts.pop().destroy();
+  while (cleanups.length) cleanups.pop()();
   container.replaceChildren();
 }
+// Something to undo when the plots are cleared (a resize observer of the heat map).
+export const onClear = (undo) => cleanups.push(undo);
 
 // `points(xs, ys)`: Chart.js {x, y} pairs, nulls (non-finite values) kept as gaps.
 export const points = (xs, ys) => xs.map((x, i) => ({ x, y: ys[i] }));
 
-export function addPlot(container, { id, title, description, type = 'line', data, x, y, y2, stacked = false }) {
+// A figure with a caption and a frame holding a labelled canvas (Chart.js or the heat map draws into it).
+export function plotFigure(container, { id, title, description, frameClass = 'plot-frame', wide = false }) {
   const figure = document.createElement('figure');
-  figure.className = 'plot';
+  figure.className = wide ? 'plot wide' : 'plot';
   const canvas = document.createElement('canvas');
   canvas.id = `plot-${id}`;
   canvas.setAttribute('role', 'img');
@@ -25,18 +30,65 @@ export function addPlot(container, { id, title, description, type = 'line', data
   const caption = document.createElement('figcaption');
   caption.textContent = title;
   const frame = document.createElement('div');
-  frame.className = 'plot-frame';
+  frame.className = frameClass;
   frame.append(canvas);
   figure.append(caption, frame);
   container.append(figure);
+  return { figure, canvas, frame };
+}
+
+// Vertical error bars for datasets with `errorBars: true` whose points carry `yError` (one
+// standard uncertainty): drawn after the datasets, and the y axis widened to hold them.
+// Chart.js 3 has no error bars of its own; this is the page's own small plugin.
+export const errorBars = {
+  id: 'rollgapErrorBars',
+  afterDataLimits(chart, { scale }) {
+    if (scale.axis !== 'y') return;
+    for (const dataset of chart.data.datasets) {
+      if (!dataset.errorBars || (dataset.yAxisID || 'y') !== scale.id) continue;
+      for (const p of dataset.data) {
+        if (p.y == null || p.yError == null) continue;
+        scale.min = Math.min(scale.min, p.y - p.yError);
+        scale.max = Math.max(scale.max, p.y + p.yError);
+      }
+    }
+  },
+  afterDatasetsDraw(chart) {
+    const { ctx } = chart;
+    chart.data.datasets.forEach((dataset, i) => {
+      if (!dataset.errorBars || !chart.isDatasetVisible(i)) return;
+      const xScale = chart.scales[dataset.xAxisID || 'x'];
+      const yScale = chart.scales[dataset.yAxisID || 'y'];
+      ctx.save();
+      ctx.strokeStyle = dataset.borderColor;
+      ctx.lineWidth = 1.5;
+      for (const p of dataset.data) {
+        if (p.y == null || p.yError == null) continue;
+        const x = xScale.getPixelForValue(p.x);
+        const top = yScale.getPixelForValue(p.y + p.yError);
+        const bottom = yScale.getPixelForValue(p.y - p.yError);
+        ctx.beginPath();
+        ctx.moveTo(x, top); ctx.lineTo(x, bottom);
+        ctx.moveTo(x - 5, top); ctx.lineTo(x + 5, top);
+        ctx.moveTo(x - 5, bottom); ctx.lineTo(x + 5, bottom);
+        ctx.stroke();
+      }
+      ctx.restore();
+    });
+  },
+};
+
+export function addPlot(container, { id, title, description, type = 'line', data, x, y, y2, stacked = false, plugins = [], xTicks, yTicks, small = false, pointLegend = false }) {
+  const { canvas } = plotFigure(container, { id, title, description, frameClass: small ? 'plot-frame small' : 'plot-frame' });
   const scales = {
-    x: { type: type === 'bar' ? 'category' : 'linear', title: { display: Boolean(x), text: x }, stacked },
-    y: { title: { display: Boolean(y), text: y }, stacked },
+    x: { type: type === 'bar' ? 'category' : 'linear', title: { display: Boolean(x), text: x }, stacked, ...(xTicks ? { ticks: xTicks } : {}) },
+    y: { title: { display: Boolean(y), text: y }, stacked, ...(yTicks ? { ticks: yTicks } : {}) },
   };
   if (y2) scales.y2 = { position: 'right', title: { display: true, text: y2 }, grid: { drawOnChartArea: false } };
   const chart = new Chart(canvas, {
     type,
     data,
+    plugins,
     options: {
       animation: false,
       responsive: true,
@@ -46,7 +98,11 @@ export function addPlot(container, { id, title, description, type = 'line', data
       spanGaps: false,
       interaction: { mode: 'nearest', intersect: false },
       elements: { point: { radius: 0, hitRadius: 6 } },
-      plugins: { legend: { labels: { boxWidth: 14 } } },
+      plugins: { legend: { labels: {
+        boxWidth: 14, usePointStyle: pointLegend,
+        // One entry per label (several markers may share one, e.g. the chatter type changes).
+        filter: (item, chartData) => chartData.datasets.findIndex((d) => d.label === item.text) === item.datasetIndex,
+      } } },
       scales,
     },
   });

@@ -14,6 +14,25 @@ export function resolve(doc, schema) {
 const isObject = (schema) => schema.properties !== undefined;
 const types = (schema) => [].concat(schema.type || []);
 
+// The served document's objects come with their members sorted by name (the service's JSON
+// objects are ordered maps), which puts `friction` before `strip`. The field table's own order
+// (strip, rolls, lubricant, ... — the order a process engineer reads a stand in) survives in
+// `required`, an array: members follow it, any others keep the document's order after them.
+export function orderedProperties(schema) {
+  const properties = schema.properties || {};
+  const first = (schema.required || []).filter((name) => Object.hasOwn(properties, name));
+  const rest = Object.keys(properties).filter((name) => !first.includes(name));
+  return [...first, ...rest].map((name) => [name, properties[name]]);
+}
+
+// The x-unit of a scenario field from the served document ('' when dimensionless or unknown).
+export function unitOf(doc, pointer) {
+  let schema = resolve(doc, doc.components.schemas.Scenario);
+  for (const key of pointer.split('/').slice(1)) schema = resolve(doc, (schema.properties || {})[key]);
+  const unit = schema && schema['x-unit'];
+  return unit && unit !== '1' ? unit : '';
+}
+
 function el(tag, attributes = {}, text) {
   const node = document.createElement(tag);
   for (const [key, value] of Object.entries(attributes)) {
@@ -32,7 +51,7 @@ function boundText(schema) {
 
 // One input for a leaf of the schema; `optional`: the field may stay empty (the service's
 // default applies), as the options do.
-function leafInput(schema, pointer, optional) {
+function leafInput(doc, schema, pointer, optional) {
   const id = fieldId(pointer);
   let input;
   if (schema.enum) {
@@ -50,6 +69,10 @@ function leafInput(schema, pointer, optional) {
       input = el('input', { id, type: 'checkbox' });
     }
     input.dataset.kind = 'boolean';
+  } else if (types(schema).includes('array') && isObject(resolve(doc, schema.items))) {
+    // A list of objects (calibration observations, map axes): edited as JSON.
+    input = el('textarea', { id, rows: 4, spellcheck: 'false', placeholder: 'JSON array, e.g. [{ … }]' });
+    input.dataset.kind = 'json';
   } else if (types(schema).includes('array')) {
     input = el('input', { id, type: 'text', inputmode: 'decimal', placeholder: 'comma-separated numbers' });
     input.dataset.kind = 'array';
@@ -68,9 +91,9 @@ function leafInput(schema, pointer, optional) {
   return input;
 }
 
-function field(schema, name, pointer, optional) {
+function field(doc, schema, name, pointer, optional) {
   const wrapper = el('div', { class: 'field' });
-  const input = leafInput(schema, pointer, optional);
+  const input = leafInput(doc, schema, pointer, optional);
   const unit = schema['x-unit'] || (schema.items && schema.items['x-unit']);
   const label = el('label', { for: input.id });
   label.append(el('span', { class: 'name' }, name));
@@ -82,6 +105,7 @@ function field(schema, name, pointer, optional) {
   const bound = boundText(schema);
   if (bound) input.title = `allowed ${bound}${unit && unit !== '1' ? ' ' + unit : ''}`;
   const error = el('p', { class: 'field-error', id: `${input.id}-error`, hidden: true });
+  if (input.dataset.kind === 'json') wrapper.classList.add('wide');
   wrapper.append(label, input, error, help);
   return wrapper;
 }
@@ -89,7 +113,7 @@ function field(schema, name, pointer, optional) {
 // Builds the fieldsets and inputs of an object schema into `container`.
 export function buildFields(container, doc, schema, prefix, { optional = false, depth = 0 } = {}) {
   schema = resolve(doc, schema);
-  for (const [name, raw] of Object.entries(schema.properties || {})) {
+  for (const [name, raw] of orderedProperties(schema)) {
     const child = resolve(doc, raw);
     const pointer = `${prefix}/${name}`;
     if (isObject(child)) {
@@ -100,7 +124,7 @@ export function buildFields(container, doc, schema, prefix, { optional = false, 
       buildFields(group, doc, child, pointer, { optional, depth: depth + 1 });
       container.append(group);
     } else {
-      container.append(field(child, name, pointer, optional));
+      container.append(field(doc, child, name, pointer, optional));
     }
   }
 }
@@ -112,6 +136,7 @@ function readInput(input) {
   switch (input.dataset.kind) {
     case 'number': { const n = Number(raw); return Number.isNaN(n) ? raw : n; }
     case 'boolean': return raw === 'true';
+    case 'json': try { return JSON.parse(raw); } catch { return raw; }  // the service names what is wrong
     case 'array': return raw.split(/[\s,;]+/).filter(Boolean).map((v) => (Number.isNaN(Number(v)) ? v : Number(v)));
     default: return raw;
   }
@@ -120,6 +145,7 @@ function readInput(input) {
 function writeInput(input, value) {
   if (input.type === 'checkbox') input.checked = Boolean(value);
   else if (value === undefined || value === null) input.value = '';
+  else if (input.dataset.kind === 'json') input.value = Array.isArray(value) ? `[\n${value.map((item) => ' ' + JSON.stringify(item)).join(',\n')}\n]` : JSON.stringify(value);
   else if (Array.isArray(value)) input.value = value.join(', ');
   else input.value = String(value);
 }
@@ -132,10 +158,22 @@ function setAt(object, pointer, value) {
   node[keys[keys.length - 1]] = value;
 }
 
+// RFC 7396: members of the patch replace the target's, null removes, objects merge.
+export function mergePatch(target, patch) {
+  if (patch === null || typeof patch !== 'object' || Array.isArray(patch)) return patch;
+  const out = target && typeof target === 'object' && !Array.isArray(target) ? target : {};
+  for (const [key, value] of Object.entries(patch)) {
+    if (value === null) delete out[key];
+    else out[key] = mergePatch(out[key], value);
+  }
+  return out;
+}
+
 const inputs = (form) => [...form.querySelectorAll('[data-pointer]')];
 const same = (a, b) => JSON.stringify(a) === JSON.stringify(b);
 
-// The scenario form: values are always filled in, the patch holds those that differ from the base.
+// The scenario form: values are always filled in, the patch holds those that differ from the
+// base (the default scenario, or a stored one the requests then name as `base`).
 export class ScenarioForm {
   constructor(form, doc, base) {
     this.form = form;
@@ -143,10 +181,14 @@ export class ScenarioForm {
     buildFields(form, doc, doc.components.schemas.Scenario, '/scenario');
     this.apply({});
   }
-  apply(patch) {
+  // A new base keeps what the inputs show; only the patch (the differences) changes.
+  setBase(base) { this.base = base; this.markChanges(); }
+  apply(patch) { this.applyFull(mergePatch(structuredClone(this.base), patch || {})); }
+  // Shows a complete scenario (fields it lacks keep the base's value).
+  applyFull(scenario) {
     for (const input of inputs(this.form)) {
       const pointer = input.dataset.pointer.replace(/^\/scenario/, '');
-      const value = getAt(patch, pointer);
+      const value = getAt(scenario, pointer);
       writeInput(input, value !== undefined ? value : getAt(this.base, pointer));
     }
     this.markChanges();

@@ -56,7 +56,7 @@ export function table(caption, rows, header) {
 }
 
 // Fills the report's head (title, version, time, link) and the full scenario.
-export function fillReport(head, scenarioBox, response, { label, version, link, changes }) {
+export function fillReport(head, scenarioBox, response, { label, version, link, changes, base = 'default scenario' }) {
   head.replaceChildren();
   const h = document.createElement('h2');
   h.textContent = `rollgap report: ${label}`;
@@ -67,7 +67,7 @@ export function fillReport(head, scenarioBox, response, { label, version, link, 
   a.textContent = 'link to this view';
   a.className = 'no-print';
   head.append(h, meta, a);
-  if (changes.length) head.append(table('Fields changed from the default scenario', changes.map(([p, b, v]) => [p, String(b), String(v)]), ['field', 'default', 'value']));
+  if (changes.length) head.append(table(`Fields changed from the ${base}`, changes.map(([p, b, v]) => [p, String(b), String(v)]), ['field', 'base', 'value']));
   scenarioBox.replaceChildren(table('The full scenario used', flatten(response.scenario), ['field', 'value']),
     table('The options used', flatten(response.options || {}), ['option', 'value']));
 }

@@ -1,6 +1,9 @@
 // What each analysis draws and lists. Every view takes the service's answer as it is (the
 // numbers are plotted unchanged) and returns its headline rows; `csv` gives the tabular part.
-import { addPlot, color, line, marker, points } from './charts.js';
+import { addPlot, color, errorBars, line, marker, points } from './charts.js';
+import { unitOf } from './editor.js';
+import { drawHeatmap } from './heatmap.js';
+import { table } from './report.js';
 
 const fmt = (value, digits = 4) => {
   if (value === null || value === undefined) return '—';
@@ -23,6 +26,47 @@ function columns(object) {
 function records(list) {
   const keys = [...new Set(list.flatMap((item) => Object.keys(item).filter((k) => typeof item[k] !== 'object' || item[k] === null)))];
   return [keys, ...list.map((item) => keys.map((k) => item[k]))];
+}
+
+// Chatter types (docs/model.md, "Chatter type"): a name and a symbol each, so a plot never
+// tells them apart by colour alone.
+const chatterTypes = {
+  third_octave: { name: 'third-octave', symbol: '3', pointStyle: 'circle' },
+  fifth_octave: { name: 'fifth-octave', symbol: '5', pointStyle: 'triangle' },
+  other: { name: 'other', symbol: 'o', pointStyle: 'rect' },
+};
+const chatterName = (type) => (type ? (chatterTypes[type] || { name: type }).name : '—');
+
+// The values of a sweep's or map axis' options (values, or from + (to − from)·i/(count − 1)).
+export function optionValues(axis) {
+  if (!axis) return [];
+  if (Array.isArray(axis.values)) return axis.values;
+  const { from, to, count } = axis.range || {};
+  if (!(count >= 2)) return [];
+  return Array.from({ length: count }, (_, i) => from + ((to - from) * i) / (count - 1));
+}
+// Index of the entry of `list` nearest `value` (the changes' values are rounded to 12 digits).
+const nearest = (list, value) => list.reduce((best, v, i) => (Math.abs(v - value) < Math.abs(list[best] - value) ? i : best), 0);
+const axisLabel = (doc, pointer, unit) => {
+  const u = (doc && unitOf(doc, pointer)) || (unit && unit !== '1' ? unit : '');
+  return u ? `${pointer} [${u}]` : pointer;
+};
+
+// A figure holding tables or controls rather than a plot (full width of the plots grid).
+function panel(plots, title) {
+  const figure = document.createElement('figure');
+  figure.className = 'plot wide';
+  const caption = document.createElement('figcaption');
+  caption.textContent = title;
+  figure.append(caption);
+  plots.append(figure);
+  return figure;
+}
+// A table whose numeric cells keep the exact number in data-value (what a test compares).
+function numberTable(caption, header, rows) {
+  const t = table(caption, rows.map((r) => r.map((cell) => (typeof cell === 'number' ? fmt(cell) : cell ?? '—'))), header);
+  [...t.tBodies[0].rows].forEach((tr, i) => rows[i].forEach((cell, j) => { if (typeof cell === 'number') tr.cells[j].dataset.value = String(cell); }));
+  return t;
 }
 
 function drawBite(plots, result, rollSpeed, prefix = '') {
@@ -78,8 +122,9 @@ function biteHeadline(r) {
 
 function modeShape(plots, mode, title) {
   if (!mode || !mode.shape) return;
+  const type = mode.chatter_type ? `: chatter type ${chatterName(mode.chatter_type)}${mode.chatter_band && mode.chatter_band !== mode.chatter_type ? ` (its frequency band suggests ${chatterName(mode.chatter_band)})` : ''}` : '';
   addPlot(plots, {
-    id: 'mode-shape', type: 'bar', title, x: 'mass of the stack (m1 top backup … m6 bottom backup)', y: 'relative amplitude',
+    id: 'mode-shape', type: 'bar', title: `${title}${type}`, x: 'mass of the stack (m1 top backup … m6 bottom backup)', y: 'relative amplitude',
     data: { labels: mode.shape.map((_, i) => `m${i + 1}`), datasets: [{ label: `${fmt(mode.frequency_Hz)} Hz`, data: mode.shape, backgroundColor: color(1) }] },
   });
 }
@@ -131,6 +176,8 @@ export const analyses = [
         row('stable at the scenario speed', r.stable), row('rolling speed', r.speed_m_per_s, 'm/s'),
         row('critical speed', c.critical_speed_m_per_s, 'm/s'), row('search status', c.status),
         row('unstable mode frequency', c.unstable_mode && c.unstable_mode.frequency_Hz, 'Hz'),
+        row('chatter type of the unstable mode', chatterName(c.unstable_mode && c.unstable_mode.chatter_type)),
+        row('chatter type of the least-damped mode', chatterName(r.least_damped_mode && r.least_damped_mode.chatter_type)),
         row('least-damped mode', r.least_damped_mode && r.least_damped_mode.frequency_Hz, 'Hz'),
         row('its damping ratio', r.least_damped_mode && r.least_damped_mode.damping_ratio, '-'),
         row('strip stiffness', r.strip_stiffness_GN_per_m, 'GN/m'),
@@ -182,22 +229,185 @@ export const analyses = [
   },
   {
     key: 'sweep', label: 'Sweep', path: '/v1/sweeps', job: true,
-    render(response, plots) {
+    // A running job's finished points (partial_result) as a result with gaps.
+    partial(request, partial) {
+      const options = request.options || {};
+      const xs = optionValues(options);
+      const found = new Map(partial.points.map((p) => [p.index, p.point]));
+      const valueName = [...found.values()].map((p) => Object.keys(p).find((k) => /^value(_|$)/.test(k))).find(Boolean) || 'value';
+      return {
+        parameter: options.parameter, unit: '', value_name: valueName, quantity: options.quantity || 'critical_speed',
+        points: xs.map((x, i) => found.get(i) || { [valueName]: x, missing: true }),
+        chatter_type_changes: [],
+      };
+    },
+    render(response, plots, { doc } = {}) {
       const r = response.result;
       const critical = r.quantity !== 'amplitude';
-      const unit = r.unit && r.unit !== '1' ? ` [${r.unit}]` : '';
-      const v = r.points.map((p) => p.value);
+      const name = r.value_name || 'value';
+      const v = r.points.map((p) => p[name]);
+      const y = (key) => r.points.map((p) => (p.missing ? null : p[key]));
+      const speeds = y('critical_speed_m_per_s');
+      const typed = critical ? Object.entries(chatterTypes).map(([type, style], k) => {
+        const data = r.points.map((p, i) => ({ x: v[i], y: speeds[i] })).filter((_, i) => r.points[i].chatter_type === type);
+        return { label: `chatter type ${style.name}`, data, pointStyle: style.pointStyle, pointRadius: 8, borderWidth: 2, showLine: false, order: 0, borderColor: color(k + 2), backgroundColor: 'rgba(255,255,255,0.6)' };
+      }).filter((d) => d.data.length) : [];
+      const changes = (r.chatter_type_changes || []).map((c) => (c.from + c.to) / 2);
+      const known = speeds.filter((s) => s !== null);
       addPlot(plots, {
-        id: 'sweep', title: `${critical ? 'Critical speed' : 'Amplitude'} over ${r.parameter}`, x: `${r.parameter}${unit}`,
+        id: 'sweep', title: `${critical ? 'Critical speed' : 'Amplitude'} over ${r.parameter}${response.partial ? ' (running: the finished points)' : ''}`,
+        description: critical ? 'symbols: the chatter type of the mode that goes unstable; dashed lines: the chatter type changes' : '',
+        x: axisLabel(doc, r.parameter, r.unit), pointLegend: critical,
         y: critical ? 'critical speed [m/s]' : 'gap amplitude [µm]', y2: critical ? 'chatter frequency [Hz]' : undefined,
         data: { datasets: critical ? [
-          line('critical speed [m/s]', points(v, r.points.map((p) => p.critical_speed_m_per_s)), 0, { pointRadius: 3 }),
-          line('frequency of the unstable mode [Hz]', points(v, r.points.map((p) => p.frequency_Hz)), 1, { pointRadius: 3, yAxisID: 'y2' }),
-        ] : [line('gap amplitude [µm]', points(v, r.points.map((p) => p.gap_amplitude_um)), 0, { pointRadius: 3 })] },
+          line('critical speed [m/s]', points(v, speeds), 0, { pointRadius: 3, order: 1 }),
+          line('frequency of the unstable mode [Hz]', points(v, y('frequency_Hz')), 1, { pointRadius: 3, yAxisID: 'y2', order: 1, borderDash: [2, 2] }),
+          ...typed,
+          ...(known.length ? changes.map((x) => ({ ...marker('chatter type changes', x, min(known), max(known), '#d0021b'), pointRadius: 0 })) : []),
+        ] : [line('gap amplitude [µm]', points(v, y('gap_amplitude_um')), 0, { pointRadius: 3 })] },
       });
-      return [row('parameter', r.parameter), row('values', r.points.length), row('quantity', r.quantity)];
+      const rows = [row('parameter', r.parameter), row('values', r.points.filter((p) => !p.missing).length), row('quantity', r.quantity)];
+      if (critical && !response.partial) {  // the changes come with the complete result
+        rows.push(row('chatter type changes', (r.chatter_type_changes || []).length));
+        for (const c of r.chatter_type_changes || []) rows.push([`between ${fmt(c.from)} and ${fmt(c.to)}`, `${chatterName(c.from_chatter_type)} → ${chatterName(c.to_chatter_type)}`, '']);
+      }
+      return rows;
     },
     csv: (response) => records(response.result.points),
+  },
+  {
+    key: 'map', label: 'Map', path: '/v1/maps', job: true,
+    partial(request, partial) {
+      const axes = ((request.options || {}).parameters || []).map((a) => ({ parameter: a.parameter, unit: '', values: optionValues(a) }));
+      const count = axes.length === 2 ? axes[0].values.length * axes[1].values.length : 0;
+      const cells = Array.from({ length: count }, () => null);
+      for (const p of partial.points) if (p.index < count) cells[p.index] = p.point;
+      return { parameters: axes, cells, chatter_type_changes: [] };
+    },
+    render(response, plots, { doc, speed } = {}) {
+      const r = response.result;
+      const [rowsAxis, columnsAxis] = r.parameters;
+      const nc = columnsAxis.values.length;
+      const rolling = response.scenario ? response.scenario.rolls.speed_m_per_s : speed;
+      const classes = {
+        stable_in_range: { symbol: 'S', fill: [236, 236, 236] },
+        unstable_at_lower_bound: { symbol: 'U', fill: [90, 90, 90] },
+        no_steady_state: { symbol: '×', fill: [255, 255, 255] },
+      };
+      const cells = r.cells.map((c) => {
+        if (!c) return null;
+        const extra = classes[c.status] || {};
+        const symbol = c.chatter_type ? chatterTypes[c.chatter_type].symbol : extra.symbol || '?';
+        return { value: c.critical_speed_m_per_s, symbol, fill: extra.fill, cell: c };
+      });
+      // The changes name the two cells by their values; find them on the axes.
+      const edges = (r.chatter_type_changes || []).map((c) => [
+        nearest(rowsAxis.values, c.from[0]) * nc + nearest(columnsAxis.values, c.from[1]),
+        nearest(rowsAxis.values, c.to[0]) * nc + nearest(columnsAxis.values, c.to[1]),
+      ]);
+      const controls = panel(plots, 'Operating window');
+      const label = document.createElement('label');
+      label.htmlFor = 'map-speed';
+      label.textContent = 'Operating speed [m/s]: cells stable at it are outlined ';
+      const input = document.createElement('input');
+      Object.assign(input, { id: 'map-speed', type: 'number', step: 'any', min: '0', value: rolling != null ? String(rolling) : '' });
+      const key = document.createElement('p');
+      key.className = 'help';
+      key.id = 'map-key';
+      key.textContent = 'Colour: critical speed. Symbols: chatter type of the mode that goes unstable — 3 third-octave, 5 fifth-octave, o other; '
+        + 'S stable over the whole search range, U unstable already at its lowest speed, × no steady bite. '
+        + 'Thick black outline: stable at the operating speed (below the critical speed). Dashed red edge: the chatter type changes between the two cells.';
+      controls.append(label, input, key);
+      const map = drawHeatmap(plots, {
+        id: 'map', title: `Critical speed over ${rowsAxis.parameter} and ${columnsAxis.parameter}${response.partial ? ' (running: the finished cells)' : ''}`,
+        description: key.textContent,
+        rows: { label: axisLabel(doc, rowsAxis.parameter, rowsAxis.unit), values: rowsAxis.values },
+        columns: { label: axisLabel(doc, columnsAxis.parameter, columnsAxis.unit), values: columnsAxis.values },
+        cells, valueLabel: 'critical speed [m/s]', speed: Number.isFinite(rolling) ? rolling : null, edges,
+        stableAt: (c, v) => c.cell.status === 'stable_in_range' || (c.value != null && v < c.value),
+      });
+      input.addEventListener('input', () => { const v = Number(input.value); map.model.setSpeed(input.value !== '' && Number.isFinite(v) ? v : null); });
+      input.setAttribute('aria-describedby', key.id);
+      const done = r.cells.filter(Boolean);
+      const found = done.map((c) => c.critical_speed_m_per_s).filter((v) => v !== null);
+      const details = document.createElement('details');
+      const summary = document.createElement('summary');
+      summary.textContent = 'The cells as a table';
+      details.append(summary, numberTable('Critical speed per cell', [rowsAxis.parameter, columnsAxis.parameter, 'status', 'critical speed [m/s]', 'frequency [Hz]', 'chatter type'],
+        done.map((c) => [c.values[0], c.values[1], c.status, c.critical_speed_m_per_s, c.frequency_Hz, chatterName(c.chatter_type)])));
+      panel(plots, 'Cells').append(details);
+      return [
+        row('rows', `${rowsAxis.parameter} (${rowsAxis.values.length})`), row('columns', `${columnsAxis.parameter} (${nc})`),
+        row('cells done', `${done.length} of ${r.cells.length}`),
+        row('lowest critical speed', found.length ? min(found) : null, 'm/s'), row('highest critical speed', found.length ? max(found) : null, 'm/s'),
+        row('chatter type changes', response.partial ? null : (r.chatter_type_changes || []).length),
+      ];
+    },
+    csv: (response) => records(response.result.cells.map((c) => ({ row: c.values[0], column: c.values[1], ...c }))),
+  },
+  {
+    key: 'calibrate', label: 'Calibration', path: '/v1/calibrate', job: true,
+    render(response, plots) {
+      const r = response.result;
+      const observations = r.observations || [];
+      const quantities = [...new Set(observations.map((o) => o.quantity))];
+      const apply = document.createElement('button');
+      apply.type = 'button';
+      apply.id = 'use-calibrated';
+      apply.className = 'no-print';
+      apply.textContent = 'Use the calibrated scenario in the editor';
+      apply.addEventListener('click', () => plots.dispatchEvent(new CustomEvent('use-scenario', { bubbles: true, detail: r.calibrated_scenario })));
+      const fitted = panel(plots, 'Fitted parameters');
+      fitted.append(numberTable('Fitted scenario fields (standard errors from the posterior covariance)',
+        ['field', 'unit', 'start', 'fitted value', 'standard error', 'min', 'max', 'at bound'],
+        r.parameters.map((p) => [p.field, p.unit === '1' ? '-' : p.unit, p.start, p.value, p.standard_error, p.min, p.max, p.at_bound || 'no'])), apply);
+      if (Array.isArray(r.correlation) && r.correlation.length > 1) {
+        fitted.append(numberTable('Correlation of the fitted values', ['', ...r.parameters.map((p) => p.field)],
+          r.correlation.map((line, i) => [r.parameters[i].field, ...line])));
+      }
+      const warnings = panel(plots, `Warnings (${(r.warnings || []).length})`);
+      const list = document.createElement('ul');
+      list.id = 'calibration-warnings';
+      for (const w of r.warnings || []) {
+        const item = document.createElement('li');
+        item.textContent = `${w.code}: ${w.fields.join(', ')} — ${w.detail}`;
+        list.append(item);
+      }
+      if (!(r.warnings || []).length) list.append(Object.assign(document.createElement('li'), { textContent: 'none' }));
+      warnings.append(list);
+      quantities.forEach((quantity) => {
+        const unit = (/_(kN_m|kN|m_per_s|Hz)$/.exec(quantity) || [])[1];
+        const unitText = unit ? unit.replace('_per_', '/').replace('kN_m', 'kN·m') : '-';
+        const mine = observations.map((o, i) => ({ o, n: i + 1 })).filter(({ o }) => o.quantity === quantity);
+        addPlot(plots, {
+          id: `calibration-${quantity}`, title: `${quantity}: observed ± standard uncertainty and fitted`, small: true, pointLegend: true,
+          description: 'error bars: one standard uncertainty of the observation', x: 'observation number', y: `${quantity} [${unitText}]`,
+          xTicks: { stepSize: 1, precision: 0 },
+          plugins: [errorBars],
+          data: { datasets: [
+            // Chart.js draws higher `order` first: the fitted cross lies on the observed circle.
+            { label: 'observed', data: mine.map(({ o, n }) => ({ x: n, y: o.value, yError: o.standard_uncertainty })), errorBars: true, order: 2,
+              showLine: false, pointRadius: 5, pointStyle: 'circle', borderColor: color(0), backgroundColor: 'rgba(31,95,168,0.25)', borderWidth: 2 },
+            { label: 'fitted', data: mine.map(({ o, n }) => ({ x: n, y: o.predicted })), showLine: false, pointRadius: 8, pointStyle: 'crossRot', order: 1,
+              borderWidth: 3, borderColor: color(1), backgroundColor: color(1) },
+          ] },
+        });
+      });
+      addPlot(plots, {
+        id: 'calibration-residuals', type: 'bar', title: 'Normalised residuals (fitted − observed) / uncertainty',
+        description: 'most lie within ±2 when the fit and the uncertainties are right', x: 'observation', y: 'normalised residual [-]',
+        yTicks: { callback: (v) => fmt(v, 3) },
+        data: { labels: observations.map((o, i) => `${i + 1} ${o.quantity}`), datasets: [{ label: 'normalised residual', data: observations.map((o) => o.normalised_residual), backgroundColor: color(0) }] },
+      });
+      return [
+        row('status', r.status), row('iterations', r.iterations), row('model evaluations', r.evaluations),
+        row('χ² of the observations', r.chi_squared_observations), row('χ² of the priors', r.chi_squared_priors),
+        row('degrees of freedom', r.degrees_of_freedom),
+        row('χ² per degree of freedom', r.degrees_of_freedom > 0 ? (r.chi_squared_observations + r.chi_squared_priors) / r.degrees_of_freedom : null),
+        row('reciprocal condition', r.reciprocal_condition), row('warnings', (r.warnings || []).length),
+      ];
+    },
+    csv: (response) => records(response.result.parameters),
   },
 ];
 
