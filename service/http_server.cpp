@@ -397,6 +397,13 @@ struct HttpServer::Impl {
             spdlog::warn("cannot raise the listen backlog; keeping httplib's");
         server_thread = std::thread([this] { server.listen_after_bind(); });
         admin_thread = std::thread([this] { admin.listen_after_bind(); });
+        // httplib's stop() does nothing until listen_after_bind() has marked its server
+        // running, so a shutdown right after start (a short test, an early SIGTERM) would leave
+        // a thread blocked in accept() and the join in shutdown() waiting for ever.
+        const auto until = SteadyClock::now() + std::chrono::seconds(5);
+        while ((!server.is_running() || !admin.is_running()) && SteadyClock::now() < until) {
+            std::this_thread::sleep_for(std::chrono::milliseconds(1));
+        }
         started = true;
         return true;
     }
