@@ -18,8 +18,8 @@ PreparedAnalysis prepare_map(const core::Scenario& scenario, const nlohmann::jso
         [plan](const core::Control& control) {
             const auto rows = static_cast<int>(plan->axes[0].values.size());
             const auto columns = static_cast<int>(plan->axes[1].values.size());
-            const core::StabilityMap map = core::stability_map(
-                plan->cells, rows, columns, plan->critical_speed, control.thread_budget(), control);
+            const core::StabilityMap map =
+                core::stability_map(plan->cells, rows, columns, plan->critical_speed, control);
             throw_if_cancelled(control);
             for (const auto& cell : map.cells) {
                 if (cell.status == core::CriticalSpeedStatus::cancelled) throw AnalysisCancelled{};

@@ -16,11 +16,11 @@ PreparedAnalysis prepare_sweep(const core::Scenario& scenario, const nlohmann::j
     return {
         plan->resolved_options,
         [plan](const core::Control& control) {
-            const int threads =
-                control.thread_budget();  // the points in parallel; results do not depend on it
+            // The points run in parallel on the Control's executor and budget; the results do
+            // not depend on it.
             if (plan->quantity == api::SweepQuantity::critical_speed) {
-                const auto results = core::sweep_critical_speed(
-                    plan->scenarios, plan->critical_speed, threads, control);
+                const auto results =
+                    core::sweep_critical_speed(plan->scenarios, plan->critical_speed, control);
                 throw_if_cancelled(control);
                 for (const auto& result : results) {
                     if (result.status == core::CriticalSpeedStatus::cancelled)
@@ -28,8 +28,7 @@ PreparedAnalysis prepare_sweep(const core::Scenario& scenario, const nlohmann::j
                 }
                 return api::sweep_critical_speed_json(*plan, results);
             }
-            const auto results =
-                core::sweep_amplitude(plan->scenarios, plan->amplitude, threads, control);
+            const auto results = core::sweep_amplitude(plan->scenarios, plan->amplitude, control);
             throw_if_cancelled(control);
             for (const auto& result : results) {
                 if (result.status == core::AmplitudeStatus::cancelled) throw AnalysisCancelled{};

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "core/control.h"
 #include "core/stability.h"
 #include "tools/reproduce_paper/common.h"
 #include "tools/reproduce_paper/output.h"
@@ -70,7 +71,7 @@ inline const core::CriticalSpeedOptions search_options{};
 double trend_value(const core::CriticalSpeedResult& r);
 std::string speed_text(double v);
 Series named(std::string label);
-SweepRun run_sweep(const SweepFigure& fig, InletFilmModel film, int threads);
+SweepRun run_sweep(const SweepFigure& fig, InletFilmModel film, const core::Control& compute);
 void write_sweep_csv(Output& out, const SweepFigure& fig, const SweepRun& run);
 void add_status_edges(Plot& plot, const SweepFigure& fig, const SweepRun& run,
                       const std::string& suffix);
