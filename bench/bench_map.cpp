@@ -1,11 +1,12 @@
 // Timing of a stability map (docs/model.md, "Stability maps"): the critical speed over a 20 × 20
 // grid of the default scenario, reduction 0.10-0.30 × entry thickness 1.0-2.0 mm, default search
-// (1-60 m/s, 0.5 m/s steps), on 2 threads. One run: the map takes tens of seconds.
+// (1-60 m/s, 0.5 m/s steps), on a pool of 2 threads. One run: the map takes tens of seconds.
 //
 // Output, one figure per line on stdout (as bench_model):
 //     map.20x20.<figure>: <value> <unit>
 // Usage: bench_map [--threads N]
 
+#include <algorithm>
 #include <chrono>
 #include <ctime>
 #include <cstdio>
@@ -14,6 +15,7 @@
 #include <vector>
 
 #include "core/map.h"
+#include "service/worker_pool.h"
 
 int main(int argc, char** argv) {
     int threads = 2;
@@ -33,7 +35,10 @@ int main(int argc, char** argv) {
     // CPU time beside the wall time: on a shared machine the wall time measures the neighbours too
     const std::clock_t cpu_start = std::clock();
     const auto start = std::chrono::steady_clock::now();
-    const rollgap::core::StabilityMap map = rollgap::core::stability_map(cells, n, n, {}, threads);
+    const auto pool = rollgap::service::local_pool(static_cast<std::size_t>(std::max(1, threads)));
+    rollgap::core::Control control;
+    control.executor = pool.get();
+    const rollgap::core::StabilityMap map = rollgap::core::stability_map(cells, n, n, {}, control);
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const double cpu_seconds = static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC;

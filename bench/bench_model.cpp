@@ -24,7 +24,8 @@
 #include <vector>
 
 #include "core/amplitude.h"
-#include "core/parallel_for.h"
+#include "core/control.h"
+#include "service/worker_pool.h"
 #include "core/roll_bite.h"
 #include "core/scenario.h"
 #include "core/stability.h"
@@ -149,10 +150,13 @@ Config heavy(const Config& cfg, long reps) {
 // The critical speed of the default scenario over 1-60 m/s, on one thread and on all cores.
 int bench_critical_speed(const Config& cfg) {
     const rollgap::core::Scenario scenario{};
-    for (const int threads : {1, rollgap::core::default_thread_count()}) {
-        rollgap::core::CriticalSpeedOptions options;
-        options.threads = threads;
-        const auto check = rollgap::core::critical_speed(scenario, options);
+    const auto pool = rollgap::service::local_pool();
+    for (const int threads : {1, pool->concurrency()}) {
+        const rollgap::core::CriticalSpeedOptions options;
+        rollgap::core::Control control;
+        control.executor = pool.get();
+        control.threads = threads;
+        const auto check = rollgap::core::critical_speed(scenario, options, control);
         if (check.status != rollgap::core::CriticalSpeedStatus::found) {
             std::fprintf(stderr, "critical_speed: not found (%s)\n",
                          rollgap::core::to_string(check.status));
@@ -160,7 +164,7 @@ int bench_critical_speed(const Config& cfg) {
         }
         if (threads == 1) print_figure("critical_speed.value", check.critical_speed, "m/s");
         const Timing t = time_it(heavy(cfg, 20), [&] {
-            return rollgap::core::critical_speed(scenario, options).critical_speed;
+            return rollgap::core::critical_speed(scenario, options, control).critical_speed;
         });
         print_timing("critical_speed.threads_" + std::to_string(threads), t);
     }
@@ -192,10 +196,12 @@ int bench_sweep(const Config& cfg) {
     for (std::size_t i = 0; i < scenarios.size(); ++i) {
         scenarios[i].lubricant.viscosity = 2e-4 + 1.8e-3 * static_cast<double>(i) / 99.0;
     }
-    const int threads = rollgap::core::default_thread_count();
-    print_count("sweep_100.threads", threads);
+    const auto pool = rollgap::service::local_pool();
+    rollgap::core::Control control;
+    control.executor = pool.get();
+    print_count("sweep_100.threads", control.thread_budget());
     const Timing t = time_it(heavy(cfg, 2), [&] {
-        const auto results = rollgap::core::sweep_critical_speed(scenarios, {}, threads);
+        const auto results = rollgap::core::sweep_critical_speed(scenarios, {}, control);
         return results.front().critical_speed;
     });
     print_timing("sweep_100", t);

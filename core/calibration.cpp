@@ -55,9 +55,7 @@ private:
     bool evaluate(const VectorXd& x, VectorXd& r, int threads) {
         if (evaluations_.load() >= options_.max_evaluations) return false;
         ++evaluations_;
-        Control inner;
-        inner.cancelled = control_.cancelled;
-        inner.threads = threads;
+        const Control inner = control_.nested(threads);
         r.resize(rows());
         VectorXd observed(m_);
         if (!model_(x, observed, inner) || !observed.allFinite()) return false;
@@ -71,7 +69,8 @@ private:
         return true;
     }
 
-    // Forward differences, one column per thread; a step that would leave the box goes the
+    // Forward differences, the columns in parallel on the executor, each evaluation's inner
+    // loops sharing what is left of the budget; a step that would leave the box goes the
     // other way. The prior rows are exact. False if a column has no model answer either way.
     bool jacobian(const VectorXd& x, const VectorXd& r, MatrixXd& J, double progress_from,
                   double progress_span) {
@@ -80,7 +79,7 @@ private:
         const int threads = control_.thread_budget();
         const int inner_threads = std::max(1, threads / std::max(1, n_));
         std::atomic<int> done{0};
-        parallel_for(n_, threads, [&](int j) {
+        parallel_for(n_, control_, [&](int j) {
             if (control_.should_stop()) return;
             const double h = options_.relative_step * std::max(std::abs(x(j)), scale_(j));
             for (const double direction : {1.0, -1.0}) {

@@ -36,8 +36,9 @@ struct CalibrationParameter {
 
 // Fills `residuals` (size observation_count) at `x`; false when the model has no answer there
 // (no steady bite, no critical speed in range): the fit treats the point as unacceptable.
-// `control.threads` is the thread budget of this one evaluation; it is called from several
-// threads at once (one per Jacobian column), so it must not share mutable state.
+// `control` carries the executor and the thread budget of this one evaluation (its inner loops
+// may run on the executor); it is called from several threads at once (one per Jacobian
+// column), so it must not share mutable state.
 using ResidualFunction = std::function<bool(const Eigen::VectorXd& x, Eigen::VectorXd& residuals,
                                             const Control& control)>;
 

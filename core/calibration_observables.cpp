@@ -205,9 +205,7 @@ public:
                 bite = solve_roll_bite(s, steady_bite_state(s), BiteOptions{false, -1.0});
             std::optional<Critical> critical;
             if (critical_needed) {
-                CriticalSpeedOptions search = setup_.critical_speed;
-                search.threads = control.thread_budget();
-                critical = critical_of(s, search, control);
+                critical = critical_of(s, setup_.critical_speed, control);
             }
             std::optional<Modes> modes;
             if (modes_needed) modes = modes_of(s);

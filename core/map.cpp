@@ -15,12 +15,11 @@ std::vector<std::pair<int, int>> grid_neighbours(int rows, int columns) {
 }
 
 StabilityMap stability_map(const std::vector<Scenario>& cells, int rows, int columns,
-                           const CriticalSpeedOptions& options, int threads,
-                           const Control& control) {
+                           const CriticalSpeedOptions& options, const Control& control) {
     StabilityMap map;
     map.rows = rows;
     map.columns = columns;
-    map.cells = sweep_critical_speed(cells, options, threads, control, false);
+    map.cells = sweep_critical_speed(cells, options, control, false);
     if (static_cast<long>(map.cells.size()) == static_cast<long>(rows) * columns) {
         map.changes = chatter_type_changes(map.cells, grid_neighbours(rows, columns));
     }

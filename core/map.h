@@ -19,8 +19,7 @@ struct StabilityMap {
 
 // `cells` row-major, rows × columns scenarios. A cancelled run leaves cells "cancelled".
 StabilityMap stability_map(const std::vector<Scenario>& cells, int rows, int columns,
-                           const CriticalSpeedOptions& options, int threads,
-                           const Control& control = {});
+                           const CriticalSpeedOptions& options, const Control& control = {});
 
 // The neighbour pairs of a rows × columns grid: (i, j)-(i, j+1) and (i, j)-(i+1, j).
 std::vector<std::pair<int, int>> grid_neighbours(int rows, int columns);

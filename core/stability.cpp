@@ -243,7 +243,7 @@ CriticalSpeedResult critical_speed(const Scenario& s, const CriticalSpeedOptions
 
     result.scan.resize(speeds.size());
     std::atomic<int> done{0};
-    parallel_for(count, options.threads, [&](int i) {
+    parallel_for(count, control, [&](int i) {
         if (control.should_stop()) return;
         SpeedStability point = analyse(at_speed(s, speeds[static_cast<std::size_t>(i)]), false);
         result.scan[static_cast<std::size_t>(i)] = std::move(point);

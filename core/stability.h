@@ -59,7 +59,6 @@ struct CriticalSpeedOptions {
     double speed_max = 60.0;  // m/s
     double speed_step = 0.5;  // m/s, at most 0.5
     double relative_tolerance = 1e-4;
-    int threads = 1;
 };
 
 enum class CriticalSpeedStatus {
@@ -84,6 +83,7 @@ struct CriticalSpeedResult {
     std::vector<DampingBranch> branches;
 };
 
+// The scan speeds run in parallel on the executor and thread budget of `control`.
 CriticalSpeedResult critical_speed(const Scenario& s, const CriticalSpeedOptions& options = {},
                                    const Control& control = {});
 

@@ -9,7 +9,7 @@ namespace rollgap::core {
 namespace {
 
 template <class Result, class Analysis>
-std::vector<Result> sweep(std::span<const Scenario> scenarios, int threads, const Control& control,
+std::vector<Result> sweep(std::span<const Scenario> scenarios, const Control& control,
                           Analysis&& analysis) {
     // A point the sweep never reached because it was cancelled says so.
     Result not_run;
@@ -17,7 +17,7 @@ std::vector<Result> sweep(std::span<const Scenario> scenarios, int threads, cons
     std::vector<Result> results(scenarios.size(), not_run);
     std::atomic<int> done{0};
     const int n = static_cast<int>(scenarios.size());
-    parallel_for(n, threads, [&](int i) {
+    parallel_for(n, control, [&](int i) {
         if (control.should_stop()) return;
         results[static_cast<std::size_t>(i)] = analysis(scenarios[static_cast<std::size_t>(i)]);
         control.report(static_cast<double>(++done) / n);
@@ -29,14 +29,11 @@ std::vector<Result> sweep(std::span<const Scenario> scenarios, int threads, cons
 
 std::vector<CriticalSpeedResult> sweep_critical_speed(std::span<const Scenario> scenarios,
                                                       const CriticalSpeedOptions& options,
-                                                      int threads, const Control& control,
-                                                      bool keep_scan) {
-    CriticalSpeedOptions serial = options;
-    serial.threads = 1;  // the parallelism is across the sweep
-    Control inner;
-    inner.cancelled = control.cancelled;
-    return sweep<CriticalSpeedResult>(scenarios, threads, control, [&](const Scenario& s) {
-        CriticalSpeedResult result = critical_speed(s, serial, inner);
+                                                      const Control& control, bool keep_scan) {
+    // The parallelism is across the sweep: each point's own scan runs on its thread.
+    const Control inner = control.nested(1);
+    return sweep<CriticalSpeedResult>(scenarios, control, [&](const Scenario& s) {
+        CriticalSpeedResult result = critical_speed(s, options, inner);
         if (!keep_scan) {
             result.scan = {};
             result.branches = {};
@@ -46,11 +43,10 @@ std::vector<CriticalSpeedResult> sweep_critical_speed(std::span<const Scenario> 
 }
 
 std::vector<AmplitudeResult> sweep_amplitude(std::span<const Scenario> scenarios,
-                                             const AmplitudeOptions& options, int threads,
+                                             const AmplitudeOptions& options,
                                              const Control& control) {
-    Control inner;
-    inner.cancelled = control.cancelled;
-    return sweep<AmplitudeResult>(scenarios, threads, control, [&](const Scenario& s) {
+    const Control inner = control.nested(1);
+    return sweep<AmplitudeResult>(scenarios, control, [&](const Scenario& s) {
         return vibration_amplitude(s, options, inner);
     });
 }

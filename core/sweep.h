@@ -1,7 +1,7 @@
 #pragma once
-// Sweeps (docs/model.md §7.5): one analysis over many scenarios, in parallel. Each scenario is
-// independent and its result lands in its own slot, so the results do not depend on the thread
-// count.
+// Sweeps (docs/model.md §7.5): one analysis over many scenarios, in parallel on the executor and
+// thread budget of the Control (core/parallel_for.h). Each scenario is independent and its
+// result lands in its own slot, so the results do not depend on the thread count.
 
 #include <optional>
 #include <span>
@@ -20,11 +20,11 @@ namespace rollgap::core {
 // points) without copying it.
 std::vector<CriticalSpeedResult> sweep_critical_speed(std::span<const Scenario> scenarios,
                                                       const CriticalSpeedOptions& options,
-                                                      int threads, const Control& control = {},
+                                                      const Control& control = {},
                                                       bool keep_scan = true);
 
 std::vector<AmplitudeResult> sweep_amplitude(std::span<const Scenario> scenarios,
-                                             const AmplitudeOptions& options, int threads,
+                                             const AmplitudeOptions& options,
                                              const Control& control = {});
 
 // The chatter type of the mode that goes unstable first (docs/model.md, "Chatter type"): when

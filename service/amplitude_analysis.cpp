@@ -24,10 +24,9 @@ PreparedAnalysis prepare_amplitude(const core::Scenario& scenario, const nlohman
             // One speed keeps core's fine-grained progress; several run in parallel, each
             // result in its own slot (independent of the thread count).
             const std::vector<core::AmplitudeResult> results =
-                runs.size() == 1
-                    ? std::vector<core::AmplitudeResult>{core::vibration_amplitude(
-                          runs.front(), parsed.run, control)}
-                    : core::sweep_amplitude(runs, parsed.run, control.thread_budget(), control);
+                runs.size() == 1 ? std::vector<core::AmplitudeResult>{core::vibration_amplitude(
+                                       runs.front(), parsed.run, control)}
+                                 : core::sweep_amplitude(runs, parsed.run, control);
             throw_if_cancelled(control);
             for (const core::AmplitudeResult& result : results) {
                 if (result.status == core::AmplitudeStatus::cancelled) throw AnalysisCancelled{};

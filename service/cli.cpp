@@ -25,6 +25,7 @@
 #include "service/openapi.h"
 #include "service/scenario_explain.h"
 #include "service/version.h"
+#include "service/worker_pool.h"
 
 namespace rollgap::service {
 namespace {
@@ -149,7 +150,11 @@ int run_request(std::string_view source, std::istream& in, std::ostream& out, bo
                              problem_outcome(api::make_problem(api::ProblemCode::unreadable_input,
                                                                api::concat("cannot read ", name))));
     }
-    const Outcome outcome = evaluate_text(*text);
+    // The analysis runs on this thread; its inner loops also on a pool sized by the CPU quota.
+    const auto pool = local_pool();
+    core::Control control;
+    control.executor = pool.get();
+    const Outcome outcome = evaluate_text(*text, control);
     if (!csv || !outcome.ok()) return print_outcome(out, outcome);
     const CsvAnswer answer = csv_answer(outcome.body, table);
     if (answer.status != 200) {

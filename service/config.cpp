@@ -7,7 +7,6 @@
 #include <fstream>
 #include <iterator>
 #include <sstream>
-#include <thread>
 
 #include <unistd.h>
 
@@ -15,6 +14,7 @@
 
 #include "api/name_suggestion.h"
 #include "api/text.h"
+#include "service/cpu_quota.h"
 
 namespace rollgap::service {
 namespace {
@@ -33,7 +33,8 @@ constexpr std::array settings{
         "--admin-port", "ROLLGAP_ADMIN_PORT", "N",
         "TCP port of the admin listener, 0 for any free port (default 8081; with --port 0, 0)"},
     ConfigSetting{"--workers", "ROLLGAP_WORKERS", "N",
-                  "compute threads (default: the machine's cores)"},
+                  "compute threads, the one pool of the process (default: the CPUs the process "
+                  "may use: cgroup quota, affinity mask)"},
     ConfigSetting{"--queue-length", "ROLLGAP_QUEUE_LENGTH", "N",
                   "synchronous requests that may wait for a worker; beyond: 503 (default 64)"},
     ConfigSetting{
@@ -42,8 +43,8 @@ constexpr std::array settings{
         "(default 128)"},
     ConfigSetting{
         "--analysis-threads", "ROLLGAP_ANALYSIS_THREADS", "N",
-        "threads one analysis may spread its scan speeds or sweep points over "
-        "(default 0: the machine's cores; with many workers, cores/workers avoids oversubscription)"},
+        "workers of the pool one analysis may spread its scan speeds or sweep points over, its "
+        "own included (default 0: all workers; at most the workers)"},
     ConfigSetting{"--deadline-ms", "ROLLGAP_DEADLINE_MS", "MS",
                   "time budget of a synchronous request; past it: 504 (default 30000)"},
     ConfigSetting{"--read-deadline-ms", "ROLLGAP_READ_DEADLINE_MS", "MS",
@@ -105,7 +106,7 @@ constexpr std::array integer_settings{
                        c.admin_port = static_cast<int>(n);
                        c.admin_port_set = true;
                    }},
-    IntegerSetting{"ROLLGAP_WORKERS", 0, 1024, "0..1024 (0: the machine's cores)",
+    IntegerSetting{"ROLLGAP_WORKERS", 0, 1024, "0..1024 (0: the CPUs the process may use)",
                    [](ServerConfig& c, long long n) { c.workers = static_cast<std::size_t>(n); }},
     IntegerSetting{
         "ROLLGAP_QUEUE_LENGTH", 0, 100000, "0..100000",
@@ -114,7 +115,7 @@ constexpr std::array integer_settings{
         "ROLLGAP_IO_THREADS", 1, 4096, "1..4096",
         [](ServerConfig& c, long long n) { c.io_threads = static_cast<std::size_t>(n); }},
     IntegerSetting{
-        "ROLLGAP_ANALYSIS_THREADS", 0, 1024, "0..1024 (0: the machine's cores)",
+        "ROLLGAP_ANALYSIS_THREADS", 0, 1024, "0..1024 (0: all workers)",
         [](ServerConfig& c, long long n) { c.analysis_threads = static_cast<std::size_t>(n); }},
     IntegerSetting{"ROLLGAP_DEADLINE_MS", 1, 3'600'000, "1..3600000 ms",
                    [](ServerConfig& c, long long n) { c.deadline = milliseconds(n); }},
@@ -224,7 +225,16 @@ std::span<const ConfigSetting> config_settings() { return settings; }
 
 ServerConfig ServerConfig::resolved() const {
     ServerConfig config = *this;
-    if (config.workers == 0) config.workers = std::max(1u, std::thread::hardware_concurrency());
+    // One pool for requests, jobs and the analyses' inner loops, as large as the CPUs the
+    // process may really use (service/worker_pool.h says why).
+    if (config.cpu_budget.empty()) {
+        const CpuBudget cpus = service::cpu_budget();
+        config.cpu_budget = describe(cpus);
+        if (config.workers == 0) config.workers = static_cast<std::size_t>(cpus.effective);
+    }
+    if (config.workers == 0) config.workers = 1;
+    if (config.analysis_threads == 0 || config.analysis_threads > config.workers)
+        config.analysis_threads = config.workers;
     if (config.job_workers == 0) config.job_workers = std::max<std::size_t>(1, config.workers / 2);
     config.job_workers = std::min(config.job_workers, config.workers);
     if (config.instance.empty()) config.instance = host_name();
@@ -321,6 +331,7 @@ std::string describe(const ServerConfig& config) {
          << " admin_bind=" << config.admin_bind_address << " admin_port=" << config.admin_port
          << " workers=" << config.workers << " queue_length=" << config.queue_length
          << " io_threads=" << config.io_threads << " analysis_threads=" << config.analysis_threads
+         << (config.cpu_budget.empty() ? "" : " ") << config.cpu_budget
          << " deadline_ms=" << config.deadline.count()
          << " read_deadline_ms=" << config.read_deadline.count()
          << " job_deadline_ms=" << config.job_deadline.count()

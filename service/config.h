@@ -24,12 +24,12 @@ struct ServerConfig {
     std::string admin_bind_address = "127.0.0.1";  // /livez, /readyz, /metrics on their own threads
     int admin_port = 8081;                         // 0: any free port (tests)
     bool admin_port_set = false;    // given by flag or environment; else --port 0 makes it 0 too
-    std::size_t workers = 0;        // compute threads; 0 means the machine's cores
+    std::size_t workers = 0;        // the compute pool's threads; 0: the CPUs the process may use
     std::size_t queue_length = 64;  // synchronous requests waiting for a worker
     std::size_t io_threads = 128;   // HTTP connection threads (one per open connection);
                                     // above workers + queue_length, so overload is a fast 503
-    std::size_t analysis_threads =
-        0;  // threads one analysis may spread over; 0: the machine's cores
+    std::size_t analysis_threads = 0;  // workers one analysis may spread over; 0: all of them
+    std::string cpu_budget;            // resolved: how the CPUs were counted (describe(CpuBudget))
     std::chrono::milliseconds deadline{30'000};  // synchronous requests, from arrival
     std::chrono::milliseconds read_deadline{
         10'000};  // a request's headers and body, from its first byte
@@ -50,7 +50,8 @@ struct ServerConfig {
     std::chrono::milliseconds lease{15'000};  // a claimed work item's lease, renewed at a third
     std::size_t chunk_points = 25;            // sweep points / map cells per work item
 
-    // Resolved values (workers = cores, job_workers = ...); call after parsing.
+    // Resolved values (workers = the CPU budget, analysis_threads = workers, job_workers = ...);
+    // call after parsing.
     ServerConfig resolved() const;
 };
 

@@ -186,4 +186,16 @@ CpuBudget cpu_budget(const std::filesystem::path& proc_self_cgroup,
     return budget;
 }
 
+std::string describe(const CpuBudget& budget) {
+    std::ostringstream text;
+    text << "cpus=" << budget.effective << " cpu_quota=";
+    if (budget.cgroup_limit) text << *budget.cgroup_limit;
+    else text << "none";
+    text << " cpu_affinity=";
+    if (budget.affinity) text << *budget.affinity;
+    else text << "unknown";
+    text << " cpu_hardware=" << budget.hardware;
+    return text.str();
+}
+
 }  // namespace rollgap::service

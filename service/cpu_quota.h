@@ -7,6 +7,7 @@
 
 #include <filesystem>
 #include <optional>
+#include <string>
 #include <string_view>
 
 namespace rollgap::service {
@@ -35,5 +36,9 @@ struct CpuBudget {
 CpuBudget cpu_budget(const std::filesystem::path& proc_self_cgroup = "/proc/self/cgroup",
                      const std::filesystem::path& mountinfo = "/proc/self/mountinfo",
                      const std::filesystem::path& root = "/");
+
+// "cpus=2 cpu_quota=1.5 cpu_affinity=4 cpu_hardware=64" (cpu_quota=none when unlimited, and
+// cpu_affinity=unknown when unreadable): for the start-up log line.
+std::string describe(const CpuBudget& budget);
 
 }  // namespace rollgap::service

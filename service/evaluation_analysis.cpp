@@ -12,10 +12,9 @@ PreparedAnalysis prepare_evaluation(const core::Scenario& scenario, const nlohma
     return {
         api::evaluation_options_json(parsed),
         [scenario, parsed](const core::Control& control) {
-            core::CriticalSpeedOptions search = parsed.critical_speed;
-            search.threads = control.thread_budget();  // the scan speeds in parallel
+            // The scan speeds run in parallel on the Control's executor and budget.
             const core::Evaluation evaluation =
-                core::evaluate_scenario(scenario, search, parsed.amplitude, control);
+                core::evaluate_scenario(scenario, parsed.critical_speed, parsed.amplitude, control);
             if (evaluation.critical.status == core::CriticalSpeedStatus::cancelled ||
                 evaluation.amplitude.status == core::AmplitudeStatus::cancelled) {
                 throw AnalysisCancelled{};

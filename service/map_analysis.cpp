@@ -22,8 +22,7 @@ PreparedAnalysis prepare_map(const core::Scenario& scenario, const nlohmann::jso
                 std::span(plan->cells).subspan(first, static_cast<std::size_t>(end - begin));
             // The cells of core::stability_map, without its neighbour comparison: the cells of
             // other chunks are not here, the assembly compares them (api/map_json.h).
-            const auto results = core::sweep_critical_speed(slice, plan->critical_speed,
-                                                            control.thread_budget(), control,
+            const auto results = core::sweep_critical_speed(slice, plan->critical_speed, control,
                                                             /*keep_scan=*/false);
             throw_if_cancelled(control, results);
             return api::map_cells_json(*plan, results, first);

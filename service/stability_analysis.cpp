@@ -21,11 +21,9 @@ PreparedAnalysis prepare_stability(const core::Scenario& scenario, const nlohman
                 if (modal.ok) report.modal = std::move(modal);
             }
             if (parsed.critical_speed) {
-                // The scan speeds are independent: spread over the caller's thread budget (the
-                // result does not depend on it).
-                core::CriticalSpeedOptions search = parsed.search;
-                search.threads = control.thread_budget();
-                report.critical = core::critical_speed(scenario, search, control);
+                // The scan speeds are independent: spread over the Control's executor and
+                // budget (the result does not depend on it).
+                report.critical = core::critical_speed(scenario, parsed.search, control);
                 if (report.critical->status == core::CriticalSpeedStatus::cancelled)
                     throw AnalysisCancelled{};
                 throw_if_cancelled(control);

@@ -20,15 +20,15 @@ PreparedAnalysis prepare_sweep(const core::Scenario& scenario, const nlohmann::j
             const auto first = static_cast<std::size_t>(begin);
             const auto slice =
                 std::span(plan->scenarios).subspan(first, static_cast<std::size_t>(end - begin));
-            const int threads =
-                control.thread_budget();  // the points in parallel; results do not depend on it
+            // The points run in parallel on the Control's executor and budget; the results do
+            // not depend on it.
             if (plan->quantity == api::SweepQuantity::critical_speed) {
                 const auto results =
-                    core::sweep_critical_speed(slice, plan->critical_speed, threads, control);
+                    core::sweep_critical_speed(slice, plan->critical_speed, control);
                 throw_if_cancelled(control, results);
                 return api::sweep_critical_speed_points_json(*plan, results, first);
             }
-            const auto results = core::sweep_amplitude(slice, plan->amplitude, threads, control);
+            const auto results = core::sweep_amplitude(slice, plan->amplitude, control);
             throw_if_cancelled(control, results);
             return api::sweep_amplitude_points_json(*plan, results, first);
         },

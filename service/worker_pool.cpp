@@ -5,15 +5,17 @@
 
 #include <spdlog/spdlog.h>
 
+#include "service/cpu_quota.h"
+
 namespace rollgap::service {
 
 WorkerPool::WorkerPool(std::size_t workers, std::size_t interactive_capacity,
                        std::size_t batch_capacity, std::size_t batch_concurrency)
-    : interactive_capacity_(interactive_capacity), batch_capacity_(batch_capacity),
+    : workers_(std::max<std::size_t>(1, workers)), interactive_capacity_(interactive_capacity),
+      batch_capacity_(batch_capacity),
       batch_concurrency_(std::max<std::size_t>(1, batch_concurrency)) {
-    workers = std::max<std::size_t>(1, workers);
-    threads_.reserve(workers);
-    for (std::size_t i = 0; i < workers; ++i) threads_.emplace_back([this] { work(); });
+    threads_.reserve(workers_);
+    for (std::size_t i = 0; i < workers_; ++i) threads_.emplace_back([this] { work(); });
 }
 
 WorkerPool::~WorkerPool() { shutdown(); }
@@ -28,7 +30,9 @@ bool WorkerPool::try_submit(Lane lane, Task task, const void* key) {
         // A task is refused only when it would have to wait: an idle worker takes it at once
         // even with a zero-length queue.
         const std::size_t free_workers = threads_.size() - busy_;
-        // (Interactive tasks only queue behind interactive tasks: workers take them first.)
+        // (Interactive tasks only queue behind interactive tasks: workers take them first. The
+        // inner lane is left out: its helpers belong to work already admitted, and one whose
+        // loop has no index left returns at once.)
         const bool starts_now = lane == Lane::interactive
                                     ? interactive_.size() < free_workers
                                     : interactive_.size() + batch_.size() < free_workers &&
@@ -38,6 +42,16 @@ bool WorkerPool::try_submit(Lane lane, Task task, const void* key) {
     }
     wake_.notify_one();
     return true;
+}
+
+void WorkerPool::post(std::function<void()> task) {
+    {
+        std::lock_guard lock(mutex_);
+        // Stopped with no task running: no worker may be left to take it.
+        if (stopping_ && busy_ == 0) return;
+        inner_.push_back(std::move(task));
+    }
+    wake_.notify_one();
 }
 
 bool WorkerPool::withdraw(const void* key) {
@@ -57,19 +71,24 @@ bool WorkerPool::withdraw(const void* key) {
 }
 
 bool WorkerPool::can_take() const {
-    return !interactive_.empty() || (!batch_.empty() && batch_running_ < batch_concurrency_);
+    return !inner_.empty() || !interactive_.empty() ||
+           (!batch_.empty() && batch_running_ < batch_concurrency_);
 }
 
 void WorkerPool::work() {
     std::unique_lock lock(mutex_);
     for (;;) {
         wake_.wait(lock, [this] {
-            return can_take() || (stopping_ && interactive_.empty() && batch_.empty());
+            return can_take() ||
+                   (stopping_ && inner_.empty() && interactive_.empty() && batch_.empty());
         });
         if (!can_take()) return;  // stopping and nothing left
         Task task;
         bool batch = false;
-        if (!interactive_.empty()) {
+        if (!inner_.empty()) {
+            task = std::move(inner_.front());
+            inner_.pop_front();
+        } else if (!interactive_.empty()) {
             task = std::move(interactive_.front().task);
             interactive_.pop_front();
         } else {
@@ -116,6 +135,7 @@ WorkerPoolStats WorkerPool::stats() const {
     WorkerPoolStats stats;
     stats.workers = threads_.size();
     stats.busy = busy_;
+    stats.inner_queued = inner_.size();
     stats.interactive_queued = interactive_.size();
     stats.interactive_capacity = interactive_capacity_;
     stats.batch_queued = batch_.size();
@@ -127,7 +147,12 @@ WorkerPoolStats WorkerPool::stats() const {
 
 bool WorkerPool::idle() const {
     std::lock_guard lock(mutex_);
-    return busy_ == 0 && interactive_.empty() && batch_.empty();
+    return busy_ == 0 && inner_.empty() && interactive_.empty() && batch_.empty();
+}
+
+std::unique_ptr<WorkerPool> local_pool(std::size_t workers) {
+    if (workers == 0) workers = static_cast<std::size_t>(cpu_budget().effective);
+    return std::make_unique<WorkerPool>(workers, 0, 0, 1);
 }
 
 }  // namespace rollgap::service

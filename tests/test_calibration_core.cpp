@@ -9,6 +9,7 @@
 #include <cmath>
 
 #include "core/calibration.h"
+#include "support/pool_control.h"
 
 using namespace rollgap::core;
 
@@ -154,12 +155,10 @@ TEST_CASE("a model failure at the start is a status; a cancelled fit stops and s
 }
 
 TEST_CASE("the Jacobian columns in parallel give the same fit as one thread") {
-    Control one, two;
-    one.threads = 1;
-    two.threads = 2;
+    const rollgap::test::PoolControl two(2);
     const std::vector<CalibrationParameter> parameters{{500.0, 0.0, 1e4}, {1e-4, 0.0, 1.0}};
-    const CalibrationResult a = calibrate(parameters, 14, misra, {}, one);
-    const CalibrationResult b = calibrate(parameters, 14, misra, {}, two);
+    const CalibrationResult a = calibrate(parameters, 14, misra, {});
+    const CalibrationResult b = calibrate(parameters, 14, misra, {}, two.control);
     CHECK(a.values(0) == b.values(0));
     CHECK(a.values(1) == b.values(1));
     CHECK(a.iterations == b.iterations);

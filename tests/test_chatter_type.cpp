@@ -10,6 +10,7 @@
 #include "core/mill_structure.h"
 #include "core/stability.h"
 #include "core/sweep.h"
+#include "support/pool_control.h"
 
 using namespace rollgap::core;
 
@@ -166,7 +167,8 @@ TEST_CASE(
     scenarios[0].roughness.strip_rq = 8e-6;
     scenarios[1].roughness.strip_rq = 9e-6;
     scenarios[2].roughness.strip_rq = 20e-6;
-    const auto results = sweep_critical_speed(scenarios, CriticalSpeedOptions{}, 2);
+    const auto results = sweep_critical_speed(scenarios, CriticalSpeedOptions{},
+                                              rollgap::test::PoolControl(2).control);
     for (const auto& r : results) REQUIRE(r.status == CriticalSpeedStatus::found);
     CHECK(results[0].unstable_mode.frequency_Hz < 150.0);
     CHECK(results[0].unstable_mode.chatter.type == ChatterType::third_octave);

@@ -1,14 +1,23 @@
 // The CPU budget (service/cpu_quota.h): cgroup v2 and v1 limits read from fixture trees laid
-// out like real systems, and the affinity mask checked against the kernel's own account of
-// it (/proc/self/status) and under `taskset -c 0`.
+// out like real systems, the affinity mask checked against the kernel's own account of it
+// (/proc/self/status) and under `taskset -c 0`, and the service sized by it: `rollgap serve`
+// under `taskset -c 0` starts one worker and says so.
 
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
+#include <thread>
 
 #include <doctest/doctest.h>
 
+#include "service/config.h"
 #include "service/cpu_quota.h"
 
 namespace {
@@ -106,4 +115,64 @@ TEST_CASE("cpu quota: under taskset -c 0 the budget is one CPU") {
         "ROLLGAP_EXPECT_AFFINITY=2 taskset -c 0 " + self +
         " -tc='cpu quota: affinity mask as the kernel reports it' >/dev/null 2>&1";
     CHECK(std::system(wrong.c_str()) != 0);
+}
+
+TEST_CASE("cpu quota: the service's workers and analysis budget default to the CPU budget") {
+    using rollgap::service::ServerConfig;
+    const int cpus = cpu_budget().effective;
+    const ServerConfig resolved = ServerConfig{}.resolved();
+    CHECK(resolved.workers == static_cast<std::size_t>(cpus));
+    CHECK(resolved.analysis_threads == resolved.workers);
+    CHECK(rollgap::service::describe(resolved).find(" cpus=" + std::to_string(cpus) + " ") !=
+          std::string::npos);
+    // Given values win; an analysis never spreads over more workers than there are.
+    ServerConfig given;
+    given.workers = 3;
+    given.analysis_threads = 8;
+    CHECK(given.resolved().workers == 3);
+    CHECK(given.resolved().analysis_threads == 3);
+}
+
+TEST_CASE("cpu quota: `taskset -c 0 rollgap serve` starts one worker and logs it") {
+    // The test runner is build/tests/rollgap_tests; the program is build/rollgap.
+    const std::filesystem::path program =
+        std::filesystem::canonical("/proc/self/exe").parent_path().parent_path() / "rollgap";
+    if (!std::filesystem::exists(program)) {
+        MESSAGE("no " << program.string()
+                      << " next to the tests (build the rollgap target): skipped");
+        return;
+    }
+    const std::filesystem::path log = std::filesystem::temp_directory_path() /
+                                      ("rollgap-taskset-" + std::to_string(::getpid()) + ".log");
+    const pid_t child = ::fork();
+    REQUIRE(child >= 0);
+    if (child == 0) {
+        std::FILE* out = std::freopen(log.c_str(), "w", stdout);
+        if (out == nullptr) ::_exit(126);
+        ::dup2(::fileno(stdout), STDERR_FILENO);
+        ::unsetenv("ROLLGAP_WORKERS");
+        ::unsetenv("ROLLGAP_ANALYSIS_THREADS");
+        ::execlp("taskset", "taskset", "-c", "0", program.c_str(), "serve", "--port", "0",
+                 "--admin-port", "0", "--io-threads", "4", "--log-level", "info",
+                 static_cast<char*>(nullptr));
+        ::_exit(127);
+    }
+    std::string line;
+    for (int attempt = 0; attempt < 200 && line.empty(); ++attempt) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+        std::ifstream file(log);
+        for (std::string text; std::getline(file, text);) {
+            if (text.find("msg=listening") != std::string::npos) line = text;
+        }
+    }
+    ::kill(child, SIGTERM);
+    int status = 0;
+    ::waitpid(child, &status, 0);
+    std::filesystem::remove(log);
+    CAPTURE(line);
+    REQUIRE_FALSE(line.empty());
+    CHECK(line.find(" workers=1 ") != std::string::npos);
+    CHECK(line.find(" analysis_threads=1 ") != std::string::npos);
+    CHECK(line.find(" cpus=1 ") != std::string::npos);
+    CHECK(line.find(" cpu_affinity=1 ") != std::string::npos);
 }

@@ -11,6 +11,7 @@
 #include "core/amplitude.h"
 #include "core/stability.h"
 #include "core/tension_cycle.h"
+#include "support/pool_control.h"
 
 using namespace rollgap::core;
 
@@ -78,6 +79,7 @@ std::vector<Corner> corners() {
 }  // namespace
 
 TEST_CASE("extreme scenarios end every analysis with a status and finite numbers") {
+    const rollgap::test::PoolControl two_threads(2);
     for (const Corner& corner : corners()) {
         CAPTURE(corner.name);
         Scenario s;
@@ -96,8 +98,7 @@ TEST_CASE("extreme scenarios end every analysis with a status and finite numbers
         CriticalSpeedOptions range;
         range.speed_min = std::max(0.01, s.rolls.speed * 0.5);
         range.speed_max = range.speed_min + 1.0;
-        range.threads = 2;
-        const CriticalSpeedResult critical = critical_speed(s, range);
+        const CriticalSpeedResult critical = critical_speed(s, range, two_threads.control);
         if (critical.status == CriticalSpeedStatus::found)
             CHECK(std::isfinite(critical.critical_speed));
 

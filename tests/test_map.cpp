@@ -9,6 +9,7 @@
 
 #include "core/map.h"
 #include "service/evaluate.h"
+#include "support/pool_control.h"
 #include "support/refused_options.h"
 
 using nlohmann::json;
@@ -53,8 +54,9 @@ TEST_CASE(
             cells.push_back(s);
         }
     }
-    const core::StabilityMap serial = core::stability_map(cells, 2, 2, narrow(), 1);
-    const core::StabilityMap parallel = core::stability_map(cells, 2, 2, narrow(), 2);
+    const core::StabilityMap serial = core::stability_map(cells, 2, 2, narrow());
+    const core::StabilityMap parallel =
+        core::stability_map(cells, 2, 2, narrow(), rollgap::test::PoolControl(2).control);
     REQUIRE(serial.cells.size() == 4);
     for (std::size_t c = 0; c < 4; ++c) {
         const core::CriticalSpeedResult alone = core::critical_speed(cells[c], narrow());

@@ -18,6 +18,7 @@
 #include "core/mill_structure.h"
 #include "core/roll_bite.h"
 #include "core/stability.h"
+#include "support/pool_control.h"
 
 namespace {
 
@@ -361,10 +362,8 @@ TEST_CASE("stability: a speed without a steady state is a status, never a crash 
 
 TEST_CASE("stability: critical speed is identical for 1 and 2 threads") {
     const Scenario s;
-    CriticalSpeedOptions one, two;
-    one.threads = 1;
-    two.threads = 2;
-    const CriticalSpeedResult a = critical_speed(s, one), b = critical_speed(s, two);
+    const rollgap::test::PoolControl two(2);
+    const CriticalSpeedResult a = critical_speed(s), b = critical_speed(s, {}, two.control);
     REQUIRE(a.status == CriticalSpeedStatus::found);
     REQUIRE(b.status == CriticalSpeedStatus::found);
     CHECK(a.critical_speed == b.critical_speed);  // bit-identical

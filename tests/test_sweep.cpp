@@ -4,6 +4,7 @@
 #include <doctest/doctest.h>
 
 #include "core/sweep.h"
+#include "support/pool_control.h"
 
 using namespace rollgap::core;
 
@@ -18,8 +19,9 @@ TEST_CASE(
     CriticalSpeedOptions options;
     options.speed_min = 5.0;
     options.speed_max = 30.0;
-    const auto serial = sweep_critical_speed(scenarios, options, 1);
-    const auto parallel = sweep_critical_speed(scenarios, options, 2);
+    const auto serial = sweep_critical_speed(scenarios, options);
+    const auto parallel =
+        sweep_critical_speed(scenarios, options, rollgap::test::PoolControl(2).control);
     REQUIRE(serial.size() == scenarios.size());
     for (std::size_t i = 0; i < scenarios.size(); ++i) {
         CHECK(serial[i].status == parallel[i].status);
@@ -37,8 +39,9 @@ TEST_CASE("an amplitude sweep gives identical results with 1 and 2 threads") {
     }
     AmplitudeOptions options;
     options.window = 0.2;
-    const auto serial = sweep_amplitude(scenarios, options, 1);
-    const auto parallel = sweep_amplitude(scenarios, options, 2);
+    const auto serial = sweep_amplitude(scenarios, options);
+    const auto parallel =
+        sweep_amplitude(scenarios, options, rollgap::test::PoolControl(2).control);
     for (std::size_t i = 0; i < scenarios.size(); ++i) {
         CHECK(serial[i].upper_roll == parallel[i].upper_roll);
         CHECK(serial[i].upper_roll > 0.0);
@@ -50,7 +53,7 @@ TEST_CASE("cancelling a sweep stops it") {
     int started = 0;
     Control control;
     control.cancelled = [&] { return ++started > 2; };
-    const auto results = sweep_critical_speed(scenarios, {}, 1, control);
+    const auto results = sweep_critical_speed(scenarios, {}, control);
     CHECK(results.size() == scenarios.size());
     // the points the sweep never reached say so, rather than posing as results
     CHECK(results.back().status == CriticalSpeedStatus::cancelled);
@@ -60,6 +63,6 @@ TEST_CASE("cancelling an amplitude sweep marks the points it never reached") {
     std::vector<Scenario> scenarios(3);
     Control control;
     control.cancelled = [] { return true; };
-    for (const AmplitudeResult& r : sweep_amplitude(scenarios, {}, 1, control))
+    for (const AmplitudeResult& r : sweep_amplitude(scenarios, {}, control))
         CHECK(r.status == AmplitudeStatus::cancelled);
 }

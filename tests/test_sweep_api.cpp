@@ -13,6 +13,7 @@
 
 #include "service/evaluate.h"
 #include "service/sweep_analysis.h"
+#include "support/pool_control.h"
 #include "support/refused_options.h"
 
 using nlohmann::json;
@@ -40,12 +41,6 @@ const json viscosity_values = {{"parameter", "/lubricant/viscosity_Pa_s"},
 // A fast critical-speed search around the default's critical speed (~20 m/s).
 const json narrow_search = {
     {"speed_min_m_per_s", 10}, {"speed_max_m_per_s", 35}, {"speed_step_m_per_s", 0.5}};
-
-core::Control on_threads(int threads) {
-    core::Control control;
-    control.threads = threads;
-    return control;
-}
 
 }  // namespace
 
@@ -288,11 +283,11 @@ TEST_CASE("sweep results are identical on 1 and 2 threads") {
                                {{"parameter", "/roughness/strip_rq_um"},
                                 {"values", {1.0, 1.6, 3.0}},
                                 {"critical_speed", narrow_search}}}};
-        const Outcome one = evaluate(request, on_threads(1));
-        const Outcome two = evaluate(request, on_threads(2));
+        const Outcome one = evaluate(request, test::PoolControl(1).control);
+        const Outcome two = evaluate(request, test::PoolControl(2).control);
         REQUIRE(one.ok());
         CHECK(one.body == two.body);
-        CHECK(one.body == evaluate(request).body);  // and on every hardware thread
+        CHECK(one.body == evaluate(request).body);  // and with no pool at all
     }
     SUBCASE("amplitude") {
         const json request = {{"analysis", "sweep"},
@@ -301,8 +296,8 @@ TEST_CASE("sweep results are identical on 1 and 2 threads") {
                                 {"values", {8, 12, 16}},
                                 {"quantity", "amplitude"},
                                 {"amplitude", {{"window_s", 0.1}}}}}};
-        const Outcome one = evaluate(request, on_threads(1));
-        const Outcome two = evaluate(request, on_threads(2));
+        const Outcome one = evaluate(request, test::PoolControl(1).control);
+        const Outcome two = evaluate(request, test::PoolControl(2).control);
         REQUIRE(one.ok());
         CHECK(one.body == two.body);
         const json& points = one.body["result"]["points"];

@@ -11,6 +11,7 @@
 #include <condition_variable>
 #include <mutex>
 #include <stdexcept>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -145,4 +146,37 @@ TEST_CASE("worker pool: a withdrawn task leaves its lane at once and never runs"
     CHECK(eventually([&] { return pool.idle(); }));
     CHECK(ran == 2);
     CHECK(done == 1);
+}
+
+TEST_CASE("worker pool: helpers of running analyses go before new interactive and batch tasks") {
+    WorkerPool pool(1, 4, 4, 1);
+    CHECK(pool.concurrency() == 1);
+    Latch latch;
+    std::atomic<int> done{0};
+    REQUIRE(pool.try_submit(Lane::interactive, latch.blocking_task(done)));
+    REQUIRE(eventually([&] { return pool.stats().busy == 1; }));
+    std::mutex mutex;
+    std::vector<std::string> order;
+    const auto record = [&](std::string name) {
+        return [&mutex, &order, name] {
+            std::lock_guard lock(mutex);
+            order.push_back(name);
+        };
+    };
+    REQUIRE(pool.try_submit(Lane::batch, record("batch")));
+    REQUIRE(pool.try_submit(Lane::interactive, record("interactive")));
+    pool.post(record("inner"));  // posted last, run first
+    CHECK(pool.stats().inner_queued == 1);
+    CHECK_FALSE(pool.idle());
+    latch.open();
+    REQUIRE(eventually([&] { return pool.idle(); }));
+    std::lock_guard lock(mutex);
+    CHECK(order == std::vector<std::string>{"inner", "interactive", "batch"});
+}
+
+TEST_CASE("worker pool: a pool that has stopped drops helpers instead of keeping them") {
+    WorkerPool pool(1, 4, 4, 1);
+    pool.shutdown();
+    pool.post([] { FAIL("a stopped pool ran a helper"); });
+    CHECK(pool.stats().inner_queued == 0);
 }

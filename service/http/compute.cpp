@@ -34,8 +34,9 @@ bool reports_solver_failure(const json& body) {
 
 }  // namespace
 
-core::Control control_for(const ServiceState& state, std::function<bool()> stop) {
+core::Control control_for(ServiceState& state, std::function<bool()> stop) {
     core::Control control;
+    control.executor = &state.pool;
     control.threads = static_cast<int>(state.config.analysis_threads);
     control.cancelled = std::move(stop);
     return control;

@@ -18,8 +18,9 @@ Outcome compute(ServiceState& state, const nlohmann::json& request, const core::
                 const std::function<bool()>& late,
                 const std::function<bool()>& cancelled_by_client);
 
-// A Control that stops when `stop` says so, with the configured thread budget.
-core::Control control_for(const ServiceState& state, std::function<bool()> stop);
+// A Control that stops when `stop` says so, whose inner loops run on the process's one pool
+// (state.pool) within the configured thread budget.
+core::Control control_for(ServiceState& state, std::function<bool()> stop);
 
 api::Problem deadline_problem(std::chrono::milliseconds budget);
 

@@ -13,7 +13,8 @@ namespace rollgap::tools::paper {
 
 bool completed(const core::AmplitudeResult& a) { return a.end_status == core::DynamicsStatus::ok; }
 
-AmplitudeRun run_amplitude(InletFilmModel film, int threads, double asperity_factor) {
+AmplitudeRun run_amplitude(InletFilmModel film, const core::Control& compute,
+                           double asperity_factor) {
     const auto t0 = Clock::now();
     AmplitudeRun run;
     run.film = film;
@@ -28,13 +29,12 @@ AmplitudeRun run_amplitude(InletFilmModel film, int threads, double asperity_fac
         scenarios.push_back(s);
     }
     core::AmplitudeOptions options;  // window 2 s, 1 MPa at the least-damped eigenfrequency
-    run.results = core::sweep_amplitude(scenarios, options, threads);
+    run.results = core::sweep_amplitude(scenarios, options, compute);
     Scenario s;
     s.inlet_film = film;
     s.friction.asperity_factor = asperity_factor;
     core::CriticalSpeedOptions search = search_options;
-    search.threads = threads;
-    run.critical = core::critical_speed(s, search);
+    run.critical = core::critical_speed(s, search, compute);
     std::vector<double> x3;
     for (const auto& a : run.results) x3.push_back(completed(a) ? a.upper_roll * 1e6 : no_value);
     run.trend =

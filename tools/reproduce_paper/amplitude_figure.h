@@ -2,6 +2,7 @@
 // Fig. 13: the vibration amplitude against the rolling speed, per inlet film model.
 #include <vector>
 
+#include "core/control.h"
 #include "core/amplitude.h"
 #include "core/stability.h"
 #include "tools/reproduce_paper/output.h"
@@ -21,7 +22,8 @@ struct AmplitudeRun {
 
 // The run reached the end of its window (no physical limit ended it).
 bool completed(const core::AmplitudeResult& a);
-AmplitudeRun run_amplitude(InletFilmModel film, int threads, double asperity_factor = 1.0);
+AmplitudeRun run_amplitude(InletFilmModel film, const core::Control& compute,
+                           double asperity_factor = 1.0);
 void write_amplitude_outputs(Output& out, const AmplitudeRun& run);
 
 }  // namespace rollgap::tools::paper

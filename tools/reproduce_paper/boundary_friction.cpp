@@ -9,9 +9,9 @@
 
 namespace rollgap::tools::paper {
 
-std::vector<SteadyBite> steady_bites(double asperity_factor, int threads) {
+std::vector<SteadyBite> steady_bites(double asperity_factor, const core::Control& compute) {
     std::vector<SteadyBite> bites(std::size(force_speeds));
-    core::parallel_for(static_cast<int>(bites.size()), threads, [&](int i) {
+    core::parallel_for(static_cast<int>(bites.size()), compute, [&](int i) {
         const auto k = static_cast<std::size_t>(i);
         Scenario s;
         s.friction.asperity_factor = asperity_factor;
@@ -31,27 +31,27 @@ std::vector<SteadyBite> steady_bites(double asperity_factor, int threads) {
 }
 
 FrictionVariant run_friction_variant(const std::vector<SweepFigure>& figures,
-                                     double asperity_factor, int threads) {
+                                     double asperity_factor, const core::Control& compute) {
     const auto t0 = Clock::now();
     FrictionVariant v;
     v.asperity_factor = asperity_factor;
     for (const SweepFigure& fig : figures)
-        v.sweeps.push_back(run_sweep(fig, InletFilmModel::paper, threads, asperity_factor));
-    v.amplitude = run_amplitude(InletFilmModel::paper, threads, asperity_factor);
-    v.cycles = run_cycles(InletFilmModel::paper, threads, asperity_factor);
-    v.bites = steady_bites(asperity_factor, threads);
+        v.sweeps.push_back(run_sweep(fig, InletFilmModel::paper, compute, asperity_factor));
+    v.amplitude = run_amplitude(InletFilmModel::paper, compute, asperity_factor);
+    v.cycles = run_cycles(InletFilmModel::paper, compute, asperity_factor);
+    v.bites = steady_bites(asperity_factor, compute);
     v.seconds = seconds_since(t0);
     return v;
 }
 
 FrictionVariant paper_friction_reference(const std::vector<std::array<SweepRun, 2>>& sweeps,
                                          const AmplitudeRun& amplitude, const CycleRun& cycles,
-                                         int threads) {
+                                         const core::Control& compute) {
     FrictionVariant v;
     for (const auto& runs : sweeps) v.sweeps.push_back(runs[0]);
     v.amplitude = amplitude;
     v.cycles = cycles;
-    v.bites = steady_bites(1.0, threads);
+    v.bites = steady_bites(1.0, compute);
     return v;
 }
 

@@ -38,14 +38,14 @@ struct FrictionVariant {
 };
 
 // The default stand's steady bite at force_speeds with asperity factor m_a.
-std::vector<SteadyBite> steady_bites(double asperity_factor, int threads);
+std::vector<SteadyBite> steady_bites(double asperity_factor, const core::Control& compute);
 // Figs. 8-15 (paper film) and the steady bites with asperity factor m_a.
 FrictionVariant run_friction_variant(const std::vector<SweepFigure>& figures,
-                                     double asperity_factor, int threads);
+                                     double asperity_factor, const core::Control& compute);
 // The paper's runs (m_a = 1, already computed for the main report) as the reference variant.
 FrictionVariant paper_friction_reference(const std::vector<std::array<SweepRun, 2>>& sweeps,
                                          const AmplitudeRun& amplitude, const CycleRun& cycles,
-                                         int threads);
+                                         const core::Control& compute);
 // The variants' CSV files and plots; variants[0] is the m_a = 1 reference (its own files are
 // the main report's and are not written again), the plots overlay every variant.
 void write_friction_variant_outputs(Output& out, const std::vector<SweepFigure>& figures,

@@ -23,7 +23,7 @@ Scenario cycle_scenario(InletFilmModel film, double rq_um, double asperity_facto
     return s;
 }
 
-CycleRun run_cycles(InletFilmModel film, int threads, double asperity_factor) {
+CycleRun run_cycles(InletFilmModel film, const core::Control& compute, double asperity_factor) {
     const auto t0 = Clock::now();
     CycleRun run;
     run.film = film;
@@ -31,7 +31,7 @@ CycleRun run_cycles(InletFilmModel film, int threads, double asperity_factor) {
     run.cases.resize(2);
     run.cases[0].rq_um = 1.0;
     run.cases[1].rq_um = 6.0;
-    core::parallel_for(2, threads, [&](int i) {
+    core::parallel_for(2, compute, [&](int i) {
         CycleCase& c = run.cases[static_cast<std::size_t>(i)];
         const Scenario s = cycle_scenario(film, c.rq_um, asperity_factor);
         c.result = core::tension_cycle(s);  // 2 cycles, T = 0.25, 0.5, 0.75 of the last

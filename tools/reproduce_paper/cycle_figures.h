@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "core/control.h"
 #include "core/stability.h"
 #include "core/tension_cycle.h"
 #include "tools/reproduce_paper/output.h"
@@ -32,7 +33,8 @@ struct CycleRun {
 };
 
 Scenario cycle_scenario(InletFilmModel film, double rq_um, double asperity_factor = 1.0);
-CycleRun run_cycles(InletFilmModel film, int threads, double asperity_factor = 1.0);
+CycleRun run_cycles(InletFilmModel film, const core::Control& compute,
+                    double asperity_factor = 1.0);
 std::string rq_label(double rq);
 void write_cycle_outputs(Output& out, const CycleRun& run);
 

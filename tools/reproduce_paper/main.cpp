@@ -6,11 +6,11 @@
 //
 //   reproduce_paper [--out DIR] [--doc FILE] [--threads N]
 //
-// Defaults: --out docs/paper-reproduction, --doc docs/paper-reproduction.md, all hardware
-// threads. Deterministic: every analysis is a pure function of its scenario and the sweeps put
-// each result in its own slot, so only the runtime figures change from run to run.
-// Nothing here tunes the model: every scenario is docs/model.md §8's default with the one field the
-// figure varies (and the stated diagnostics variants, which are labelled as such).
+// Defaults: --out docs/paper-reproduction, --doc docs/paper-reproduction.md, a pool of as many
+// threads as the CPUs the process may use. Deterministic: every analysis is a pure function of its
+// scenario and the sweeps put each result in its own slot, so only the runtime figures change from
+// run to run. Nothing here tunes the model: every scenario is docs/model.md §8's default with the
+// one field the figure varies (and the stated diagnostics variants, which are labelled as such).
 
 #include <algorithm>
 #include <array>
@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "core/parallel_for.h"
+#include "service/worker_pool.h"
 #include "tools/reproduce_paper/markdown.h"
 #include "tools/reproduce_paper/results.h"
 
@@ -32,7 +33,7 @@ namespace tools = rollgap::tools;
 int main(int argc, char** argv) {
     fs::path out_dir = "docs/paper-reproduction";
     fs::path doc = "docs/paper-reproduction.md";
-    int threads = core::default_thread_count();
+    int threads = 0;  // 0: the CPUs the process may use (service/cpu_quota.h)
     for (int i = 1; i < argc; ++i) {
         const std::string arg = argv[i];
         auto value = [&]() -> std::string {
@@ -74,6 +75,11 @@ int main(int argc, char** argv) {
 
     const auto t0 = Clock::now();
     Results R;
+    // One pool for every parallel loop of the run, as in the service.
+    const auto pool = rollgap::service::local_pool(static_cast<std::size_t>(threads));
+    core::Control compute;
+    compute.executor = pool.get();
+    threads = pool->concurrency();
     R.threads = threads;
     R.figures = sweep_figures();
     log("threads: " + std::to_string(threads) + "; output: " + out_dir.string() + ", " +
@@ -83,7 +89,7 @@ int main(int argc, char** argv) {
     for (const SweepFigure& fig : R.figures) {
         std::array<SweepRun, 2> runs;
         for (std::size_t k = 0; k < 2; ++k) {
-            runs[k] = run_sweep(fig, film_models[k], threads);
+            runs[k] = run_sweep(fig, film_models[k], compute);
             log("Fig. " + std::to_string(fig.number) + " (" + film_name(film_models[k]) +
                 " film): " + std::to_string(fig.xs.size()) + " critical speeds, " +
                 std::to_string(runs[k].found) + " found, " + fmt(runs[k].seconds, 1) + " s");
@@ -100,27 +106,27 @@ int main(int argc, char** argv) {
             s.friction.model = core::FrictionModel::coulomb;
             s.friction.coulomb_coefficient = mu;
         };
-        R.coulomb[fig.number] = run_sweep(fixed, InletFilmModel::paper, threads);
+        R.coulomb[fig.number] = run_sweep(fixed, InletFilmModel::paper, compute);
         log("Fig. " + std::to_string(fig.number) + " diagnostic (Coulomb μ = " + fmt(mu, 2) +
             "): " + fmt(R.coulomb[fig.number].seconds, 1) + " s");
     }
     // Fig. 13
     for (std::size_t k = 0; k < 2; ++k) {
-        R.amplitude[k] = run_amplitude(film_models[k], threads);
+        R.amplitude[k] = run_amplitude(film_models[k], compute);
         log(std::string("Fig. 13 (") + film_name(film_models[k]) +
             " film): " + std::to_string(R.amplitude[k].speeds.size()) + " amplitude runs, " +
             fmt(R.amplitude[k].seconds, 1) + " s");
     }
     // Figs. 14-15
     for (std::size_t k = 0; k < 2; ++k) {
-        R.cycles[k] = run_cycles(film_models[k], threads);
+        R.cycles[k] = run_cycles(film_models[k], compute);
         log(std::string("Figs. 14-15 (") + film_name(film_models[k]) +
             " film): " + fmt(R.cycles[k].seconds, 1) + " s");
     }
     // The boundary-friction variant: Figs. 8-15 (paper film) with m_a < 1
-    R.friction.push_back(paper_friction_reference(R.sweeps, R.amplitude[0], R.cycles[0], threads));
+    R.friction.push_back(paper_friction_reference(R.sweeps, R.amplitude[0], R.cycles[0], compute));
     for (double m_a : boundary_asperity_factors) {
-        R.friction.push_back(run_friction_variant(R.figures, m_a, threads));
+        R.friction.push_back(run_friction_variant(R.figures, m_a, compute));
         log("boundary-friction variant m_a = " + fmt(m_a, 1) +
             " (Figs. 8-15, paper film): " + fmt(R.friction.back().seconds, 1) + " s");
     }
@@ -144,7 +150,7 @@ int main(int argc, char** argv) {
             {"limiting shear λ_L = 0.08",
              [](Scenario& s) { s.lubricant.limiting_shear_coefficient = 0.08; }},
         };
-        R.variants = run_variants(variants, threads);
+        R.variants = run_variants(variants, compute);
         R.coulomb_mus = {0.03, 0.05, 0.07, 0.10, 0.13, 0.16};
         std::vector<Variant> coulomb;
         for (double mu : R.coulomb_mus) {
@@ -153,9 +159,9 @@ int main(int argc, char** argv) {
                                    s.friction.coulomb_coefficient = mu;
                                }});
         }
-        R.coulomb_variants = run_variants(coulomb, threads);
+        R.coulomb_variants = run_variants(coulomb, compute);
         R.coulomb_diag.resize(R.coulomb_mus.size());
-        core::parallel_for(static_cast<int>(R.coulomb_mus.size()), threads, [&](int i) {
+        core::parallel_for(static_cast<int>(R.coulomb_mus.size()), compute, [&](int i) {
             Scenario s;
             s.friction.model = core::FrictionModel::coulomb;
             s.friction.coulomb_coefficient = R.coulomb_mus[static_cast<std::size_t>(i)];
@@ -169,19 +175,19 @@ int main(int argc, char** argv) {
         R.defaults_gap_mode = diagnose_over_speed(
             InletFilmModel::paper, speeds,
             vc.status == CriticalSpeedStatus::found ? vc.unstable_mode.frequency_Hz : 104.0, {},
-            threads);
+            compute);
         const std::vector<double> high_speeds = {2.0, 5.0, 10.0, 15.0, 19.0, 25.0, 30.0};
         R.high_mode_eulerian =
-            diagnose_over_speed(InletFilmModel::eulerian, high_speeds, -1.0, {}, threads);
+            diagnose_over_speed(InletFilmModel::eulerian, high_speeds, -1.0, {}, compute);
         R.high_mode_paper.film = InletFilmModel::paper;
         R.high_mode_paper.rows.resize(high_speeds.size());
-        core::parallel_for(static_cast<int>(high_speeds.size()), threads, [&](int i) {
+        core::parallel_for(static_cast<int>(high_speeds.size()), compute, [&](int i) {
             Scenario s;
             s.rolls.speed = high_speeds[static_cast<std::size_t>(i)];
             R.high_mode_paper.rows[static_cast<std::size_t>(i)] = tools::diagnose(
                 s, R.high_mode_eulerian.rows[static_cast<std::size_t>(i)].frequency_Hz);
         });
-        R.map = stability_map(threads);
+        R.map = stability_map(compute);
         log("mechanism diagnostics: " + fmt(seconds_since(t1), 1) + " s");
     }
 

@@ -12,14 +12,15 @@
 
 namespace rollgap::tools::paper {
 
-std::vector<VariantResult> run_variants(const std::vector<Variant>& variants, int threads) {
+std::vector<VariantResult> run_variants(const std::vector<Variant>& variants,
+                                        const core::Control& compute) {
     std::vector<Scenario> scenarios;
     for (const Variant& v : variants) {
         Scenario s;
         v.apply(s);
         scenarios.push_back(s);
     }
-    auto results = core::sweep_critical_speed(scenarios, search_options, threads);
+    auto results = core::sweep_critical_speed(scenarios, search_options, compute);
     std::vector<VariantResult> out;
     for (std::size_t i = 0; i < variants.size(); ++i)
         out.push_back({variants[i].label, std::move(results[i])});
@@ -43,9 +44,10 @@ std::string critical_text(const core::CriticalSpeedResult& r) {
 // (<= 0: the least-damped one).
 SpeedDiagnostics diagnose_over_speed(InletFilmModel film, const std::vector<double>& speeds,
                                      double frequency_Hz,
-                                     const std::function<void(Scenario&)>& apply, int threads) {
+                                     const std::function<void(Scenario&)>& apply,
+                                     const core::Control& compute) {
     SpeedDiagnostics out{film, std::vector<ModeDiagnostics>(speeds.size())};
-    core::parallel_for(static_cast<int>(speeds.size()), threads, [&](int i) {
+    core::parallel_for(static_cast<int>(speeds.size()), compute, [&](int i) {
         Scenario s;
         s.inlet_film = film;
         if (apply) apply(s);
@@ -55,7 +57,7 @@ SpeedDiagnostics diagnose_over_speed(InletFilmModel film, const std::vector<doub
     return out;
 }
 
-StabilityMap stability_map(int threads) {
+StabilityMap stability_map(const core::Control& compute) {
     StabilityMap map;
     std::vector<Scenario> scenarios;
     for (InletFilmModel film : film_models) {
@@ -68,7 +70,7 @@ StabilityMap stability_map(int threads) {
                                  (span ? "entry-span tension (default)" : "constant back tension"));
         }
     }
-    map.results = core::sweep_critical_speed(scenarios, search_options, threads);
+    map.results = core::sweep_critical_speed(scenarios, search_options, compute);
     return map;
 }
 

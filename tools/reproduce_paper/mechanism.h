@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "core/control.h"
 #include "core/stability.h"
 #include "tools/reproduce_paper/output.h"
 
@@ -20,7 +21,8 @@ struct VariantResult {
     core::CriticalSpeedResult result;
 };
 
-std::vector<VariantResult> run_variants(const std::vector<Variant>& variants, int threads);
+std::vector<VariantResult> run_variants(const std::vector<Variant>& variants,
+                                        const core::Control& compute);
 // "20.10 m/s (104 Hz)", "stable to 60 m/s", ...
 std::string critical_text(const core::CriticalSpeedResult& r);
 
@@ -31,14 +33,15 @@ struct SpeedDiagnostics {
 
 SpeedDiagnostics diagnose_over_speed(InletFilmModel film, const std::vector<double>& speeds,
                                      double frequency_Hz,
-                                     const std::function<void(Scenario&)>& apply, int threads);
+                                     const std::function<void(Scenario&)>& apply,
+                                     const core::Control& compute);
 
 struct StabilityMap {
     std::vector<std::string> labels;
     std::vector<core::CriticalSpeedResult> results;
 };
 
-StabilityMap stability_map(int threads);
+StabilityMap stability_map(const core::Control& compute);
 void write_stability_map(Output& out, const StabilityMap& map);
 
 }  // namespace rollgap::tools::paper

@@ -128,7 +128,7 @@ Series named(std::string label) {
     return s;
 }
 
-SweepRun run_sweep(const SweepFigure& fig, InletFilmModel film, int threads,
+SweepRun run_sweep(const SweepFigure& fig, InletFilmModel film, const core::Control& compute,
                    double asperity_factor) {
     const auto t0 = Clock::now();
     SweepRun run;
@@ -143,9 +143,9 @@ SweepRun run_sweep(const SweepFigure& fig, InletFilmModel film, int threads,
         scenarios.push_back(s);
     }
     std::vector<core::CriticalSpeedResult> results =
-        core::sweep_critical_speed(scenarios, search_options, threads);
+        core::sweep_critical_speed(scenarios, search_options, compute);
     run.points.resize(fig.xs.size());
-    core::parallel_for(static_cast<int>(fig.xs.size()), threads, [&](int i) {
+    core::parallel_for(static_cast<int>(fig.xs.size()), compute, [&](int i) {
         const auto k = static_cast<std::size_t>(i);
         SweepPoint& p = run.points[k];
         p.x = fig.xs[k];

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "core/control.h"
 #include "core/stability.h"
 #include "tools/reproduce_paper/common.h"
 #include "tools/reproduce_paper/output.h"
@@ -72,7 +73,7 @@ double trend_value(const core::CriticalSpeedResult& r);
 std::string speed_text(double v);
 Series named(std::string label);
 // asperity_factor: m_a of every scenario (1, the paper's, unless a labelled variant asks).
-SweepRun run_sweep(const SweepFigure& fig, InletFilmModel film, int threads,
+SweepRun run_sweep(const SweepFigure& fig, InletFilmModel film, const core::Control& compute,
                    double asperity_factor = 1.0);
 void write_sweep_csv(Output& out, const SweepFigure& fig, const SweepRun& run);
 void add_status_edges(Plot& plot, const SweepFigure& fig, const SweepRun& run,
