@@ -128,7 +128,14 @@ TEST_CASE("scenarios over http: create, read, list, replace with If-Match, delet
     CHECK(client.Delete("/v1/scenarios/stand-3", {{"If-Match", "\"3\""}})->status == 204);
     CHECK(client.Get("/v1/scenarios/stand-3")->status == 404);
     CHECK(client.Delete("/v1/scenarios/stand-3")->status == 404);
-    CHECK(client.Delete("/v1/scenarios/A.line_2")->status == 204);
+    // A list of tags and "*" are compared with the current version.
+    CHECK(put_scenario(client, "A.line_2", faster, {{"If-None-Match", "W/\"1\", \"5\""}})->status ==
+          412);
+    CHECK(
+        put_scenario(client, "A.line_2", json::object(), {{"If-Match", "\"5\", \"1\""}})->status ==
+        200);
+    CHECK(client.Delete("/v1/scenarios/A.line_2", {{"If-Match", "\"1\""}})->status == 412);
+    CHECK(client.Delete("/v1/scenarios/A.line_2", {{"If-Match", "*"}})->status == 204);
     CHECK(body_json(client.Get("/v1/scenarios")) == json{{"scenarios", json::array()}});
 
     // One log line per request, with the route template as its label.

@@ -20,12 +20,9 @@ using api::concat;
 using nlohmann::json;
 using store::StoreStatus;
 
-namespace {
-
-constexpr std::string_view store_down = "the scenario store is unavailable; retry later";
-
 // The entity tags of an If-Match or If-None-Match header (RFC 9110 §8.8.3, §13.1.1-2). A
 // version is the ETag "<version>"; anything else this service never issued matches nothing.
+// Declared in the header for expected_version().
 struct EntityTags {
     bool present = false;
     bool any = false;                  // "*"
@@ -39,6 +36,10 @@ struct EntityTags {
         return in(strong) || (weak_comparison && in(weak));
     }
 };
+
+namespace {
+
+constexpr std::string_view store_down = "the scenario store is unavailable; retry later";
 
 std::optional<std::int64_t> quoted_version(std::string_view tag) {
     if (tag.size() < 3 || tag.front() != '"' || tag.back() != '"') return std::nullopt;
@@ -122,6 +123,36 @@ void precondition_failed(httplib::Response& response, const std::string& name) {
 
 }  // namespace
 
+bool ScenarioEndpoints::expected_version(store::JobStore& store, const std::string& name,
+                                         const EntityTags& if_match,
+                                         const EntityTags& if_none_match,
+                                         std::optional<std::int64_t>& expected,
+                                         httplib::Response& response) {
+    if (if_match.present && !if_match.any && if_match.strong.size() == 1 &&
+        !if_none_match.present) {
+        expected = if_match.strong.front();  // the usual edit: one version, checked by the store
+        return true;
+    }
+    // No precondition, or If-None-Match: * (the store refuses a stored name without a version).
+    if (!if_match.present && (!if_none_match.present || if_none_match.any)) return true;
+    // "*", lists, or both headers: compare with the current version, then write over exactly
+    // that version (the store refuses if it changed in between).
+    auto current = store.get_scenario(name);
+    state_.store.report(current.status);
+    if (current.status == StoreStatus::unavailable) {
+        state_.store_unavailable(response, std::string(store_down));
+        return false;
+    }
+    const std::optional<std::int64_t> version =
+        current.ok() ? std::optional(current.value->version) : std::nullopt;
+    if (!preconditions_hold(if_match, if_none_match, version)) {
+        precondition_failed(response, name);
+        return false;
+    }
+    expected = version;
+    return true;
+}
+
 void ScenarioEndpoints::get_or_delete(const httplib::Request& request,
                                       httplib::Response& response) {
     if (!request.path.starts_with(scenario_prefix)) {
@@ -173,24 +204,9 @@ void ScenarioEndpoints::remove(const std::string& name, const httplib::Request& 
     if (refuse_name(name, response)) return;
     const auto store = state_.store.get();
     if (!store) return state_.store_unavailable(response, std::string(store_down));
-    const EntityTags if_match = entity_tags(request, "If-Match");
     std::optional<std::int64_t> expected;
-    if (if_match.present) {
-        if (!if_match.any && if_match.strong.size() == 1) {
-            expected = if_match.strong.front();
-        } else {
-            // "*" or a list: compare with the current version, then delete that version only.
-            auto current = store->get_scenario(name);
-            state_.store.report(current.status);
-            if (current.status == StoreStatus::unavailable)
-                return state_.store_unavailable(response, std::string(store_down));
-            const std::optional<std::int64_t> version =
-                current.ok() ? std::optional(current.value->version) : std::nullopt;
-            if (!preconditions_hold(if_match, {}, version))
-                return precondition_failed(response, name);
-            expected = version;
-        }
-    }
+    if (!expected_version(*store, name, entity_tags(request, "If-Match"), {}, expected, response))
+        return;
     const StoreStatus status = store->delete_scenario(name, expected);
     state_.store.report(status);
     switch (status) {
@@ -228,22 +244,7 @@ void ScenarioEndpoints::put(const httplib::Request& request, json body,
     const EntityTags if_match = entity_tags(request, "If-Match");
     const EntityTags if_none_match = entity_tags(request, "If-None-Match");
     std::optional<std::int64_t> expected;
-    if (if_match.present && !if_match.any && if_match.strong.size() == 1 &&
-        !if_none_match.present) {
-        expected = if_match.strong.front();  // the usual edit: one version, checked by the store
-    } else if (if_match.present || (if_none_match.present && !if_none_match.any)) {
-        // "*", lists, or both headers: compare with the current version, then write over that
-        // version only (the store refuses if it changed in between).
-        auto current = store->get_scenario(name);
-        state_.store.report(current.status);
-        if (current.status == StoreStatus::unavailable)
-            return state_.store_unavailable(response, std::string(store_down));
-        const std::optional<std::int64_t> version =
-            current.ok() ? std::optional(current.value->version) : std::nullopt;
-        if (!preconditions_hold(if_match, if_none_match, version))
-            return precondition_failed(response, name);
-        expected = version;
-    }
+    if (!expected_version(*store, name, if_match, if_none_match, expected, response)) return;
     auto written = store->put_scenario(name, dump(resolved), expected);
     state_.store.report(written.status);
     switch (written.status) {

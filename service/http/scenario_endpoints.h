@@ -5,6 +5,8 @@
 // validated as an analysis' scenario is; the resolved full scenario is stored. `default` is the
 // built-in default, served from code (GET /v1/scenarios/default) and never stored.
 
+#include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -15,6 +17,8 @@
 #include "service/http/service_state.h"
 
 namespace rollgap::service::http {
+
+struct EntityTags;
 
 class ScenarioEndpoints {
 public:
@@ -30,6 +34,14 @@ private:
     void get(const std::string& name, httplib::Response& response);
     void remove(const std::string& name, const httplib::Request& request,
                 httplib::Response& response);
+
+    // The version a write may replace under the request's If-Match / If-None-Match: the one
+    // If-Match names (compared by the store inside its transaction), or, for "*", lists and
+    // If-None-Match tags, the current one once compared (RFC 9110 §13.2.2). False: refused
+    // and answered (412, 503).
+    bool expected_version(store::JobStore& store, const std::string& name,
+                          const EntityTags& if_match, const EntityTags& if_none_match,
+                          std::optional<std::int64_t>& expected, httplib::Response& response);
 
     ServiceState& state_;
 };
