@@ -56,7 +56,8 @@ EntityTags entity_tags(const httplib::Request& request, const char* header) {
     EntityTags tags;
     if (!request.has_header(header)) return tags;
     tags.present = true;
-    std::string_view rest = request.get_header_value(header);
+    const std::string value = request.get_header_value(header);
+    std::string_view rest = value;
     while (!rest.empty()) {
         const std::size_t comma = rest.find(',');
         const std::string_view item = trim(rest.substr(0, comma));
