@@ -65,11 +65,24 @@ std::variant<Outcome, PreparedRequest> prepare_request(const nlohmann::json& req
     auto checked = check_envelope_of(request, offered);
     if (auto* problem = std::get_if<Outcome>(&checked)) return std::move(*problem);
     const Envelope& envelope = std::get<Envelope>(checked);
+    if (envelope.parsed.unresolved_base) {
+        // Only the HTTP service has the store; it resolves "base" before it calls the facade.
+        return problem_outcome(api::make_problem(
+            api::ProblemCode::invalid_request,
+            "stored scenarios need the service: \"base\" names a scenario stored with "
+            "PUT /v1/scenarios/{name}",
+            {{"/base",
+              api::concat("stored scenarios need the service (rollgap serve); here send the "
+                          "scenario itself, e.g. the body of GET /v1/scenarios/",
+                          *envelope.parsed.unresolved_base, ", as \"scenario\""),
+              std::nullopt, std::nullopt}}));
+    }
 
     // Scenario and options violations are reported together.
     api::FieldErrors errors;
     PreparedRequest ready;
     ready.analysis = envelope.analysis;
+    ready.base = envelope.parsed.base;
     ready.scenario = api::scenario_from_patch(envelope.parsed.scenario_patch, "/scenario", errors);
     ready.prepared =
         envelope.analysis->prepare(ready.scenario, envelope.parsed.options, "/options", errors);
@@ -99,6 +112,7 @@ Outcome result_outcome(PreparedRequest& ready, nlohmann::json result) {
         {"options", std::move(ready.prepared.resolved_options)},
         {"result", std::move(result)},
     };
+    if (ready.base) outcome.body["base"] = api::scenario_base_json(*ready.base);
     return outcome;
 }
 

@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "api/problem.h"
+#include "api/request_json.h"
 #include "core/control.h"
 #include "service/analysis.h"
 
@@ -77,6 +78,7 @@ Outcome evaluate_text(std::string_view text, const core::Control& control = {});
 // A valid request, ready to compute.
 struct PreparedRequest {
     const Analysis* analysis = nullptr;
+    std::optional<api::ScenarioBase> base;  // the stored scenario it was resolved onto, echoed
     core::Scenario scenario;
     PreparedAnalysis prepared;
 };

@@ -11,6 +11,8 @@
 #include "service/http/request_checks.h"
 #include "service/http/responses.h"
 #include "service/http/routes.h"
+#include "service/http/scenario_base.h"
+#include "service/http/scenario_endpoints.h"
 #include "service/http/service_state.h"
 #include "service/http/sync_dispatch.h"
 #include "service/openapi.h"
@@ -79,6 +81,7 @@ struct HttpServer::Impl {
     ServiceState state;
     SyncDispatch sync{state};
     JobEndpoints job_endpoints{state};
+    ScenarioEndpoints scenario_endpoints{state};
     Listener server{limits_for(state.config)};
     Listener admin{limits_for(state.config)};
     std::thread server_thread, admin_thread;
@@ -146,7 +149,7 @@ struct HttpServer::Impl {
         begin(request, response, on_admin);
         if (refuse(t_context.route, request, response, config()))
             return httplib::Server::HandlerResponse::Handled;
-        if (request.method == "POST")
+        if (request.method == "POST" || request.method == "PUT")
             return httplib::Server::HandlerResponse::Unhandled;  // → handle_post
         guarded(response, [&] { handle_get_or_delete(*t_context.route, request, response); });
         return httplib::Server::HandlerResponse::Handled;
@@ -180,7 +183,13 @@ struct HttpServer::Impl {
     void handle_get_or_delete(const Route& route, const httplib::Request& request,
                               httplib::Response& response) {
         switch (route.id) {
+            case RouteId::scenarios:
+            case RouteId::scenario: scenario_endpoints.get_or_delete(request, response); return;
             case RouteId::scenarios_default:
+                if (request.method == "DELETE") {
+                    scenario_endpoints.get_or_delete(request, response);  // 422: reserved
+                    return;
+                }
                 response.status = 200;
                 response.set_content(default_scenario_text, "application/json");
                 return;
@@ -271,6 +280,8 @@ struct HttpServer::Impl {
             }
             if (route->id == RouteId::jobs) {
                 job_endpoints.create(std::move(document), response);
+            } else if (request.method == "PUT") {
+                scenario_endpoints.put(request, std::move(document), response);
             } else {
                 run_route(*route, std::move(document), response);
                 if (response.status == 200)
@@ -303,6 +314,10 @@ struct HttpServer::Impl {
             return;
         }
         body["analysis"] = route.analysis;
+        if (auto refused = resolve_base(body, state)) {
+            answer_unresolved(state, *refused, response);
+            return;
+        }
         if (auto problem = validate(body)) {
             set_json(response, problem->http_status, problem->body, problem->media_type());
             return;
@@ -338,6 +353,12 @@ struct HttpServer::Impl {
                                   handle_post(request, response, reader);
                               });
             }
+            // Every PUT route is under /v1/scenarios/; pre_route() refused the others.
+            listener.Put(R"(/v1/scenarios/[^/]+)",
+                         [this](const httplib::Request& request, httplib::Response& response,
+                                const httplib::ContentReader& reader) {
+                             handle_post(request, response, reader);
+                         });
         }
         listener.set_error_handler(
             [](const httplib::Request& request, httplib::Response& response) {

@@ -218,6 +218,27 @@ json component_ref(std::string_view component) {
     return {{"$ref", concat("#/components/schemas/", component)}};
 }
 
+// "base" in every request that carries a scenario patch (the analysis routes' bodies and the
+// full request of a job), typed once here rather than in each request schema.
+void add_base(json& schemas) {
+    const json base = {
+        {"allOf", json::array({component_ref("ScenarioName")})},
+        {"description",
+         "The name of a stored scenario (PUT /v1/scenarios/{name}): `scenario` is merged onto it "
+         "instead of the default (null in the patch still restores the built-in default). The "
+         "result echoes it as `base` {name, version}. 422 at /base when no such scenario is "
+         "stored; 503 store_unavailable when the store cannot be reached. Absent: the store is "
+         "not used."},
+    };
+    for (auto& [name, schema] : schemas.items()) {
+        if (!std::string_view(name).ends_with("Request") || !schema.contains("properties") ||
+            !schema["properties"].contains("scenario")) {
+            continue;
+        }
+        schema["properties"]["base"] = base;
+    }
+}
+
 // Accept: text/csv on a response that holds a result of these analyses: the tables, the
 // ?table= parameter and the 406 when there is none.
 void add_csv(json& operation, json& ok, const std::vector<std::string_view>& analyses_here) {
@@ -274,6 +295,7 @@ void add_result_schemas(json& document) {
               {"options", component_ref(route.options)},
               {"result", component_ref(route.result)}}},
         };
+        schemas[std::string(route.response)]["properties"]["base"] = component_ref("ScenarioBase");
         responses.push_back(component_ref(route.response));
         mapping[std::string(route.analysis)] = concat("#/components/schemas/", route.response);
         names.push_back(route.analysis);
@@ -331,6 +353,7 @@ json openapi_document() {
         }
     }
     schemas["SweepOptions"]["properties"]["parameter"]["enum"] = std::move(numeric_paths);
+    add_base(schemas);
     add_option_defaults(schemas);
     add_result_schemas(document);
     return document;

@@ -16,7 +16,7 @@ using namespace rollgap::test;
 
 namespace {
 
-std::string readme_examples() {
+std::string readme_examples(const std::string& marker = "<!-- http-examples -->") {
     // This file is tests/test_http_readme.cpp; the README is beside tests/.
     const std::filesystem::path readme =
         std::filesystem::path(__FILE__).parent_path().parent_path() / "README.md";
@@ -24,9 +24,9 @@ std::string readme_examples() {
     REQUIRE_MESSAGE(file, "cannot read " << readme.string());
     const std::string text((std::istreambuf_iterator<char>(file)),
                            std::istreambuf_iterator<char>());
-    const std::size_t marker = text.find("<!-- http-examples -->");
-    REQUIRE_MESSAGE(marker != std::string::npos, "README.md has no <!-- http-examples --> marker");
-    const std::size_t open = text.find("```sh\n", marker);
+    const std::size_t at = text.find(marker);
+    REQUIRE_MESSAGE(at != std::string::npos, "README.md has no " << marker << " marker");
+    const std::size_t open = text.find("```sh\n", at);
     REQUIRE(open != std::string::npos);
     const std::size_t start = open + 6;
     const std::size_t close = text.find("\n```", start);
@@ -42,17 +42,13 @@ std::string replace_all(std::string text, const std::string& from, const std::st
     return text;
 }
 
-}  // namespace
+struct ScriptRun {
+    int status;
+    std::string output;
+};
 
-TEST_CASE("README: the HTTP service's curl examples run against the service") {
-    if (!std::filesystem::exists("/usr/bin/curl")) {
-        MESSAGE(
-            "curl is not installed (scripts/install-deps.sh installs it): README examples not run");
-        return;
-    }
-    TestServer server;
-    const std::string examples = readme_examples();
-    CHECK(examples.find("curl") != std::string::npos);
+// Runs `examples` with bash -e -o pipefail against `server`.
+ScriptRun run_examples(const std::string& examples, const TestServer& server) {
     const std::string script =
         replace_all(examples, "localhost:8080", "127.0.0.1:" + std::to_string(server.port()));
     const auto path = std::filesystem::temp_directory_path() /
@@ -65,7 +61,25 @@ TEST_CASE("README: the HTTP service's curl examples run against the service") {
     while (std::fgets(buffer, sizeof buffer, pipe) != nullptr) output += buffer;
     const int status = ::pclose(pipe);
     std::filesystem::remove(path);
-    CAPTURE(output.substr(0, 3000));
+    return {status, output};
+}
+
+bool have_curl() {
+    if (std::filesystem::exists("/usr/bin/curl")) return true;
+    MESSAGE("curl is not installed (scripts/install-deps.sh installs it): README examples not run");
+    return false;
+}
+
+}  // namespace
+
+TEST_CASE("README: the HTTP service's curl examples run against the service") {
+    if (!have_curl()) return;
+    TestServer server;
+    const std::string examples = readme_examples();
+    CHECK(examples.find("curl") != std::string::npos);
+    const auto [status, output] = run_examples(examples, server);
+    const std::string shown = output.substr(0, 3000);
+    CAPTURE(shown);
     CHECK(status == 0);
     // What each example shows.
     for (const char* expected : {
@@ -81,4 +95,36 @@ TEST_CASE("README: the HTTP service's curl examples run against the service") {
         CAPTURE(expected);
         CHECK(output.find(expected) != std::string::npos);
     }
+}
+
+TEST_CASE("README: the stored scenario examples run against the service") {
+    if (!have_curl()) return;
+    // A fresh store of its own: the examples create and delete stand-3.
+    char pattern[] = "/tmp/rollgap-readme-store-XXXXXX";
+    REQUIRE(::mkdtemp(pattern) != nullptr);
+    const std::filesystem::path dir = pattern;
+    {
+        service::ServerConfig config = test_config();
+        config.store = "sqlite:" + (dir / "jobs.db").string();
+        TestServer server(config);
+        const auto [status, output] =
+            run_examples(readme_examples("<!-- http-scenario-examples -->"), server);
+        const std::string shown = output.substr(0, 3000);
+        CAPTURE(shown);
+        CHECK(status == 0);
+        for (const char* expected : {
+                 R"("speed_m_per_s":12.0)",                   // the stored complete scenario
+                 R"("name":"stand-3","updated_at":)",         // the list
+                 "428\n",                                     // replacing without If-Match
+                 "ETag: \"2\"",                               // replaced with it
+                 R"("base":{"name":"stand-3","version":2})",  // the analysis on the base
+             }) {
+            CAPTURE(expected);
+            CHECK(output.find(expected) != std::string::npos);
+        }
+        // The last example deleted it.
+        auto client = server.client();
+        CHECK(body_json(client.Get("/v1/scenarios")) == json{{"scenarios", json::array()}});
+    }
+    std::filesystem::remove_all(dir);
 }

@@ -44,7 +44,7 @@ bool refuse(const Route* route, const httplib::Request& request, httplib::Respon
         response.set_header("WWW-Authenticate", "Bearer realm=\"rollgap\"");
         set_problem(response, api::ProblemCode::unauthorized,
                     "this endpoint needs the header Authorization: Bearer <token>");
-    } else if (request.method == "POST" && has_body(request) &&
+    } else if ((request.method == "POST" || request.method == "PUT") && has_body(request) &&
                !is_json_media_type(request.get_header_value("Content-Type"))) {
         // An empty body is the request {} whatever its declared type.
         const std::string sent = request.get_header_value("Content-Type");

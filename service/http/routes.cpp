@@ -7,7 +7,10 @@ namespace rollgap::service::http {
 namespace {
 
 constexpr std::array routes{
-    Route{RouteId::scenarios_default, "/v1/scenarios/default", get, false, "", false},
+    // `default` is served from code; PUT and DELETE on it are answered 422 (a reserved name).
+    Route{RouteId::scenarios_default, "/v1/scenarios/default", get | put | del, false, "", false},
+    Route{RouteId::scenarios, "/v1/scenarios", get, true, "", false},
+    Route{RouteId::scenario, "/v1/scenarios/{name}", get | put | del, true, "", false},
     Route{RouteId::roll_gap, "/v1/roll-gap", post, true, "roll_gap", false},
     Route{RouteId::stability, "/v1/stability", post, true, "stability", false},
     Route{RouteId::amplitude, "/v1/amplitude", post, true, "amplitude", false},
@@ -37,9 +40,11 @@ const Route* match_route(std::string_view path) {
     for (const Route& route : routes) {
         if (route.id == RouteId::static_file) {
             if (path.starts_with(static_prefix)) return &route;
-        } else if (route.id == RouteId::job) {
-            if (path.size() > jobs_prefix.size() && path.starts_with(jobs_prefix) &&
-                path.find('/', jobs_prefix.size()) == std::string_view::npos) {
+        } else if (route.id == RouteId::job || route.id == RouteId::scenario) {
+            const std::string_view prefix =
+                route.id == RouteId::job ? jobs_prefix : scenario_prefix;
+            if (path.size() > prefix.size() && path.starts_with(prefix) &&
+                path.find('/', prefix.size()) == std::string_view::npos) {
                 return &route;
             }
         } else if (path == route.pattern) {
@@ -60,6 +65,7 @@ std::string allow_header(const Route& route) {
         add("HEAD");
     }
     if (route.methods & post) add("POST");
+    if (route.methods & put) add("PUT");
     if (route.methods & del) add("DELETE");
     add("OPTIONS");
     return allow;
@@ -68,6 +74,7 @@ std::string allow_header(const Route& route) {
 bool method_allowed(const Route& route, std::string_view method) {
     if (method == "GET" || method == "HEAD") return (route.methods & get) != 0;
     if (method == "POST") return (route.methods & post) != 0;
+    if (method == "PUT") return (route.methods & put) != 0;
     if (method == "DELETE") return (route.methods & del) != 0;
     return false;
 }

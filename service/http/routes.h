@@ -8,10 +8,12 @@
 
 namespace rollgap::service::http {
 
-enum Method : unsigned { get = 1, post = 2, del = 4 };
+enum Method : unsigned { get = 1, post = 2, del = 4, put = 8 };
 
 enum class RouteId {
     scenarios_default,
+    scenarios,
+    scenario,
     roll_gap,
     stability,
     amplitude,
@@ -41,6 +43,7 @@ struct Route {
 
 inline constexpr std::string_view unmatched_route = "unmatched";
 inline constexpr std::string_view jobs_prefix = "/v1/jobs/";
+inline constexpr std::string_view scenario_prefix = "/v1/scenarios/";
 
 std::span<const Route> all_routes();
 

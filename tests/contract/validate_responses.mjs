@@ -8,6 +8,9 @@
 // checks what the row is about (the status of the outcome it provokes), so a scenario that no
 // longer reaches, say, `skidding` fails loudly instead of validating something else.
 import { createRequire } from 'node:module';
+import { mkdirSync, mkdtempSync, rmSync } from 'node:fs';
+import { tmpdir } from 'node:os';
+import { join } from 'node:path';
 import { startService, toolsDir } from './service.mjs';
 
 const require = createRequire(`${toolsDir()}/`);
@@ -142,12 +145,38 @@ async function jobCases(base, run) {
   await run(['failed job csv', 'GET', `/v1/jobs/${failing.json.id}`, { accept: 'text/csv' }, 406]);
 }
 
+// The stored scenarios on the service's own fresh store: create, read, list, the
+// preconditions, validation, base in a request, delete.
+async function scenarioCases(run) {
+  const put = (body, headers = {}) => ({ body: JSON.stringify(body), headers: { 'Content-Type': 'application/json', ...headers } });
+  await run(['create scenario', 'PUT', '/v1/scenarios/stand-1', put({ rolls: { speed_m_per_s: 12 } }, { 'If-None-Match': '*' }), 201,
+    equals('/rolls/speed_m_per_s', 12)]);
+  await run(['list scenarios', 'GET', '/v1/scenarios', {}, 200, equals('/scenarios/0/version', 1)]);
+  await run(['get scenario', 'GET', '/v1/scenarios/stand-1', {}, 200, equals('/rolls/speed_m_per_s', 12)]);
+  await run(['replace without If-Match', 'PUT', '/v1/scenarios/stand-1', put({}), 428]);
+  await run(['replace with a stale If-Match', 'PUT', '/v1/scenarios/stand-1', put({}, { 'If-Match': '"9"' }), 412]);
+  await run(['replace', 'PUT', '/v1/scenarios/stand-1', put({ rolls: { speed_m_per_s: 14 } }, { 'If-Match': '"1"' }), 200]);
+  await run(['invalid stored scenario', 'PUT', '/v1/scenarios/stand-2', put({ strip: { reduction: 25 } }), 422,
+    equals('/errors/0/pointer', '/strip/reduction')]);
+  await run(['bad scenario name', 'PUT', '/v1/scenarios/-x', put({}), 422]);
+  await run(['roll gap on a base', 'POST', '/v1/roll-gap', json({ base: 'stand-1', options: { distributions: false } }), 200,
+    every(equals('/base/name', 'stand-1'), equals('/base/version', 2), equals('/scenario/rolls/speed_m_per_s', 14))]);
+  await run(['unknown base', 'POST', '/v1/stability', json({ base: 'stand-9' }), 422, equals('/errors/0/pointer', '/base')]);
+  await run(['delete scenario', 'DELETE', '/v1/scenarios/stand-1', { headers: { 'If-Match': '"2"' } }, 204]);
+  await run(['deleted scenario', 'GET', '/v1/scenarios/stand-1', {}, 404]);
+}
+
 function templateMatch(template, path) {
   const pattern = new RegExp(`^${template.replace(/\{[^}]+\}/g, '[^/]+')}$`);
   return pattern.test(path.split('?')[0]);
 }
 
-const service = await startService(binary);
+// Fresh data directories: the service's store, and one whose database path is a directory
+// (the store unavailable).
+const dataDir = mkdtempSync(join(tmpdir(), 'rollgap-contract-'));
+mkdirSync(join(dataDir, 'broken.db'));
+const service = await startService(binary, ['--data-dir', dataDir]);
+const broken = await startService(binary, ['--store', `sqlite:${join(dataDir, 'broken.db')}`]);
 let validated = 0;
 const failures = [];
 try {
@@ -157,10 +186,10 @@ try {
   ajv.addSchema(document, 'openapi');
   const escape = (segment) => segment.replace(/~/g, '~0').replace(/\//g, '~1');
 
-  const run = async ([name, method, path, request, status, check]) => {
+  const runAt = (base) => async ([name, method, path, request, status, check]) => {
     const headers = { ...(request.headers || {}) };
     if (request.accept) headers.Accept = request.accept;
-    const response = await fetch(`${service.base}${path}`, { method, headers, body: request.body });
+    const response = await fetch(`${base}${path}`, { method, headers, body: request.body });
     const text = await response.text();
     const type = (response.headers.get('content-type') || '').split(';')[0].trim();
     const outcome = { text, json: undefined };
@@ -215,10 +244,18 @@ try {
     return outcome;
   };
 
+  const run = runAt(service.base);
   for (const row of cases) await run(row);
   await jobCases(service.base, run);
+  await scenarioCases(run);
+  const onBroken = runAt(broken.base);
+  await onBroken(['scenarios, store down', 'GET', '/v1/scenarios', {}, 503]);
+  await onBroken(['base, store down', 'POST', '/v1/roll-gap', json({ base: 'stand-1' }), 503]);
+  await onBroken(['no base, store down', 'POST', '/v1/roll-gap', json({ options: { distributions: false } }), 200]);
 } finally {
   await service.stop();
+  await broken.stop();
+  rmSync(dataDir, { recursive: true, force: true });
 }
 const routes = new Set(cases.map(([, method, path]) => `${method} ${path.split('?')[0]}`));
 console.log(`validated ${validated} responses against the served /openapi.json (${routes.size} method+path pairs, plus jobs)`);

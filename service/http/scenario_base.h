@@ -1,0 +1,27 @@
+#pragma once
+// A request's "base": "<name>": the scenario patch merges onto that stored scenario instead of
+// the default. Resolved by the HTTP layer (it has the store) before the facade validates the
+// request, for synchronous analyses and at job submission alike, so that a job's stored request
+// is self-contained and a re-run on any replica computes the same thing.
+
+#include <optional>
+
+#include <httplib.h>
+#include <nlohmann/json.hpp>
+
+#include "service/evaluate.h"
+#include "service/http/service_state.h"
+
+namespace rollgap::service::http {
+
+// A request without "base" (absent or null) is left as it is and the store is not touched.
+// Otherwise the stored scenario is fetched and the request rewritten to
+//     {"base": {"name", "version"}, "scenario": merge_patch(stored, patch), ...}
+// which the facade computes and echoes (the result's "base"). Returns the problem instead:
+// 422 at /base (not a name, or no such stored scenario), 503 store_unavailable.
+std::optional<Outcome> resolve_base(nlohmann::json& request, ServiceState& state);
+
+// Answers what resolve_base() refused: a store_unavailable problem gets Retry-After.
+void answer_unresolved(ServiceState& state, const Outcome& refused, httplib::Response& response);
+
+}  // namespace rollgap::service::http

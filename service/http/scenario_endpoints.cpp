@@ -1,0 +1,276 @@
+#include "service/http/scenario_endpoints.h"
+
+#include <algorithm>
+#include <charconv>
+#include <cstdio>
+#include <cstdint>
+#include <ctime>
+#include <optional>
+#include <vector>
+
+#include "api/field_errors.h"
+#include "api/request_json.h"
+#include "api/scenario_json.h"
+#include "api/text.h"
+#include "service/http/responses.h"
+
+namespace rollgap::service::http {
+
+using api::concat;
+using nlohmann::json;
+using store::StoreStatus;
+
+// The entity tags of an If-Match or If-None-Match header (RFC 9110 §8.8.3, §13.1.1-2). A
+// version is the ETag "<version>"; anything else this service never issued matches nothing.
+// Declared in the header for expected_version().
+struct EntityTags {
+    bool present = false;
+    bool any = false;                  // "*"
+    std::vector<std::int64_t> strong;  // "7"
+    std::vector<std::int64_t> weak;    // W/"7": matches only in the weak comparison
+
+    bool matches(std::int64_t version, bool weak_comparison) const {
+        const auto in = [version](const std::vector<std::int64_t>& list) {
+            return std::find(list.begin(), list.end(), version) != list.end();
+        };
+        return in(strong) || (weak_comparison && in(weak));
+    }
+};
+
+namespace {
+
+constexpr std::string_view store_down = "the scenario store is unavailable; retry later";
+
+std::optional<std::int64_t> quoted_version(std::string_view tag) {
+    if (tag.size() < 3 || tag.front() != '"' || tag.back() != '"') return std::nullopt;
+    const std::string_view digits = tag.substr(1, tag.size() - 2);
+    std::int64_t version = 0;
+    const auto [end, error] =
+        std::from_chars(digits.data(), digits.data() + digits.size(), version);
+    if (error != std::errc() || end != digits.data() + digits.size() || version < 1)
+        return std::nullopt;
+    return version;
+}
+
+EntityTags entity_tags(const httplib::Request& request, const char* header) {
+    EntityTags tags;
+    if (!request.has_header(header)) return tags;
+    tags.present = true;
+    const std::string value = request.get_header_value(header);
+    std::string_view rest = value;
+    while (!rest.empty()) {
+        const std::size_t comma = rest.find(',');
+        const std::string_view item = trim(rest.substr(0, comma));
+        rest = comma == std::string_view::npos ? std::string_view() : rest.substr(comma + 1);
+        if (item == "*") {
+            tags.any = true;
+        } else if (item.starts_with("W/")) {
+            if (auto version = quoted_version(item.substr(2))) tags.weak.push_back(*version);
+        } else if (auto version = quoted_version(item)) {
+            tags.strong.push_back(*version);
+        }
+    }
+    return tags;
+}
+
+// RFC 9110 §13.2.2 for a write: If-Match first, then If-None-Match, against the current
+// version (nothing: no such scenario).
+bool preconditions_hold(const EntityTags& if_match, const EntityTags& if_none_match,
+                        std::optional<std::int64_t> current) {
+    if (if_match.present && !(current && (if_match.any || if_match.matches(*current, false)))) {
+        return false;
+    }
+    if (if_none_match.present && current &&
+        (if_none_match.any || if_none_match.matches(*current, true))) {
+        return false;
+    }
+    return true;
+}
+
+std::string etag(std::int64_t version) { return concat("\"", std::to_string(version), "\""); }
+
+std::string rfc3339(store::Millis millis) {
+    const std::time_t seconds = static_cast<std::time_t>(millis / 1000);
+    std::tm utc{};
+    gmtime_r(&seconds, &utc);
+    char text[32];
+    const std::size_t length = std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%S", &utc);
+    char fraction[8];
+    std::snprintf(fraction, sizeof fraction, ".%03dZ", static_cast<int>(millis % 1000));
+    return concat(std::string_view(text, length), fraction);
+}
+
+// 422 for a name in the path that cannot be stored (the pattern, or `default`).
+bool refuse_name(const std::string& name, httplib::Response& response) {
+    auto error = api::stored_scenario_name_error(name, "/name");
+    if (!error) return false;
+    error->detail = concat("the {name} of the path: ", error->detail);
+    set_problem(response, api::ProblemCode::invalid_request,
+                name == api::reserved_scenario_name
+                    ? concat("'", api::reserved_scenario_name,
+                             "' is the built-in default scenario: it can be read, not stored or "
+                             "deleted")
+                    : concat(api::quoted_for_message(name), " is not a scenario name"),
+                {std::move(*error)});
+    return true;
+}
+
+void precondition_failed(httplib::Response& response, const std::string& name) {
+    set_problem(response, api::ProblemCode::precondition_failed,
+                concat("scenario ", name,
+                       ": If-Match or If-None-Match does not hold for its current version (it "
+                       "changed, was created or deleted since); GET it again"));
+}
+
+}  // namespace
+
+bool ScenarioEndpoints::expected_version(store::JobStore& store, const std::string& name,
+                                         const EntityTags& if_match,
+                                         const EntityTags& if_none_match,
+                                         std::optional<std::int64_t>& expected,
+                                         httplib::Response& response) {
+    if (if_match.present && !if_match.any && if_match.strong.size() == 1 &&
+        !if_none_match.present) {
+        expected = if_match.strong.front();  // the usual edit: one version, checked by the store
+        return true;
+    }
+    // No precondition, or If-None-Match: * (the store refuses a stored name without a version).
+    if (!if_match.present && (!if_none_match.present || if_none_match.any)) return true;
+    // "*", lists, or both headers: compare with the current version, then write over exactly
+    // that version (the store refuses if it changed in between).
+    auto current = store.get_scenario(name);
+    state_.store.report(current.status);
+    if (current.status == StoreStatus::unavailable) {
+        state_.store_unavailable(response, std::string(store_down));
+        return false;
+    }
+    const std::optional<std::int64_t> version =
+        current.ok() ? std::optional(current.value->version) : std::nullopt;
+    if (!preconditions_hold(if_match, if_none_match, version)) {
+        precondition_failed(response, name);
+        return false;
+    }
+    expected = version;
+    return true;
+}
+
+void ScenarioEndpoints::get_or_delete(const httplib::Request& request,
+                                      httplib::Response& response) {
+    if (!request.path.starts_with(scenario_prefix)) {
+        list(response);
+        return;
+    }
+    const std::string name = request.path.substr(scenario_prefix.size());
+    if (request.method == "DELETE") {
+        remove(name, request, response);
+    } else {
+        get(name, response);
+    }
+}
+
+void ScenarioEndpoints::list(httplib::Response& response) {
+    const auto store = state_.store.get();
+    if (!store) return state_.store_unavailable(response, std::string(store_down));
+    auto listed = store->list_scenarios();
+    state_.store.report(listed.status);
+    if (!listed.ok()) return state_.store_unavailable(response, std::string(store_down));
+    json scenarios = json::array();
+    for (const store::Scenario& scenario : *listed.value) {
+        scenarios.push_back({{"name", scenario.name},
+                             {"version", scenario.version},
+                             {"updated_at", rfc3339(scenario.updated_ms)}});
+    }
+    set_json(response, 200, {{"scenarios", std::move(scenarios)}}, "application/json");
+}
+
+void ScenarioEndpoints::get(const std::string& name, httplib::Response& response) {
+    if (refuse_name(name, response)) return;
+    const auto store = state_.store.get();
+    if (!store) return state_.store_unavailable(response, std::string(store_down));
+    auto found = store->get_scenario(name);
+    state_.store.report(found.status);
+    if (found.status == StoreStatus::not_found) {
+        set_problem(response, api::ProblemCode::not_found,
+                    concat("no stored scenario ", name, "; GET /v1/scenarios lists them"));
+        return;
+    }
+    if (!found.ok()) return state_.store_unavailable(response, std::string(store_down));
+    response.status = 200;
+    response.set_header("ETag", etag(found.value->version));
+    response.set_content(found.value->body, "application/json");
+}
+
+void ScenarioEndpoints::remove(const std::string& name, const httplib::Request& request,
+                               httplib::Response& response) {
+    if (refuse_name(name, response)) return;
+    const auto store = state_.store.get();
+    if (!store) return state_.store_unavailable(response, std::string(store_down));
+    std::optional<std::int64_t> expected;
+    if (!expected_version(*store, name, entity_tags(request, "If-Match"), {}, expected, response))
+        return;
+    const StoreStatus status = store->delete_scenario(name, expected);
+    state_.store.report(status);
+    switch (status) {
+        case StoreStatus::ok: response.status = 204; return;
+        case StoreStatus::not_found:
+            set_problem(response, api::ProblemCode::not_found, concat("no stored scenario ", name));
+            return;
+        case StoreStatus::conflict: precondition_failed(response, name); return;
+        default: state_.store_unavailable(response, std::string(store_down)); return;
+    }
+}
+
+void ScenarioEndpoints::put(const httplib::Request& request, json body,
+                            httplib::Response& response) {
+    const std::string name = request.path.substr(scenario_prefix.size());
+    if (refuse_name(name, response)) return;
+
+    // The same reading as an analysis' "scenario": a merge patch onto the default, every
+    // violation reported with its pointer (into this body), bound and unit. Nothing is stored
+    // unless the whole scenario is valid.
+    api::FieldErrors errors;
+    const core::Scenario scenario = api::scenario_from_patch(body, "", errors);
+    if (!errors.empty()) {
+        set_problem(response,
+                    errors.to_problem(api::ProblemCode::invalid_scenario,
+                                      concat(std::to_string(errors.size()),
+                                             errors.size() == 1 ? " violation" : " violations",
+                                             " in the scenario; nothing was stored")));
+        return;
+    }
+    const json resolved = api::resolved_scenario_json(scenario);
+
+    const auto store = state_.store.get();
+    if (!store) return state_.store_unavailable(response, std::string(store_down));
+    const EntityTags if_match = entity_tags(request, "If-Match");
+    const EntityTags if_none_match = entity_tags(request, "If-None-Match");
+    std::optional<std::int64_t> expected;
+    if (!expected_version(*store, name, if_match, if_none_match, expected, response)) return;
+    auto written = store->put_scenario(name, dump(resolved), expected);
+    state_.store.report(written.status);
+    switch (written.status) {
+        case StoreStatus::ok: break;
+        case StoreStatus::conflict:
+            if (if_match.present || if_none_match.present) {
+                precondition_failed(response, name);
+            } else {
+                set_problem(response, api::ProblemCode::precondition_required,
+                            concat("scenario ", name,
+                                   " exists: replacing it needs If-Match with the ETag of the "
+                                   "version you edited (GET it), so that no other edit is lost"));
+            }
+            return;
+        case StoreStatus::invalid:
+            // The store's own name rule; refuse_name() let it through, so say it plainly.
+            set_problem(response, api::ProblemCode::invalid_request,
+                        concat("the store refuses the name ", name));
+            return;
+        default: state_.store_unavailable(response, std::string(store_down)); return;
+    }
+    const bool created = written.value->version == 1;
+    response.set_header("ETag", etag(written.value->version));
+    if (created) response.set_header("Location", concat(scenario_prefix, name));
+    set_json(response, created ? 201 : 200, resolved, "application/json");
+}
+
+}  // namespace rollgap::service::http
