@@ -327,3 +327,51 @@ TEST_CASE("durable jobs: a running chunked job shows its finished points as a pa
     }
     CHECK_FALSE(document.contains("result"));
 }
+
+TEST_CASE(
+    "durable jobs (postgresql): a stopped database stops jobs only and service resumes when it is back") {
+    PostgresServer postgres;
+    REQUIRE_MESSAGE(postgres.running(), postgres.error());
+    service::ServerConfig config = test_config();
+    config.store = postgres.create_database("jobs_http");
+    REQUIRE(!config.store.empty());
+    TestServer server(config);
+    auto client = server.client();
+    httplib::Client admin("127.0.0.1", server.server->admin_port());
+    const json request = {{"analysis", "roll_gap"}, {"options", {{"distributions", false}}}};
+    const std::string done = submit_job(client, request);
+    REQUIRE(poll_until_finished(client, done)["state"] == "succeeded");
+
+    REQUIRE(postgres.stop());
+    const auto sync = post_json(client, "/v1/roll-gap", {{"options", {{"distributions", false}}}});
+    REQUIRE(sync);
+    CHECK(sync->status == 200);
+    const auto ready = admin.Get("/readyz");
+    REQUIRE(ready);
+    CHECK(ready->status == 200);
+    const auto refused = post_json(client, "/v1/jobs", request);
+    REQUIRE(refused);
+    CHECK(refused->status == 503);
+    CHECK(refused->get_header_value("Retry-After") == "1");
+    CHECK(json::parse(refused->body)["code"] == "store_unavailable");
+    const auto poll = client.Get(done.c_str());
+    REQUIRE(poll);
+    CHECK(poll->status == 503);
+    CHECK(server.server->metrics_text().find("rollgap_store_up 0") != std::string::npos);
+
+    REQUIRE(postgres.start());
+    std::string location;
+    REQUIRE(eventually(
+        [&] {
+            const auto result = post_json(client, "/v1/jobs", request);
+            if (!result || result->status != 202) return false;
+            location = result->get_header_value("Location");
+            return true;
+        },
+        std::chrono::milliseconds(10000)));
+    CHECK(poll_until_finished(client, location)["state"] == "succeeded");
+    CHECK(body_json(client.Get(done.c_str()))["state"] == "succeeded");
+    CHECK(server.server->metrics_text().find("rollgap_store_up 1") != std::string::npos);
+    // The refused submission left nothing behind.
+    CHECK(body_json(client.Get("/v1/jobs"))["jobs"].size() == 2);
+}
