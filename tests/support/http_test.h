@@ -5,6 +5,7 @@
 
 #include "service/config.h"
 #include "service/http_server.h"
+#include "support/postgres.h"  // free_loopback_port, and PostgreSQL for the store tests
 
 #include <arpa/inet.h>
 #include <netinet/in.h>
@@ -14,6 +15,8 @@
 
 #include <atomic>
 #include <cctype>
+#include <cstdlib>
+#include <filesystem>
 #include <cerrno>
 #include <chrono>
 #include <condition_variable>
@@ -24,6 +27,7 @@
 #include <string>
 #include <string_view>
 #include <thread>
+#include <vector>
 
 #include <doctest/doctest.h>
 #include <httplib.h>
@@ -46,7 +50,29 @@ inline bool eventually(const std::function<bool()>& condition,
     return condition();
 }
 
-// A small configuration for tests: loopback, any port, few threads, short drain.
+// A fresh directory under the system's temporary directory, removed when the test program
+// exits (a server of the test may still hold files in it until its end).
+inline std::string fresh_temp_dir() {
+    struct Registry {
+        std::mutex mutex;
+        std::vector<std::filesystem::path> dirs;
+        ~Registry() {
+            for (const auto& dir : dirs) {
+                std::error_code ignored;
+                std::filesystem::remove_all(dir, ignored);
+            }
+        }
+    };
+    static Registry registry;
+    std::string pattern = (std::filesystem::temp_directory_path() / "rollgap-test-XXXXXX").string();
+    REQUIRE(::mkdtemp(pattern.data()) != nullptr);
+    std::lock_guard lock(registry.mutex);
+    registry.dirs.emplace_back(pattern);
+    return pattern;
+}
+
+// A small configuration for tests: loopback, any port, few threads, short drain, and a job
+// store of its own (a fresh SQLite file: no test sees another's jobs).
 inline service::ServerConfig test_config() {
     service::ServerConfig config;
     config.bind_address = "127.0.0.1";
@@ -57,6 +83,8 @@ inline service::ServerConfig test_config() {
     config.queue_length = 8;
     config.drain_timeout = std::chrono::milliseconds(2000);
     config.instance = "test";
+    config.data_dir = fresh_temp_dir();
+    config.store = "sqlite:" + config.data_dir + "/jobs.db";
     return config;
 }
 
@@ -116,6 +144,34 @@ inline httplib::Result post_json(httplib::Client& client, const std::string& pat
 inline json body_json(const httplib::Result& result) {
     REQUIRE(result);
     return json::parse(result->body);
+}
+
+// Polls the job at `location` until it finished (or `timeout` passes); its last document.
+inline json poll_until_finished(
+    httplib::Client& client, const std::string& location,
+    std::chrono::milliseconds timeout = std::chrono::milliseconds(10000)) {
+    json document;
+    eventually(
+        [&] {
+            const auto result = client.Get(location.c_str());
+            if (!result || result->status != 200) return false;
+            document = json::parse(result->body);
+            const std::string state = document["state"];
+            return state == "succeeded" || state == "failed" || state == "cancelled";
+        },
+        timeout);
+    return document;
+}
+
+// POST /v1/jobs, which must answer 202 with the job's Location; the Location.
+inline std::string submit_job(httplib::Client& client, const json& request) {
+    const auto result = post_json(client, "/v1/jobs", request);
+    REQUIRE(result);
+    CAPTURE(result->body);
+    REQUIRE(result->status == 202);
+    const std::string location = result->get_header_value("Location");
+    CHECK(location == "/v1/jobs/" + json::parse(result->body)["id"].get<std::string>());
+    return location;
 }
 
 // Whether `received` holds a whole HTTP response (headers and a Content-Length body).
@@ -265,22 +321,6 @@ inline std::string raw_header(std::string_view received, std::string_view name) 
     std::size_t begin = at + 3 + name.size();
     while (begin < head.size() && head[begin] == ' ') ++begin;
     return head.substr(begin, head.find("\r\n", begin) - begin);
-}
-
-// A port on 127.0.0.1 that was free a moment ago (bound to port 0, then released) for a child
-// process or nginx to bind.
-inline int free_loopback_port() {
-    const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-    REQUIRE(fd >= 0);
-    sockaddr_in address{};
-    address.sin_family = AF_INET;
-    address.sin_port = 0;
-    address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    REQUIRE(::bind(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) == 0);
-    socklen_t length = sizeof address;
-    REQUIRE(::getsockname(fd, reinterpret_cast<sockaddr*>(&address), &length) == 0);
-    ::close(fd);
-    return ntohs(address.sin_port);
 }
 
 // The status code of a raw HTTP response ("HTTP/1.1 413 ..."), or 0.
