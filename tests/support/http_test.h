@@ -31,6 +31,8 @@
 #include <spdlog/sinks/base_sink.h>
 #include <spdlog/spdlog.h>
 
+#include "support/loopback_port.h"
+
 namespace rollgap::test {
 
 using nlohmann::json;
@@ -265,22 +267,6 @@ inline std::string raw_header(std::string_view received, std::string_view name) 
     std::size_t begin = at + 3 + name.size();
     while (begin < head.size() && head[begin] == ' ') ++begin;
     return head.substr(begin, head.find("\r\n", begin) - begin);
-}
-
-// A port on 127.0.0.1 that was free a moment ago (bound to port 0, then released) for a child
-// process or nginx to bind.
-inline int free_loopback_port() {
-    const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-    REQUIRE(fd >= 0);
-    sockaddr_in address{};
-    address.sin_family = AF_INET;
-    address.sin_port = 0;
-    address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    REQUIRE(::bind(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) == 0);
-    socklen_t length = sizeof address;
-    REQUIRE(::getsockname(fd, reinterpret_cast<sockaddr*>(&address), &length) == 0);
-    ::close(fd);
-    return ntohs(address.sin_port);
 }
 
 // The status code of a raw HTTP response ("HTTP/1.1 413 ..."), or 0.
