@@ -1,0 +1,344 @@
+// Replicas sharing one PostgreSQL job store, as separate `rollgap serve` processes (the built
+// program) started by the test, directly and behind nginx with the product's front proxy
+// configuration in plain round-robin: a job is answered by any replica, a sweep's chunks are
+// claimed by both and assemble to the single-process result, a replica killed with SIGKILL loses
+// its work to the other after its lease, and a database that goes away stops only the job
+// routes (tests/support/replicas.h; docs/job-store.md).
+
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <chrono>
+#include <fstream>
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "support/replicas.h"
+
+using namespace rollgap::test;
+using nlohmann::json;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+// A critical-speed sweep of `count` lubricant viscosities with a coarse search (speeds 15-25
+// m/s, 1 % tolerance): the cheapest real sweep (every point is a stability search that finds
+// its critical speed, about 9 ms of CPU each on this machine).
+json sweep_request(int count) {
+    return {
+        {"analysis", "sweep"},
+        {"options",
+         {{"parameter", "/lubricant/viscosity_Pa_s"},
+          {"range", {{"from", 0.00045}, {"to", 0.0007}, {"count", count}}},
+          {"quantity", "critical_speed"},
+          {"critical_speed",
+           {{"speed_min_m_per_s", 15}, {"speed_max_m_per_s", 25}, {"relative_tolerance", 0.01}}}}}};
+}
+
+// What `rollgap run` prints for `request`: the single-process result, computed without any
+// service or store.
+json single_process_result(const std::filesystem::path& directory, const json& request) {
+    const auto file = directory / "request.json";
+    {
+        std::ofstream out(file);
+        out << request.dump();
+    }
+    const std::string output = command_output(rollgap_program().string() + " run " + file.string());
+    return json::parse(output);
+}
+
+// POST /v1/jobs; the new job's id.
+std::string submit(httplib::Client& client, const json& request) {
+    const auto result = post_json(client, "/v1/jobs", request);
+    REQUIRE(result);
+    CAPTURE(result->body);
+    REQUIRE((result->status == 201 || result->status == 202));
+    const json document = json::parse(result->body);
+    REQUIRE(document["id"].is_string());
+    CHECK(result->get_header_value("Location") == "/v1/jobs/" + document["id"].get<std::string>());
+    return document["id"];
+}
+
+struct Answer {
+    int status = 0;
+    json body;
+};
+
+Answer get_job(httplib::Client& client, const std::string& id) {
+    const auto result = client.Get(("/v1/jobs/" + id).c_str());
+    REQUIRE(result);
+    return {result->status, json::parse(result->body, nullptr, false)};
+}
+
+bool finished(const json& job) {
+    const std::string state = job.value("state", "");
+    return state == "succeeded" || state == "failed" || state == "cancelled";
+}
+
+// Polls the job through `client` until it is finished or `timeout` passes; its last document.
+json wait_finished(httplib::Client& client, const std::string& id,
+                   std::chrono::milliseconds timeout = std::chrono::seconds(60)) {
+    json last;
+    eventually(
+        [&] {
+            const Answer answer = get_job(client, id);
+            if (answer.status == 200) last = answer.body;
+            std::this_thread::sleep_for(std::chrono::milliseconds(20));
+            return answer.status == 200 && finished(last);
+        },
+        timeout);
+    return last;
+}
+
+// How many of `path`'s requests a replica's log records (one line per request).
+std::size_t requests_logged(const Replica& replica, const std::string& method,
+                            const std::string& path) {
+    const std::string log = replica.log_text();
+    const std::string needle = "method=" + method + " route=";
+    std::size_t count = 0;
+    for (std::size_t at = log.find(needle); at != std::string::npos;
+         at = log.find(needle, at + 1)) {
+        const std::size_t end = log.find('\n', at);
+        if (log.substr(at, end - at).find(" path=" + path + " ") != std::string::npos) ++count;
+    }
+    return count;
+}
+
+// The instance that completed each finished chunk of job `id`, from the store itself.
+std::map<std::string, int> chunks_by_owner(ReplicaSet& replicas, const std::string& id) {
+    std::map<std::string, int> owners;
+    const std::string rows =
+        psql(replicas.postgres(), "replicas",
+             "SELECT lease_owner, count(*) FROM chunks WHERE job_id = '" + id +
+                 "' AND state = 'done' GROUP BY lease_owner ORDER BY lease_owner");
+    std::istringstream lines(rows);
+    std::string line;
+    while (std::getline(lines, line)) {
+        const std::size_t bar = line.find('|');
+        if (bar != std::string::npos) owners[line.substr(0, bar)] = std::stoi(line.substr(bar + 1));
+    }
+    return owners;
+}
+
+// The sweep's points are the requested values, each once and in order (the reference's values
+// are distinct), and the whole document equals the single-process one.
+void check_same_sweep(const json& job, const json& reference, int count) {
+    REQUIRE(job["state"] == "succeeded");
+    const json& points = job["result"]["result"]["points"];
+    REQUIRE(points.is_array());
+    CHECK(points.size() == static_cast<std::size_t>(count));
+    std::set<double> values;
+    for (const json& point : reference["result"]["points"])
+        values.insert(point["value_Pa_s"].get<double>());
+    CHECK(values.size() == static_cast<std::size_t>(count));
+    CHECK(job["result"] == reference);
+}
+
+}  // namespace
+
+TEST_CASE(
+    "replicas: a job submitted to one replica is polled, cancelled and deleted on the other") {
+    ReplicaSet replicas(2);
+    httplib::Client a = replicas[0].client();
+    httplib::Client b = replicas[1].client();
+    CAPTURE(replicas.logs());
+
+    // A sweep long enough to be cancelled while it runs (1000 points, the default search).
+    json request = sweep_request(1000);
+    request["options"].erase("critical_speed");
+    const std::string id = submit(a, request);
+
+    const Answer seen = get_job(b, id);
+    CHECK(seen.status == 200);
+    CHECK(seen.body["id"] == id);
+    CHECK(seen.body["analysis"] == "sweep");
+
+    REQUIRE(eventually([&] { return get_job(b, id).body.value("state", "") == "running"; },
+                       std::chrono::seconds(20)));
+    const auto cancel = b.Delete(("/v1/jobs/" + id).c_str());
+    REQUIRE(cancel);
+    CHECK((cancel->status == 200 || cancel->status == 202));
+
+    // The cancel reached the worker through the store, wherever it runs.
+    const json cancelled = wait_finished(a, id, std::chrono::seconds(20));
+    CHECK(cancelled["state"] == "cancelled");
+    CHECK(eventually(
+        [&] {
+            return metric_value(replicas[0].metrics(), "rollgap_workers_busy") == 0.0 &&
+                   metric_value(replicas[1].metrics(), "rollgap_workers_busy") == 0.0;
+        },
+        std::chrono::seconds(10)));
+
+    const auto deleted = b.Delete(("/v1/jobs/" + id).c_str());
+    REQUIRE(deleted);
+    CHECK(deleted->status == 204);
+    CHECK(get_job(a, id).status == 404);
+    CHECK(get_job(b, id).status == 404);
+}
+
+TEST_CASE("replicas: behind nginx in round-robin, one job's requests reach both replicas") {
+    ReplicaSet replicas(2, {}, true);
+    httplib::Client proxy = replicas.proxy_client();
+    CAPTURE(replicas.logs());
+
+    const std::string id = submit(proxy, sweep_request(20));
+    const json done = wait_finished(proxy, id);
+    CHECK(done["state"] == "succeeded");
+    // Several polls in a row: round-robin sends them to each replica in turn.
+    for (int i = 0; i < 4; ++i) {
+        const Answer answer = get_job(proxy, id);
+        CHECK(answer.status == 200);
+        CHECK(answer.body["state"] == "succeeded");
+    }
+    const std::string path = "/v1/jobs/" + id;
+    CHECK(eventually([&] {
+        return requests_logged(replicas[0], "GET", path) >= 2 &&
+               requests_logged(replicas[1], "GET", path) >= 2;
+    }));
+
+    // A second job, cancelled and deleted through the proxy while it runs.
+    json long_request = sweep_request(1000);
+    long_request["options"].erase("critical_speed");
+    const std::string long_id = submit(proxy, long_request);
+    REQUIRE(eventually([&] { return get_job(proxy, long_id).body.value("state", "") == "running"; },
+                       std::chrono::seconds(20)));
+    const auto cancel = proxy.Delete(("/v1/jobs/" + long_id).c_str());
+    REQUIRE(cancel);
+    CHECK((cancel->status == 200 || cancel->status == 202));
+    CHECK(wait_finished(proxy, long_id, std::chrono::seconds(20))["state"] == "cancelled");
+    const auto deleted = proxy.Delete(("/v1/jobs/" + long_id).c_str());
+    REQUIRE(deleted);
+    CHECK(deleted->status == 204);
+    for (int i = 0; i < 2; ++i) CHECK(get_job(proxy, long_id).status == 404);
+    const std::string long_path = "/v1/jobs/" + long_id;
+    CHECK(eventually([&] {
+        return requests_logged(replicas[0], "GET", long_path) >= 1 &&
+               requests_logged(replicas[1], "GET", long_path) >= 1;
+    }));
+}
+
+TEST_CASE(
+    "replicas: a 200-point sweep is claimed by both replicas and equals the single-process run") {
+    constexpr int points = 200;
+    ReplicaOptions options;
+    options.chunk_points = 10;
+    ReplicaSet replicas(2, options);
+    CAPTURE(replicas.logs());
+    const json request = sweep_request(points);
+    const json reference = single_process_result(replicas.directory(), request);
+
+    httplib::Client a = replicas[0].client();
+    const std::string id = submit(a, request);
+    httplib::Client b = replicas[1].client();
+    const json done = wait_finished(b, id);
+    check_same_sweep(done, reference, points);
+
+    // 20 chunks of 10 points; each replica completed some of them.
+    const auto owners = chunks_by_owner(replicas, id);
+    int total = 0;
+    for (const auto& [owner, chunks] : owners) {
+        MESSAGE(owner << " completed " << chunks << " chunks");
+        total += chunks;
+    }
+    CHECK(total == points / 10);
+    CHECK(owners.size() == 2);
+}
+
+TEST_CASE("replicas: kill -9 of a replica running a sweep: the other finishes it after the lease") {
+    constexpr int points = 200;
+    ReplicaOptions options;
+    options.lease = std::chrono::milliseconds(1500);
+    options.chunk_points = 10;
+    ReplicaSet replicas(2, options);
+    CAPTURE(replicas.logs());
+    const json request = sweep_request(points);
+    const json reference = single_process_result(replicas.directory(), request);
+
+    httplib::Client b = replicas[1].client();
+    const std::string id = submit(b, request);
+    // Killed while the sweep runs and it holds a chunk: after a few chunks are done.
+    REQUIRE(eventually(
+        [&] {
+            const json job = get_job(b, id).body;
+            return job.value("points_done", 0) >= 30;
+        },
+        std::chrono::seconds(30)));
+    const json before = get_job(b, id).body;
+    REQUIRE(before["state"] == "running");
+    const auto killed_at = Clock::now();
+    replicas[0].kill9();
+
+    const json done = wait_finished(b, id, std::chrono::seconds(60));
+    const auto finished_after = Clock::now() - killed_at;
+    MESSAGE(
+        "finished " << std::chrono::duration_cast<std::chrono::milliseconds>(finished_after).count()
+                    << " ms after the kill, " << before.value("points_done", 0) << " of " << points
+                    << " points done before it");
+    check_same_sweep(done, reference, points);
+    // Every chunk completed exactly once: by the dead replica before it died or by the survivor.
+    const auto owners = chunks_by_owner(replicas, id);
+    int total = 0;
+    for (const auto& [owner, chunks] : owners) total += chunks;
+    CHECK(total == points / 10);
+}
+
+TEST_CASE(
+    "replicas: PostgreSQL stopped: analyses go on, job routes answer 503, and service resumes") {
+    ReplicaSet replicas(1);
+    Replica& replica = replicas[0];
+    httplib::Client client = replica.client();
+    CAPTURE(replicas.logs());
+
+    const json analysis_body = {{"options", {{"distributions", false}}}};
+    json quick = analysis_body;
+    quick["analysis"] = "roll_gap";
+    const std::string before = submit(client, quick);
+    REQUIRE(wait_finished(client, before)["state"] == "succeeded");
+    CHECK(metric_value(replica.metrics(), "rollgap_store_up") == 1.0);
+
+    REQUIRE(replicas.postgres().stop());
+
+    // Synchronous analyses without a stored base never touch the store.
+    const auto analysis = post_json(client, "/v1/roll-gap", analysis_body);
+    REQUIRE(analysis);
+    CHECK(analysis->status == 200);
+    const auto ready = client.Get("/readyz");
+    REQUIRE(ready);
+    CHECK(ready->status == 200);
+
+    const auto check_unavailable = [](const httplib::Result& result) {
+        REQUIRE(result);
+        CAPTURE(result->body);
+        CHECK(result->status == 503);
+        CHECK(result->get_header_value("Content-Type") == "application/problem+json");
+        CHECK_FALSE(result->get_header_value("Retry-After").empty());
+        CHECK(json::parse(result->body, nullptr, false).value("code", "") == "store_unavailable");
+    };
+    check_unavailable(post_json(client, "/v1/jobs", quick));
+    check_unavailable(client.Get(("/v1/jobs/" + before).c_str()));
+    check_unavailable(client.Get("/v1/jobs"));
+    CHECK(metric_value(replica.metrics(), "rollgap_store_up") == 0.0);
+    CHECK(replica.log_text().find("job store unavailable") != std::string::npos);
+    // Still answering analyses while the store is down.
+    const auto again = post_json(client, "/v1/roll-gap", analysis_body);
+    REQUIRE(again);
+    CHECK(again->status == 200);
+
+    REQUIRE(replicas.postgres().start());
+    // The job of before the outage is there; the refused submission left nothing behind.
+    CHECK(eventually([&] { return get_job(client, before).status == 200; },
+                     std::chrono::seconds(15)));
+    CHECK(get_job(client, before).body["state"] == "succeeded");
+    const auto list = client.Get("/v1/jobs?limit=100");
+    REQUIRE(list);
+    CHECK(list->status == 200);
+    const json jobs = json::parse(list->body)["jobs"];
+    REQUIRE(jobs.size() == 1);
+    CHECK(jobs[0]["id"] == before);
+    const std::string after = submit(client, quick);
+    CHECK(wait_finished(client, after)["state"] == "succeeded");
+    CHECK(metric_value(replica.metrics(), "rollgap_store_up") == 1.0);
+    CHECK(replica.log_text().find("job store available again") != std::string::npos);
+}
