@@ -11,7 +11,9 @@
 #include <chrono>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <set>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -222,8 +224,9 @@ TEST_CASE("replicas: behind nginx in round-robin, one job's requests reach both 
 TEST_CASE(
     "replicas: a 200-point sweep is claimed by both replicas and equals the single-process run") {
     constexpr int points = 200;
+    constexpr int chunk = 10;
     ReplicaOptions options;
-    options.chunk_points = 10;
+    options.chunk_points = chunk;
     ReplicaSet replicas(2, options);
     CAPTURE(replicas.logs());
     const json request = sweep_request(points);
@@ -235,22 +238,32 @@ TEST_CASE(
     const json done = wait_finished(b, id);
     check_same_sweep(done, reference, points);
 
-    // 20 chunks of 10 points; each replica completed some of them.
+    // 20 chunks of 10 points, each completed once; both replicas completed some, as the store
+    // records (the lease holder that completed each chunk) and each replica counts.
     const auto owners = chunks_by_owner(replicas, id);
     int total = 0;
     for (const auto& [owner, chunks] : owners) {
         MESSAGE(owner << " completed " << chunks << " chunks");
         total += chunks;
     }
-    CHECK(total == points / 10);
+    CHECK(total == points / chunk);
     CHECK(owners.size() == 2);
+    const auto succeeded = [&](std::size_t i) {
+        return metric_value(replicas[i].metrics(), "rollgap_work_items_total",
+                            "outcome=\"succeeded\"")
+            .value_or(0.0);
+    };
+    CHECK(succeeded(0) > 0);
+    CHECK(succeeded(1) > 0);
+    CHECK(succeeded(0) + succeeded(1) == points / chunk);
 }
 
 TEST_CASE("replicas: kill -9 of a replica running a sweep: the other finishes it after the lease") {
     constexpr int points = 200;
+    constexpr int chunk = 10;
     ReplicaOptions options;
     options.lease = std::chrono::milliseconds(1500);
-    options.chunk_points = 10;
+    options.chunk_points = chunk;
     ReplicaSet replicas(2, options);
     CAPTURE(replicas.logs());
     const json request = sweep_request(points);
@@ -258,30 +271,84 @@ TEST_CASE("replicas: kill -9 of a replica running a sweep: the other finishes it
 
     httplib::Client b = replicas[1].client();
     const std::string id = submit(b, request);
-    // Killed while the sweep runs and it holds a chunk: after a few chunks are done.
-    REQUIRE(eventually(
-        [&] {
-            const json job = get_job(b, id).body;
-            return job.value("points_done", 0) >= 30;
-        },
-        std::chrono::seconds(30)));
+    // Killed while the sweep runs, holding chunks: once a few chunks are done.
+    REQUIRE(eventually([&] { return get_job(b, id).body.value("points_done", 0) >= 3 * chunk; },
+                       std::chrono::seconds(30)));
     const json before = get_job(b, id).body;
     REQUIRE(before["state"] == "running");
     const auto killed_at = Clock::now();
     replicas[0].kill9();
+    // What the dead replica held: chunks leased to it, and until when.
+    const std::string held = psql(replicas.postgres(), "replicas",
+                                  "SELECT idx, lease_until_ms FROM chunks WHERE job_id = '" + id +
+                                      "' AND lease_owner = 'a' AND state = 'running'");
+    CAPTURE(held);
 
     const json done = wait_finished(b, id, std::chrono::seconds(60));
     const auto finished_after = Clock::now() - killed_at;
     MESSAGE(
         "finished " << std::chrono::duration_cast<std::chrono::milliseconds>(finished_after).count()
                     << " ms after the kill, " << before.value("points_done", 0) << " of " << points
-                    << " points done before it");
+                    << " points done before it; the dead replica held (idx|lease_until_ms): "
+                    << held);
     check_same_sweep(done, reference, points);
     // Every chunk completed exactly once: by the dead replica before it died or by the survivor.
     const auto owners = chunks_by_owner(replicas, id);
     int total = 0;
     for (const auto& [owner, chunks] : owners) total += chunks;
-    CHECK(total == points / 10);
+    CHECK(total == points / chunk);
+    // The chunks the dead replica held were completed by the survivor, and the job finished
+    // only after their lease ran out.
+    std::istringstream rows(held);
+    std::string row;
+    int taken_over = 0;
+    while (std::getline(rows, row)) {
+        const std::size_t bar = row.find('|');
+        if (bar == std::string::npos) continue;
+        const std::string idx = row.substr(0, bar);
+        const long long lease_until = std::stoll(row.substr(bar + 1));
+        const std::string after =
+            psql(replicas.postgres(), "replicas",
+                 "SELECT c.lease_owner, j.finished_ms FROM chunks c JOIN jobs j ON j.id = c.job_id "
+                 "WHERE c.job_id = '" +
+                     id + "' AND c.idx = " + idx);
+        CAPTURE(after);
+        CHECK(after.rfind("b|", 0) == 0);
+        CHECK(std::stoll(after.substr(after.find('|') + 1)) >= lease_until);
+        ++taken_over;
+    }
+    CHECK(taken_over >= 1);
+}
+
+TEST_CASE("replicas: a draining replica gives its chunks back and the other finishes the sweep") {
+    constexpr int points = 200;
+    constexpr int chunk = 10;
+    ReplicaOptions options;
+    // A lease far longer than the test: the survivor can only finish quickly if the draining
+    // replica gave its chunks back instead of letting their leases run out.
+    options.lease = std::chrono::milliseconds(60000);
+    options.chunk_points = chunk;
+    ReplicaSet replicas(2, options);
+    CAPTURE(replicas.logs());
+    const json request = sweep_request(points);
+    const json reference = single_process_result(replicas.directory(), request);
+
+    httplib::Client b = replicas[1].client();
+    const std::string id = submit(b, request);
+    REQUIRE(eventually([&] { return get_job(b, id).body.value("points_done", 0) >= 3 * chunk; },
+                       std::chrono::seconds(30)));
+    const auto signalled_at = Clock::now();
+    const std::optional<int> status = replicas[0].terminate();
+    REQUIRE(status);
+    CHECK(WIFEXITED(*status));
+    CHECK(WEXITSTATUS(*status) == 0);
+    const json done = wait_finished(b, id, std::chrono::seconds(40));
+    const auto finished_after = Clock::now() - signalled_at;
+    MESSAGE("SIGTERM: the sweep finished "
+            << std::chrono::duration_cast<std::chrono::milliseconds>(finished_after).count()
+            << " ms after the signal (lease 60 s)");
+    check_same_sweep(done, reference, points);
+    CHECK(finished_after < options.lease);
 }
 
 TEST_CASE(
