@@ -258,6 +258,9 @@ def main():
             with Cluster(args, postgres, directory, 2, []) as cluster:
                 elapsed, _, killed = timed_sweep(cluster, request, kill_at=args.points * 3 // 10)
                 deaths.append((elapsed, killed))
+        if any(not k for _, k in deaths):
+            print("  (the sweep finished before the kill point: no death measured)")
+            deaths = [(e, k) for e, k in deaths if k] or deaths
         cost = statistics.median(e for e, _ in deaths) - undisturbed[label]
         print(f"kill -9 of one of 2 replicas at ~30 % of the sweep: finished in "
               + ", ".join(f"{e:.2f} s (killed at {k.get('at', 0):.2f} s, "

@@ -221,32 +221,63 @@ TEST_CASE("replicas: behind nginx in round-robin, one job's requests reach both 
     }));
 }
 
+// Two replicas with chunks of `chunk` points and lease `lease`, and the single-process result
+// of the 200-point sweep they are given.
+struct SweepReplicas {
+    static constexpr int points = 200;
+    static constexpr int chunk = 10;
+    ReplicaSet replicas;
+    json request = sweep_request(points);
+    json reference;
+
+    explicit SweepReplicas(std::chrono::milliseconds lease) : replicas(2, options(lease)) {
+        reference = single_process_result(replicas.directory(), request);
+    }
+    static ReplicaOptions options(std::chrono::milliseconds lease) {
+        ReplicaOptions options;
+        options.lease = lease;
+        options.chunk_points = chunk;
+        return options;
+    }
+    // The sweep submitted to the second replica, once a few of its chunks are done (the
+    // replicas hold chunks then); its id.
+    std::string submit_and_wait_under_way() {
+        httplib::Client b = replicas[1].client();
+        const std::string id = submit(b, request);
+        REQUIRE(eventually([&] { return get_job(b, id).body.value("points_done", 0) >= 3 * chunk; },
+                           std::chrono::seconds(30)));
+        REQUIRE(get_job(b, id).body["state"] == "running");
+        return id;
+    }
+    // Chunks of the job completed, by all replicas together.
+    int chunks_done(const std::string& id) {
+        int total = 0;
+        for (const auto& [owner, chunks] : chunks_by_owner(replicas, id)) total += chunks;
+        return total;
+    }
+};
+
+long long elapsed_ms(Clock::time_point since) {
+    return std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - since).count();
+}
+
 TEST_CASE(
     "replicas: a 200-point sweep is claimed by both replicas and equals the single-process run") {
-    constexpr int points = 200;
-    constexpr int chunk = 10;
-    ReplicaOptions options;
-    options.chunk_points = chunk;
-    ReplicaSet replicas(2, options);
+    SweepReplicas sweep(std::chrono::milliseconds(1500));
+    ReplicaSet& replicas = sweep.replicas;
     CAPTURE(replicas.logs());
-    const json request = sweep_request(points);
-    const json reference = single_process_result(replicas.directory(), request);
 
     httplib::Client a = replicas[0].client();
-    const std::string id = submit(a, request);
+    const std::string id = submit(a, sweep.request);
     httplib::Client b = replicas[1].client();
-    const json done = wait_finished(b, id);
-    check_same_sweep(done, reference, points);
+    check_same_sweep(wait_finished(b, id), sweep.reference, sweep.points);
 
     // 20 chunks of 10 points, each completed once; both replicas completed some, as the store
     // records (the lease holder that completed each chunk) and each replica counts.
     const auto owners = chunks_by_owner(replicas, id);
-    int total = 0;
-    for (const auto& [owner, chunks] : owners) {
+    for (const auto& [owner, chunks] : owners)
         MESSAGE(owner << " completed " << chunks << " chunks");
-        total += chunks;
-    }
-    CHECK(total == points / chunk);
+    CHECK(sweep.chunks_done(id) == sweep.points / sweep.chunk);
     CHECK(owners.size() == 2);
     const auto succeeded = [&](std::size_t i) {
         return metric_value(replicas[i].metrics(), "rollgap_work_items_total",
@@ -255,27 +286,14 @@ TEST_CASE(
     };
     CHECK(succeeded(0) > 0);
     CHECK(succeeded(1) > 0);
-    CHECK(succeeded(0) + succeeded(1) == points / chunk);
+    CHECK(succeeded(0) + succeeded(1) == sweep.points / sweep.chunk);
 }
 
 TEST_CASE("replicas: kill -9 of a replica running a sweep: the other finishes it after the lease") {
-    constexpr int points = 200;
-    constexpr int chunk = 10;
-    ReplicaOptions options;
-    options.lease = std::chrono::milliseconds(1500);
-    options.chunk_points = chunk;
-    ReplicaSet replicas(2, options);
+    SweepReplicas sweep(std::chrono::milliseconds(1500));
+    ReplicaSet& replicas = sweep.replicas;
     CAPTURE(replicas.logs());
-    const json request = sweep_request(points);
-    const json reference = single_process_result(replicas.directory(), request);
-
-    httplib::Client b = replicas[1].client();
-    const std::string id = submit(b, request);
-    // Killed while the sweep runs, holding chunks: once a few chunks are done.
-    REQUIRE(eventually([&] { return get_job(b, id).body.value("points_done", 0) >= 3 * chunk; },
-                       std::chrono::seconds(30)));
-    const json before = get_job(b, id).body;
-    REQUIRE(before["state"] == "running");
+    const std::string id = sweep.submit_and_wait_under_way();
     const auto killed_at = Clock::now();
     replicas[0].kill9();
     // What the dead replica held: chunks leased to it, and until when.
@@ -284,19 +302,14 @@ TEST_CASE("replicas: kill -9 of a replica running a sweep: the other finishes it
                                       "' AND lease_owner = 'a' AND state = 'running'");
     CAPTURE(held);
 
+    httplib::Client b = replicas[1].client();
     const json done = wait_finished(b, id, std::chrono::seconds(60));
-    const auto finished_after = Clock::now() - killed_at;
-    MESSAGE(
-        "finished " << std::chrono::duration_cast<std::chrono::milliseconds>(finished_after).count()
-                    << " ms after the kill, " << before.value("points_done", 0) << " of " << points
-                    << " points done before it; the dead replica held (idx|lease_until_ms): "
-                    << held);
-    check_same_sweep(done, reference, points);
+    MESSAGE("finished " << elapsed_ms(killed_at)
+                        << " ms after the kill; the dead replica held (idx|lease_until_ms): "
+                        << held);
+    check_same_sweep(done, sweep.reference, sweep.points);
     // Every chunk completed exactly once: by the dead replica before it died or by the survivor.
-    const auto owners = chunks_by_owner(replicas, id);
-    int total = 0;
-    for (const auto& [owner, chunks] : owners) total += chunks;
-    CHECK(total == points / chunk);
+    CHECK(sweep.chunks_done(id) == sweep.points / sweep.chunk);
     // The chunks the dead replica held were completed by the survivor, and the job finished
     // only after their lease ran out.
     std::istringstream rows(held);
@@ -321,34 +334,26 @@ TEST_CASE("replicas: kill -9 of a replica running a sweep: the other finishes it
 }
 
 TEST_CASE("replicas: a draining replica gives its chunks back and the other finishes the sweep") {
-    constexpr int points = 200;
-    constexpr int chunk = 10;
-    ReplicaOptions options;
     // A lease far longer than the test: the survivor can only finish quickly if the draining
     // replica gave its chunks back instead of letting their leases run out.
-    options.lease = std::chrono::milliseconds(60000);
-    options.chunk_points = chunk;
-    ReplicaSet replicas(2, options);
+    constexpr auto lease = std::chrono::milliseconds(60000);
+    SweepReplicas sweep(lease);
+    ReplicaSet& replicas = sweep.replicas;
     CAPTURE(replicas.logs());
-    const json request = sweep_request(points);
-    const json reference = single_process_result(replicas.directory(), request);
-
-    httplib::Client b = replicas[1].client();
-    const std::string id = submit(b, request);
-    REQUIRE(eventually([&] { return get_job(b, id).body.value("points_done", 0) >= 3 * chunk; },
-                       std::chrono::seconds(30)));
+    const std::string id = sweep.submit_and_wait_under_way();
     const auto signalled_at = Clock::now();
     const std::optional<int> status = replicas[0].terminate();
     REQUIRE(status);
     CHECK(WIFEXITED(*status));
     CHECK(WEXITSTATUS(*status) == 0);
+    httplib::Client b = replicas[1].client();
     const json done = wait_finished(b, id, std::chrono::seconds(40));
-    const auto finished_after = Clock::now() - signalled_at;
-    MESSAGE("SIGTERM: the sweep finished "
-            << std::chrono::duration_cast<std::chrono::milliseconds>(finished_after).count()
-            << " ms after the signal (lease 60 s)");
-    check_same_sweep(done, reference, points);
-    CHECK(finished_after < options.lease);
+    const auto finished_after = elapsed_ms(signalled_at);
+    MESSAGE("SIGTERM: the sweep finished " << finished_after
+                                           << " ms after the signal (lease 60 s)");
+    check_same_sweep(done, sweep.reference, sweep.points);
+    CHECK(sweep.chunks_done(id) == sweep.points / sweep.chunk);
+    CHECK(finished_after < lease.count());
 }
 
 TEST_CASE(
