@@ -1,8 +1,26 @@
 #include "api/chatter_json.h"
 
+#include <array>
+#include <optional>
+#include <string>
+
 #include "api/result_table.h"
 
 namespace rollgap::api {
+namespace {
+
+// A written chatter type back to core's; nothing for null (or anything that is not a type).
+std::optional<core::ChatterType> written_chatter_type(const nlohmann::json& value) {
+    if (!value.is_string()) return std::nullopt;
+    for (const core::ChatterType type :
+         std::array{core::ChatterType::third_octave, core::ChatterType::fifth_octave,
+                    core::ChatterType::other}) {
+        if (value.get_ref<const std::string&>() == core::to_string(type)) return type;
+    }
+    return std::nullopt;
+}
+
+}  // namespace
 
 nlohmann::json chatter_type_schema(bool nullable) {
     return enum_schema({"third_octave", "fifth_octave", "other"}, nullable);
@@ -36,6 +54,18 @@ nlohmann::json chatter_type_changes_json(const std::vector<core::ChatterTypeChan
         });
     }
     return out;
+}
+
+nlohmann::json chatter_type_changes_json(const nlohmann::json& point_documents,
+                                         const std::vector<std::pair<int, int>>& neighbours,
+                                         const std::function<nlohmann::json(int)>& point) {
+    std::vector<std::optional<core::ChatterType>> types;
+    types.reserve(point_documents.size());
+    for (const nlohmann::json& document : point_documents) {
+        const auto found = document.find("chatter_type");
+        types.push_back(found != document.end() ? written_chatter_type(*found) : std::nullopt);
+    }
+    return chatter_type_changes_json(core::chatter_type_changes(types, neighbours), point);
 }
 
 }  // namespace rollgap::api

@@ -4,6 +4,7 @@
 
 #include <functional>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -29,6 +30,13 @@ inline constexpr std::string_view chatter_band_text =
 nlohmann::json chatter_type_changes_schema(const nlohmann::json& point_schema);
 
 nlohmann::json chatter_type_changes_json(const std::vector<core::ChatterTypeChange>& changes,
+                                         const std::function<nlohmann::json(int)>& point);
+
+// The same from points as written (sweep points, map cells): each document's "chatter_type" is
+// the crossing mode's type, null exactly where the point has none (crossing_members), so the
+// changes follow from the documents alone, whichever process computed each point.
+nlohmann::json chatter_type_changes_json(const nlohmann::json& point_documents,
+                                         const std::vector<std::pair<int, int>>& neighbours,
                                          const std::function<nlohmann::json(int)>& point);
 
 }  // namespace rollgap::api

@@ -184,15 +184,16 @@ const ResultTable<SweepAxis>& map_parameter_table() {
     return table;
 }
 
+// The pair of values of a cell (row-major index).
+nlohmann::json values_of(const MapPlan& plan, std::size_t cell) {
+    const std::size_t columns = plan.axes[1].values.size();
+    return nlohmann::json::array(
+        {plan.axes[0].values[cell / columns], plan.axes[1].values[cell % columns]});
+}
+
 struct MapOutput {
     const MapPlan& plan;
-    const core::StabilityMap& map;
-    // The pair of values of a cell (row-major index).
-    nlohmann::json values_of(int cell) const {
-        const auto i = static_cast<std::size_t>(cell / map.columns),
-                   j = static_cast<std::size_t>(cell % map.columns);
-        return nlohmann::json::array({plan.axes[0].values[i], plan.axes[1].values[j]});
-    }
+    nlohmann::json cells;  // the cells' documents, row-major
 };
 
 const ResultTable<MapOutput>& map_result_table() {
@@ -210,21 +211,18 @@ const ResultTable<MapOutput>& map_result_table() {
                  return parameters;
              }},
             {"cells", "One per pair of values, row-major (the second field varies fastest).",
-             array_schema(ref_schema("MapCell")),
-             [](const MapOutput& o) {
-                 nlohmann::json cells = nlohmann::json::array();
-                 for (std::size_t c = 0; c < o.map.cells.size(); ++c) {
-                     cells.push_back(map_cell_table().write(
-                         {o.values_of(static_cast<int>(c)), o.map.cells[c]}));
-                 }
-                 return cells;
-             }},
+             array_schema(ref_schema("MapCell")), [](const MapOutput& o) { return o.cells; }},
             {"chatter_type_changes",
              "Each pair of neighbouring cells (along either field) whose crossing modes differ in chatter type.",
              chatter_type_changes_schema(array_schema({{"type", "number"}})),
              [](const MapOutput& o) {
-                 return chatter_type_changes_json(o.map.changes,
-                                                  [&o](int cell) { return o.values_of(cell); });
+                 // From the documents of all cells: a cell's neighbours may have been computed
+                 // in another chunk.
+                 return chatter_type_changes_json(
+                     o.cells,
+                     core::grid_neighbours(static_cast<int>(o.plan.axes[0].values.size()),
+                                           static_cast<int>(o.plan.axes[1].values.size())),
+                     [&o](int cell) { return values_of(o.plan, static_cast<std::size_t>(cell)); });
              }},
         }};
     return table;
@@ -239,8 +237,21 @@ std::vector<ResultSchema> map_result_schemas() {
             result_schema(map_result_table())};
 }
 
+nlohmann::json map_cells_json(const MapPlan& plan,
+                              const std::vector<core::CriticalSpeedResult>& results,
+                              std::size_t first) {
+    nlohmann::json cells = nlohmann::json::array();
+    for (std::size_t c = 0; c < results.size(); ++c)
+        cells.push_back(map_cell_table().write({values_of(plan, first + c), results[c]}));
+    return cells;
+}
+
+nlohmann::json map_result_json(const MapPlan& plan, nlohmann::json cells) {
+    return map_result_table().write({plan, std::move(cells)});
+}
+
 nlohmann::json map_json(const MapPlan& plan, const core::StabilityMap& map) {
-    return map_result_table().write({plan, map});
+    return map_result_json(plan, map_cells_json(plan, map.cells, 0));
 }
 
 }  // namespace rollgap::api

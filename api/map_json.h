@@ -42,6 +42,16 @@ MapPlan map_plan_from_json(const nlohmann::json& options, const std::string& poi
 // "to_chatter_type"}]} for neighbouring cells along either axis.
 nlohmann::json map_json(const MapPlan& plan, const core::StabilityMap& map);
 
+// map_json in two steps, so that cells computed apart (the chunks of a job, on any replica)
+// assemble into exactly the document one run writes; map_json is these two steps.
+// The documents of the cells first, first + 1, ... (row-major index, one per result), as
+// "cells" lists them.
+nlohmann::json map_cells_json(const MapPlan& plan,
+                              const std::vector<core::CriticalSpeedResult>& results,
+                              std::size_t first);
+// The result from all cells' documents in order; chatter_type_changes from their chatter types.
+nlohmann::json map_result_json(const MapPlan& plan, nlohmann::json cells);
+
 // The tables that write it (api/result_table.h): their OpenAPI components, and the scalar
 // members of a cell (the CSV columns after the two values).
 std::vector<ResultSchema> map_result_schemas();

@@ -455,18 +455,16 @@ nlohmann::json point_schema(nlohmann::json schema) {
 }
 
 template <class Result, class Table>
-nlohmann::json sweep_json(const SweepPlan& plan, std::string_view quantity,
-                          const std::vector<Result>& results, const Table& table,
-                          nlohmann::json chatter_type_changes = absent()) {
+nlohmann::json points_json(const SweepPlan& plan, const std::vector<Result>& results,
+                           std::size_t first, const Table& table) {
     const std::string key = value_name(plan.field->unit);
     nlohmann::json points = nlohmann::json::array();
-    for (std::size_t i = 0; i < results.size() && i < plan.values.size(); ++i) {
+    for (std::size_t i = 0; i < results.size() && first + i < plan.values.size(); ++i) {
         nlohmann::json point = table.write(results[i]);
-        point[key] = plan.values[i];
+        point[key] = plan.values[first + i];
         points.push_back(std::move(point));
     }
-    return sweep_result_table().write({plan.field->path, plan.field->unit.code, key, quantity,
-                                       std::move(points), std::move(chatter_type_changes)});
+    return points;
 }
 
 }  // namespace
@@ -511,17 +509,41 @@ std::vector<ResultSchema> sweep_result_schemas() {
             result_schema(sweep_result_table())};
 }
 
+nlohmann::json sweep_critical_speed_points_json(
+    const SweepPlan& plan, const std::vector<core::CriticalSpeedResult>& results,
+    std::size_t first) {
+    return points_json(plan, results, first, critical_point_table());
+}
+
+nlohmann::json sweep_amplitude_points_json(const SweepPlan& plan,
+                                           const std::vector<core::AmplitudeResult>& results,
+                                           std::size_t first) {
+    return points_json(plan, results, first, amplitude_point_figures_table());
+}
+
+nlohmann::json sweep_result_json(const SweepPlan& plan, nlohmann::json points) {
+    const bool critical = plan.quantity == SweepQuantity::critical_speed;
+    // The changes need each point's neighbour, which a chunk may not hold: they are derived
+    // here, from the documents of all points, never carried in them.
+    nlohmann::json changes =
+        critical
+            ? chatter_type_changes_json(
+                  points, core::sequence_neighbours(static_cast<int>(points.size())),
+                  [&](int i) { return nlohmann::json(plan.values[static_cast<std::size_t>(i)]); })
+            : absent();
+    return sweep_result_table().write(
+        {plan.field->path, plan.field->unit.code, value_name(plan.field->unit),
+         critical ? "critical_speed" : "amplitude", std::move(points), std::move(changes)});
+}
+
 nlohmann::json sweep_critical_speed_json(const SweepPlan& plan,
                                          const std::vector<core::CriticalSpeedResult>& results) {
-    return sweep_json(plan, "critical_speed", results, critical_point_table(),
-                      chatter_type_changes_json(core::chatter_type_changes(results), [&](int i) {
-                          return nlohmann::json(plan.values[static_cast<std::size_t>(i)]);
-                      }));
+    return sweep_result_json(plan, sweep_critical_speed_points_json(plan, results, 0));
 }
 
 nlohmann::json sweep_amplitude_json(const SweepPlan& plan,
                                     const std::vector<core::AmplitudeResult>& results) {
-    return sweep_json(plan, "amplitude", results, amplitude_point_figures_table());
+    return sweep_result_json(plan, sweep_amplitude_points_json(plan, results, 0));
 }
 
 }  // namespace rollgap::api

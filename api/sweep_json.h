@@ -99,4 +99,18 @@ nlohmann::json sweep_critical_speed_json(const SweepPlan& plan,
 nlohmann::json sweep_amplitude_json(const SweepPlan& plan,
                                     const std::vector<core::AmplitudeResult>& results);
 
+// The two above in two steps, so that points computed apart (the chunks of a job, on any
+// replica) assemble into exactly the document one run writes: both functions above are these
+// two steps.
+// The documents of the points first, first + 1, ... (one per result), as "points" lists them.
+nlohmann::json sweep_critical_speed_points_json(
+    const SweepPlan& plan, const std::vector<core::CriticalSpeedResult>& results,
+    std::size_t first);
+nlohmann::json sweep_amplitude_points_json(const SweepPlan& plan,
+                                           const std::vector<core::AmplitudeResult>& results,
+                                           std::size_t first);
+// The result from all points' documents in order (one per value); chatter_type_changes
+// (quantity critical_speed) from the documents' chatter types.
+nlohmann::json sweep_result_json(const SweepPlan& plan, nlohmann::json points);
+
 }  // namespace rollgap::api

@@ -9,8 +9,8 @@ namespace rollgap::core {
 namespace {
 
 template <class Result, class Analysis>
-std::vector<Result> sweep(const std::vector<Scenario>& scenarios, int threads,
-                          const Control& control, Analysis&& analysis) {
+std::vector<Result> sweep(std::span<const Scenario> scenarios, int threads, const Control& control,
+                          Analysis&& analysis) {
     // A point the sweep never reached because it was cancelled says so.
     Result not_run;
     not_run.status = decltype(not_run.status)::cancelled;
@@ -27,7 +27,7 @@ std::vector<Result> sweep(const std::vector<Scenario>& scenarios, int threads,
 
 }  // namespace
 
-std::vector<CriticalSpeedResult> sweep_critical_speed(const std::vector<Scenario>& scenarios,
+std::vector<CriticalSpeedResult> sweep_critical_speed(std::span<const Scenario> scenarios,
                                                       const CriticalSpeedOptions& options,
                                                       int threads, const Control& control,
                                                       bool keep_scan) {
@@ -45,7 +45,7 @@ std::vector<CriticalSpeedResult> sweep_critical_speed(const std::vector<Scenario
     });
 }
 
-std::vector<AmplitudeResult> sweep_amplitude(const std::vector<Scenario>& scenarios,
+std::vector<AmplitudeResult> sweep_amplitude(std::span<const Scenario> scenarios,
                                              const AmplitudeOptions& options, int threads,
                                              const Control& control) {
     Control inner;
@@ -64,25 +64,38 @@ std::optional<ChatterType> crossing_chatter_type(const CriticalSpeedResult& resu
 }
 
 std::vector<ChatterTypeChange> chatter_type_changes(
-    const std::vector<CriticalSpeedResult>& results,
+    const std::vector<std::optional<ChatterType>>& crossing_types,
     const std::vector<std::pair<int, int>>& neighbours) {
     std::vector<ChatterTypeChange> changes;
-    const int n = static_cast<int>(results.size());
+    const int n = static_cast<int>(crossing_types.size());
     for (const auto& [a, b] : neighbours) {
         if (a < 0 || b < 0 || a >= n || b >= n) continue;
-        const auto from = crossing_chatter_type(results[static_cast<std::size_t>(a)]);
-        const auto to = crossing_chatter_type(results[static_cast<std::size_t>(b)]);
+        const auto& from = crossing_types[static_cast<std::size_t>(a)];
+        const auto& to = crossing_types[static_cast<std::size_t>(b)];
         if (from && to && *from != *to) changes.push_back({a, b, *from, *to});
     }
     return changes;
 }
 
 std::vector<ChatterTypeChange> chatter_type_changes(
-    const std::vector<CriticalSpeedResult>& results) {
+    const std::vector<CriticalSpeedResult>& results,
+    const std::vector<std::pair<int, int>>& neighbours) {
+    std::vector<std::optional<ChatterType>> types;
+    types.reserve(results.size());
+    for (const CriticalSpeedResult& result : results)
+        types.push_back(crossing_chatter_type(result));
+    return chatter_type_changes(types, neighbours);
+}
+
+std::vector<std::pair<int, int>> sequence_neighbours(int count) {
     std::vector<std::pair<int, int>> neighbours;
-    for (int i = 0; i + 1 < static_cast<int>(results.size()); ++i)
-        neighbours.emplace_back(i, i + 1);
-    return chatter_type_changes(results, neighbours);
+    for (int i = 0; i + 1 < count; ++i) neighbours.emplace_back(i, i + 1);
+    return neighbours;
+}
+
+std::vector<ChatterTypeChange> chatter_type_changes(
+    const std::vector<CriticalSpeedResult>& results) {
+    return chatter_type_changes(results, sequence_neighbours(static_cast<int>(results.size())));
 }
 
 }  // namespace rollgap::core

@@ -4,6 +4,7 @@
 // count.
 
 #include <optional>
+#include <span>
 #include <utility>
 #include <vector>
 
@@ -15,12 +16,14 @@ namespace rollgap::core {
 
 // keep_scan = false drops each point's scan and damping branches as soon as it is done (a map's
 // thousands of cells would otherwise hold some 100 kB each).
-std::vector<CriticalSpeedResult> sweep_critical_speed(const std::vector<Scenario>& scenarios,
+// The scenarios are a span so that a caller can run a slice of a larger sweep (a chunk of its
+// points) without copying it.
+std::vector<CriticalSpeedResult> sweep_critical_speed(std::span<const Scenario> scenarios,
                                                       const CriticalSpeedOptions& options,
                                                       int threads, const Control& control = {},
                                                       bool keep_scan = true);
 
-std::vector<AmplitudeResult> sweep_amplitude(const std::vector<Scenario>& scenarios,
+std::vector<AmplitudeResult> sweep_amplitude(std::span<const Scenario> scenarios,
                                              const AmplitudeOptions& options, int threads,
                                              const Control& control = {});
 
@@ -40,6 +43,16 @@ struct ChatterTypeChange {
 std::vector<ChatterTypeChange> chatter_type_changes(
     const std::vector<CriticalSpeedResult>& results,
     const std::vector<std::pair<int, int>>& neighbours);
+
+// The same from the crossing types alone (crossing_chatter_type of each point, nothing where a
+// point has none): what a caller holding only the points' written results (a sweep assembled
+// from chunks computed apart) still knows.
+std::vector<ChatterTypeChange> chatter_type_changes(
+    const std::vector<std::optional<ChatterType>>& crossing_types,
+    const std::vector<std::pair<int, int>>& neighbours);
+
+// The neighbour pairs of a sweep: each value and the next, in the order given.
+std::vector<std::pair<int, int>> sequence_neighbours(int count);
 
 // The same for a sweep: each value against the next, in the order given.
 std::vector<ChatterTypeChange> chatter_type_changes(

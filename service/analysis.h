@@ -5,7 +5,9 @@
 // server can queue the computation with a deadline.
 
 #include <concepts>
+#include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -26,6 +28,16 @@ struct AnalysisCancelled {};
 // (a sweep whose last points say "cancelled") is never returned as if it were complete.
 inline void throw_if_cancelled(const core::Control& control) {
     if (control.should_stop()) throw AnalysisCancelled{};
+}
+
+// The same after a core call that returns one result per point (a sweep, a map): a point core
+// marks "cancelled" was never computed.
+template <class Results>
+void throw_if_cancelled(const core::Control& control, const Results& results) {
+    throw_if_cancelled(control);
+    for (const auto& result : results) {
+        if (result.status == decltype(result.status)::cancelled) throw AnalysisCancelled{};
+    }
 }
 
 // The computation of a prepared analysis: the "result" member from the caller's Control
@@ -53,10 +65,33 @@ private:
     std::function<nlohmann::json(const core::Control&)> run_;
 };
 
+// An analysis whose result lists independent points (a sweep's values, a map's cells), run in
+// two steps so that a job can spread its points over workers on any replica: `compute` writes
+// the documents of points [begin, end) (a JSON array, one per point, as the result lists them),
+// `assemble` writes the "result" member from all points' documents in order, deriving whatever
+// depends on neighbours (chatter-type changes) from the documents. The analysis's own `run` is
+// assemble(compute(0, count)), so a result assembled from chunks is the single run's by
+// construction.
+struct PointwiseRun {
+    std::int64_t count = 0;
+    std::function<nlohmann::json(std::int64_t begin, std::int64_t end, const core::Control&)>
+        compute;  // throws AnalysisCancelled like a run
+    std::function<nlohmann::json(nlohmann::json documents)> assemble;
+};
+
 struct PreparedAnalysis {
     nlohmann::json resolved_options;  // the options as applied, echoed with the result
     AnalysisRun run;                  // computes the "result" member; may take a while
+    std::optional<PointwiseRun> points = std::nullopt;  // set iff the result splits into points
 };
+
+// A pointwise analysis prepared: its run is all points computed and assembled in one go.
+inline PreparedAnalysis pointwise_analysis(nlohmann::json resolved_options, PointwiseRun points) {
+    AnalysisRun run = [points](const core::Control& control) {
+        return points.assemble(points.compute(0, points.count, control));
+    };
+    return {std::move(resolved_options), std::move(run), std::move(points)};
+}
 
 // Reads `options` strictly (violations under `options_pointer`) and captures what `run` needs.
 // Must not compute. `errors` holds the scenario's violations when prepare is called, so the

@@ -1,6 +1,7 @@
 #include "service/evaluate.h"
 
 #include <exception>
+#include <functional>
 #include <optional>
 #include <string>
 #include <variant>
@@ -23,11 +24,6 @@ Outcome internal_error(std::string_view what) {
     return problem_outcome(
         api::make_problem(api::ProblemCode::internal,
                           "the analysis failed unexpectedly; the service log has the cause"));
-}
-
-Outcome cancelled() {
-    return problem_outcome(api::make_problem(
-        api::ProblemCode::cancelled, "the analysis was stopped by its caller before it finished"));
 }
 
 // The request's envelope is valid and names an offered analysis.
@@ -62,22 +58,17 @@ std::variant<Outcome, Envelope> check_envelope_of(const nlohmann::json& request,
     return envelope;
 }
 
-// A valid request, ready to compute.
-struct Prepared {
-    const Analysis* analysis = nullptr;
-    core::Scenario scenario;
-    PreparedAnalysis prepared;
-};
+}  // namespace
 
-std::variant<Outcome, Prepared> prepare(const nlohmann::json& request,
-                                        std::span<const Analysis> offered) {
+std::variant<Outcome, PreparedRequest> prepare_request(const nlohmann::json& request,
+                                                       std::span<const Analysis> offered) {
     auto checked = check_envelope_of(request, offered);
     if (auto* problem = std::get_if<Outcome>(&checked)) return std::move(*problem);
     const Envelope& envelope = std::get<Envelope>(checked);
 
     // Scenario and options violations are reported together.
     api::FieldErrors errors;
-    Prepared ready;
+    PreparedRequest ready;
     ready.analysis = envelope.analysis;
     ready.scenario = api::scenario_from_patch(envelope.parsed.scenario_patch, "/scenario", errors);
     ready.prepared =
@@ -95,20 +86,12 @@ std::variant<Outcome, Prepared> prepare(const nlohmann::json& request,
     return ready;
 }
 
-Outcome evaluate_unguarded(const nlohmann::json& request, std::span<const Analysis> offered,
-                           const core::Control& control) {
-    auto prepared = prepare(request, offered);
-    if (auto* problem = std::get_if<Outcome>(&prepared)) return std::move(*problem);
-    Prepared& ready = std::get<Prepared>(prepared);
+Outcome cancelled_outcome() {
+    return problem_outcome(api::make_problem(
+        api::ProblemCode::cancelled, "the analysis was stopped by its caller before it finished"));
+}
 
-    if (control.should_stop()) return cancelled();  // e.g. the deadline passed while queued
-    nlohmann::json result;
-    try {
-        result = ready.prepared.run(control);
-    } catch (const AnalysisCancelled&) {
-        return cancelled();
-    }
-    control.report(1.0);  // not every analysis reports its own end
+Outcome result_outcome(PreparedRequest& ready, nlohmann::json result) {
     Outcome outcome;
     outcome.body = {
         {"analysis", ready.analysis->name},
@@ -117,6 +100,25 @@ Outcome evaluate_unguarded(const nlohmann::json& request, std::span<const Analys
         {"result", std::move(result)},
     };
     return outcome;
+}
+
+namespace {
+
+Outcome evaluate_unguarded(const nlohmann::json& request, std::span<const Analysis> offered,
+                           const core::Control& control) {
+    auto prepared = prepare_request(request, offered);
+    if (auto* problem = std::get_if<Outcome>(&prepared)) return std::move(*problem);
+    PreparedRequest& ready = std::get<PreparedRequest>(prepared);
+
+    if (control.should_stop()) return cancelled_outcome();  // e.g. the deadline passed while queued
+    nlohmann::json result;
+    try {
+        result = ready.prepared.run(control);
+    } catch (const AnalysisCancelled&) {
+        return cancelled_outcome();
+    }
+    control.report(1.0);  // not every analysis reports its own end
+    return result_outcome(ready, std::move(result));
 }
 
 // Runs `check` and turns an escaping exception into the problem `internal`.
@@ -149,15 +151,19 @@ Outcome evaluate(const nlohmann::json& request, const core::Control& control) {
     return evaluate(request, analyses(), control);
 }
 
-Outcome evaluate(const nlohmann::json& request, std::span<const Analysis> offered,
-                 const core::Control& control) {
+Outcome guarded(const std::function<Outcome()>& compute) {
     try {
-        return evaluate_unguarded(request, offered, control);
+        return compute();
     } catch (const std::exception& error) {
         return internal_error(error.what());
     } catch (...) {
         return internal_error("a non-standard exception");
     }
+}
+
+Outcome evaluate(const nlohmann::json& request, std::span<const Analysis> offered,
+                 const core::Control& control) {
+    return guarded([&] { return evaluate_unguarded(request, offered, control); });
 }
 
 std::optional<Outcome> check_envelope(const nlohmann::json& request) {
@@ -170,14 +176,14 @@ std::optional<Outcome> check_envelope(const nlohmann::json& request) {
 
 std::optional<Outcome> validate(const nlohmann::json& request) {
     return guarded_check([&]() -> std::optional<Outcome> {
-        auto prepared = prepare(request, analyses());
+        auto prepared = prepare_request(request, analyses());
         if (auto* problem = std::get_if<Outcome>(&prepared)) return std::move(*problem);
         return std::nullopt;
     });
 }
 
 Outcome evaluate_text(std::string_view text, const core::Control& control) {
-    try {
+    return guarded([&] {
         if (text.size() > max_request_bytes) {
             return problem_outcome(api::make_problem(
                 api::ProblemCode::payload_too_large,
@@ -187,11 +193,7 @@ Outcome evaluate_text(std::string_view text, const core::Control& control) {
         auto parsed = api::parse_json_text(text);
         if (auto* problem = std::get_if<api::Problem>(&parsed)) return problem_outcome(*problem);
         return evaluate(std::get<nlohmann::json>(parsed), control);
-    } catch (const std::exception& error) {
-        return internal_error(error.what());
-    } catch (...) {
-        return internal_error("a non-standard exception");
-    }
+    });
 }
 
 }  // namespace rollgap::service

@@ -3,9 +3,11 @@
 // through here, so they validate, compute and report errors identically.
 
 #include <cstddef>
+#include <functional>
 #include <optional>
 #include <span>
 #include <string_view>
+#include <variant>
 
 #include <nlohmann/json.hpp>
 
@@ -69,5 +71,23 @@ std::optional<Outcome> check_envelope(const nlohmann::json& request);
 
 // The same from request text: size limit, then JSON syntax (invalid_json), then evaluate().
 Outcome evaluate_text(std::string_view text, const core::Control& control = {});
+
+// The steps of evaluate(), for facades that run a request in parts (service/chunked.h) and
+// must answer exactly as evaluate() does.
+// A valid request, ready to compute.
+struct PreparedRequest {
+    const Analysis* analysis = nullptr;
+    core::Scenario scenario;
+    PreparedAnalysis prepared;
+};
+// Validation as evaluate() does it: the problem of an invalid request, or the prepared request.
+std::variant<Outcome, PreparedRequest> prepare_request(const nlohmann::json& request,
+                                                       std::span<const Analysis> offered);
+// The answer with `result` as its "result" member (moves the resolved options out of `ready`).
+Outcome result_outcome(PreparedRequest& ready, nlohmann::json result);
+// The problem `cancelled`, as evaluate() reports a stopped analysis.
+Outcome cancelled_outcome();
+// `compute()`, with an escaping exception turned into the problem `internal` (and logged).
+Outcome guarded(const std::function<Outcome()>& compute);
 
 }  // namespace rollgap::service

@@ -78,7 +78,8 @@ struct HttpServer::Impl {
     std::shared_ptr<spdlog::logger> request_logger;
     ServiceState state;
     SyncDispatch sync{state};
-    JobEndpoints job_endpoints{state};
+    JobRunner runner{state};
+    JobEndpoints job_endpoints{state, runner};
     Listener server{limits_for(state.config)};
     Listener admin{limits_for(state.config)};
     std::thread server_thread, admin_thread;
@@ -199,6 +200,7 @@ struct HttpServer::Impl {
                                        " in the workbench"));
                 }
                 return;
+            case RouteId::jobs: job_endpoints.list(request, response); return;
             case RouteId::job: {
                 const std::string id = request.path.substr(jobs_prefix.size());
                 if (request.method == "DELETE") {
@@ -270,7 +272,8 @@ struct HttpServer::Impl {
                 document = std::move(std::get<json>(parsed));
             }
             if (route->id == RouteId::jobs) {
-                job_endpoints.create(std::move(document), response);
+                job_endpoints.create(std::move(document),
+                                     request.get_header_value("Idempotency-Key"), response);
             } else {
                 run_route(*route, std::move(document), response);
                 if (response.status == 200)
@@ -395,6 +398,7 @@ struct HttpServer::Impl {
         }
         if (!server.raise_backlog(SOMAXCONN))
             spdlog::warn("cannot raise the listen backlog; keeping httplib's");
+        runner.start();
         server_thread = std::thread([this] { server.listen_after_bind(); });
         admin_thread = std::thread([this] { admin.listen_after_bind(); });
         started = true;
@@ -405,16 +409,20 @@ struct HttpServer::Impl {
         std::lock_guard lock(shutdown_mutex);
         if (stopped) return;
         state.draining = true;
+        // Work this replica claimed and has not started goes back to the store at once.
+        runner.stop_claiming();
         if (started) {
+            const auto busy = [this] { return state.busy() || runner.held() > 0; };
             const auto patience = SteadyClock::now() + config().drain_timeout;
-            while (state.busy() && SteadyClock::now() < patience) {
+            while (busy() && SteadyClock::now() < patience) {
                 std::this_thread::sleep_for(std::chrono::milliseconds(5));
             }
-            if (state.busy()) {
+            if (busy()) {
+                // Running job items stop and are given back (not failed): another replica
+                // continues them.
                 spdlog::warn("drain timeout ({} ms) passed with work in flight: cancelling it",
                              config().drain_timeout.count());
                 state.hard_cancel = true;
-                state.jobs.cancel_all();
                 sync.stop_all();
             }
             server.stop_within(drain_close_grace);
@@ -422,6 +430,7 @@ struct HttpServer::Impl {
             if (server_thread.joinable()) server_thread.join();
             if (admin_thread.joinable()) admin_thread.join();
         }
+        runner.stop();
         state.pool.shutdown();
         stopped = true;
     }
@@ -445,7 +454,11 @@ bool HttpServer::draining() const { return impl_->state.draining; }
 bool HttpServer::running() const { return impl_->started && !impl_->stopped; }
 const Metrics& HttpServer::metrics() const { return impl_->state.metrics; }
 WorkerPoolStats HttpServer::pool_stats() const { return impl_->state.pool.stats(); }
-JobCounts HttpServer::job_counts() { return impl_->state.jobs.counts(); }
+store::JobCounts HttpServer::job_counts() {
+    auto store = impl_->state.store.get();
+    if (!store) return {};
+    return store->counts().value.value_or(store::JobCounts{});
+}
 std::string HttpServer::metrics_text() { return http::metrics_text(impl_->state); }
 
 }  // namespace rollgap::service

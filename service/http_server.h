@@ -20,7 +20,7 @@
 #include "core/control.h"
 #include "service/config.h"
 #include "service/evaluate.h"
-#include "service/jobs.h"
+#include "service/store/job_store.h"
 #include "service/metrics.h"
 #include "service/worker_pool.h"
 
@@ -66,7 +66,8 @@ public:
     // For tests and /metrics.
     const Metrics& metrics() const;
     WorkerPoolStats pool_stats() const;
-    JobCounts job_counts();
+    // Jobs by state in the store (all zero while it is unavailable).
+    store::JobCounts job_counts();
     std::string metrics_text();
 
 private:

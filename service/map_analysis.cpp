@@ -1,9 +1,10 @@
 #include "service/map_analysis.h"
 
 #include <memory>
+#include <span>
 
 #include "api/map_json.h"
-#include "core/map.h"
+#include "core/sweep.h"
 
 namespace rollgap::service {
 
@@ -13,20 +14,25 @@ PreparedAnalysis prepare_map(const core::Scenario& scenario, const nlohmann::jso
     // Up to 2500 scenarios: shared with the run, not copied into it.
     auto plan = std::make_shared<const api::MapPlan>(api::map_plan_from_json(
         options, options_pointer, scenario_valid ? &scenario : nullptr, errors));
-    return {
-        plan->resolved_options,
-        [plan](const core::Control& control) {
-            const auto rows = static_cast<int>(plan->axes[0].values.size());
-            const auto columns = static_cast<int>(plan->axes[1].values.size());
-            const core::StabilityMap map = core::stability_map(
-                plan->cells, rows, columns, plan->critical_speed, control.thread_budget(), control);
-            throw_if_cancelled(control);
-            for (const auto& cell : map.cells) {
-                if (cell.status == core::CriticalSpeedStatus::cancelled) throw AnalysisCancelled{};
-            }
-            return api::map_json(*plan, map);
+    PointwiseRun cells{
+        static_cast<std::int64_t>(plan->cells.size()),
+        [plan](std::int64_t begin, std::int64_t end, const core::Control& control) {
+            const auto first = static_cast<std::size_t>(begin);
+            const auto slice =
+                std::span(plan->cells).subspan(first, static_cast<std::size_t>(end - begin));
+            // The cells of core::stability_map, without its neighbour comparison: the cells of
+            // other chunks are not here, the assembly compares them (api/map_json.h).
+            const auto results = core::sweep_critical_speed(slice, plan->critical_speed,
+                                                            control.thread_budget(), control,
+                                                            /*keep_scan=*/false);
+            throw_if_cancelled(control, results);
+            return api::map_cells_json(*plan, results, first);
+        },
+        [plan](nlohmann::json documents) {
+            return api::map_result_json(*plan, std::move(documents));
         },
     };
+    return pointwise_analysis(plan->resolved_options, std::move(cells));
 }
 
 }  // namespace rollgap::service

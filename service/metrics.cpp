@@ -120,6 +120,11 @@ void Metrics::count_skipped(std::string_view reason) {
     ++skipped_[std::string(reason)];
 }
 
+void Metrics::count_work_item(std::string_view outcome) {
+    std::lock_guard lock(mutex_);
+    ++work_items_[std::string(outcome)];
+}
+
 std::uint64_t Metrics::request_count(std::string_view method, std::string_view route,
                                      int status) const {
     std::lock_guard lock(mutex_);
@@ -175,6 +180,14 @@ std::string Metrics::render(std::span<const GaugeSample> gauges) const {
                "# TYPE rollgap_work_skipped_total counter\n";
         for (const auto& [reason, count] : skipped_) {
             out << "rollgap_work_skipped_total{" << label("reason", reason) << "} " << count
+                << '\n';
+        }
+
+        out << "# HELP rollgap_work_items_total Job work items this replica claimed and finished, "
+               "by outcome.\n"
+               "# TYPE rollgap_work_items_total counter\n";
+        for (const auto& [outcome, count] : work_items_) {
+            out << "rollgap_work_items_total{" << label("outcome", outcome) << "} " << count
                 << '\n';
         }
     }

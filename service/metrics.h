@@ -62,6 +62,11 @@ public:
     // Work dropped before it ran: deadline passed or cancelled while queued.
     void count_skipped(std::string_view reason);
 
+    // A job's work item this replica claimed and finished; `outcome`: succeeded, failed,
+    // cancelled, released (given back to the store), lost (lease lost, result discarded),
+    // unstored (the store did not take the result).
+    void count_work_item(std::string_view outcome);
+
     // Everything, plus `gauges`, plus rollgap_build_info.
     std::string render(std::span<const GaugeSample> gauges) const;
 
@@ -77,6 +82,7 @@ private:
     std::map<AnalysisKey, Histogram> analyses_;
     std::map<AnalysisKey, std::uint64_t> solver_failures_;  // analysis, reason
     std::map<std::string, std::uint64_t> skipped_;
+    std::map<std::string, std::uint64_t> work_items_;
 };
 
 // Escapes a label value (backslash, double quote, newline).

@@ -1,6 +1,7 @@
 #include "service/sweep_analysis.h"
 
 #include <memory>
+#include <span>
 
 #include "api/sweep_json.h"
 #include "core/sweep.h"
@@ -13,30 +14,29 @@ PreparedAnalysis prepare_sweep(const core::Scenario& scenario, const nlohmann::j
     // Up to 1000 scenarios: shared with the run, not copied into it.
     auto plan = std::make_shared<const api::SweepPlan>(api::sweep_plan_from_json(
         options, options_pointer, scenario_valid ? &scenario : nullptr, errors));
-    return {
-        plan->resolved_options,
-        [plan](const core::Control& control) {
+    PointwiseRun points{
+        static_cast<std::int64_t>(plan->scenarios.size()),
+        [plan](std::int64_t begin, std::int64_t end, const core::Control& control) {
+            const auto first = static_cast<std::size_t>(begin);
+            const auto slice =
+                std::span(plan->scenarios).subspan(first, static_cast<std::size_t>(end - begin));
             const int threads =
                 control.thread_budget();  // the points in parallel; results do not depend on it
             if (plan->quantity == api::SweepQuantity::critical_speed) {
-                const auto results = core::sweep_critical_speed(
-                    plan->scenarios, plan->critical_speed, threads, control);
-                throw_if_cancelled(control);
-                for (const auto& result : results) {
-                    if (result.status == core::CriticalSpeedStatus::cancelled)
-                        throw AnalysisCancelled{};
-                }
-                return api::sweep_critical_speed_json(*plan, results);
+                const auto results =
+                    core::sweep_critical_speed(slice, plan->critical_speed, threads, control);
+                throw_if_cancelled(control, results);
+                return api::sweep_critical_speed_points_json(*plan, results, first);
             }
-            const auto results =
-                core::sweep_amplitude(plan->scenarios, plan->amplitude, threads, control);
-            throw_if_cancelled(control);
-            for (const auto& result : results) {
-                if (result.status == core::AmplitudeStatus::cancelled) throw AnalysisCancelled{};
-            }
-            return api::sweep_amplitude_json(*plan, results);
+            const auto results = core::sweep_amplitude(slice, plan->amplitude, threads, control);
+            throw_if_cancelled(control, results);
+            return api::sweep_amplitude_points_json(*plan, results, first);
+        },
+        [plan](nlohmann::json documents) {
+            return api::sweep_result_json(*plan, std::move(documents));
         },
     };
+    return pointwise_analysis(plan->resolved_options, std::move(points));
 }
 
 }  // namespace rollgap::service

@@ -1,13 +1,14 @@
-// The HTTP service's job store (service/jobs.h): states, bounded size, expiry after the
-// retention, cancel semantics, and ids that cannot be guessed.
+// The job document rendered from a store record (service/jobs.h): states, timestamps RFC 3339
+// UTC, expiry after the retention, chunked progress fields; the request hash that recognises a
+// retried submission.
 
 #include "service/jobs.h"
 
 #include <doctest/doctest.h>
 
 #include <chrono>
-#include <regex>
 #include <set>
+#include <string>
 
 using namespace rollgap;
 using namespace rollgap::service;
@@ -15,148 +16,88 @@ using nlohmann::json;
 
 namespace {
 
-struct FakeClock {
-    std::chrono::steady_clock::time_point now = std::chrono::steady_clock::now();
-    JobStore::SteadyClock function() {
-        return [this] { return now; };
-    }
-};
+constexpr store::Millis day_ms = 86'400'000;
 
-Outcome ok_outcome() {
-    return Outcome{200, json{{"analysis", "roll_gap"}, {"result", {{"status", "ok"}}}},
-                   std::nullopt};
+store::JobRecord record() {
+    store::JobRecord job;
+    job.id = "0123456789abcdef0123456789abcdef";
+    job.analysis = "roll_gap";
+    job.instance = "replica-a";
+    job.created_ms = day_ms + 1234;
+    return job;
 }
-
-const auto far_deadline = std::chrono::steady_clock::now() + std::chrono::hours(1);
 
 }  // namespace
 
-TEST_CASE("jobs: queued, running, succeeded, with the result in the document") {
-    JobStore store(4, std::chrono::minutes(10), "replica-a");
-    const auto job = store.create("roll_gap", json{{"analysis", "roll_gap"}}, far_deadline);
-    REQUIRE(job);
-    json document = *store.document(job->id);
+TEST_CASE("jobs: timestamps are RFC 3339 UTC with milliseconds") {
+    const auto epoch_plus =
+        std::chrono::system_clock::time_point(std::chrono::milliseconds(day_ms + 1234));
+    CHECK(rfc3339(epoch_plus) == "1970-01-02T00:00:01.234Z");
+    CHECK(rfc3339(store::Millis{day_ms + 1234}) == "1970-01-02T00:00:01.234Z");
+    CHECK(rfc3339(store::Millis{0}) == "1970-01-01T00:00:00.000Z");
+}
+
+TEST_CASE("jobs: a queued job's document; a finished one carries its result and expiry") {
+    store::JobRecord job = record();
+    json document = job_document(job, std::chrono::minutes(10), JobDetail::full);
+    CHECK(document["id"] == job.id);
     CHECK(document["state"] == "queued");
     CHECK(document["instance"] == "replica-a");
-    CHECK(document["progress"] == 0.0);
-    CHECK_FALSE(document.contains("result"));
-
-    REQUIRE(store.start(job));
-    CHECK((*store.document(job->id))["state"] == "running");
-    job->progress = 0.25;
-    CHECK((*store.document(job->id))["progress"] == 0.25);
-
-    store.finish(job, ok_outcome());
-    document = *store.document(job->id);
-    CHECK(document["state"] == "succeeded");
-    CHECK(document["progress"] == 1.0);
-    CHECK(document["result"]["result"]["status"] == "ok");
-    CHECK(document.contains("started_at"));
-    CHECK(document.contains("finished_at"));
-    CHECK(document.contains("expires_at"));
-    CHECK(job->request.is_null());  // released once finished
-}
-
-TEST_CASE("jobs: a failed job carries its problem") {
-    JobStore store(4, std::chrono::minutes(10), "r");
-    const auto job = store.create("roll_gap", json::object(), far_deadline);
-    REQUIRE(store.start(job));
-    store.finish(job,
-                 problem_outcome(api::make_problem(api::ProblemCode::invalid_scenario, "bad")));
-    const json document = *store.document(job->id);
-    CHECK(document["state"] == "failed");
-    CHECK(document["problem"]["status"] == 422);
-    CHECK_FALSE(document.contains("result"));
-}
-
-TEST_CASE(
-    "jobs: the store is bounded; finished jobs expire after the retention and free their slot") {
-    FakeClock clock;
-    JobStore store(2, std::chrono::seconds(60), "r", clock.function());
-    const auto a = store.create("roll_gap", json::object(), far_deadline);
-    const auto b = store.create("roll_gap", json::object(), far_deadline);
-    REQUIRE(a);
-    REQUIRE(b);
-    CHECK_FALSE(store.create("roll_gap", json::object(), far_deadline));  // full
-
-    REQUIRE(store.start(a));
-    store.finish(a, ok_outcome());
-    clock.now += std::chrono::seconds(59);
-    CHECK(store.document(a->id));
-    CHECK_FALSE(store.create("roll_gap", json::object(), far_deadline));  // a is still kept
-    clock.now += std::chrono::seconds(2);
-    CHECK_FALSE(store.document(a->id));                             // expired
-    CHECK(store.create("roll_gap", json::object(), far_deadline));  // its slot is free
-    CHECK(store.counts().total() == 2);
-}
-
-TEST_CASE("jobs: cancel a queued job, a running job, delete a finished one") {
-    JobStore store(8, std::chrono::minutes(10), "r");
-
-    const auto queued = store.create("roll_gap", json::object(), far_deadline);
-    json document;
-    CHECK(store.cancel(queued->id, &document) == CancelResult::cancelled);
-    CHECK(document["state"] == "cancelled");
-    CHECK_FALSE(store.start(queued));  // it must not run any more
-
-    const auto running = store.create("roll_gap", json::object(), far_deadline);
-    REQUIRE(store.start(running));
-    CHECK(store.cancel(running->id, &document) == CancelResult::cancel_requested);
-    CHECK(document["state"] == "running");
-    CHECK(document["cancel_requested"] == true);
-    CHECK(running->cancel_requested);
-    store.finish(running, ok_outcome());  // whatever it returns, it was cancelled
-    CHECK((*store.document(running->id))["state"] == "cancelled");
-
-    const auto finished = store.create("roll_gap", json::object(), far_deadline);
-    REQUIRE(store.start(finished));
-    store.finish(finished, ok_outcome());
-    CHECK(store.cancel(finished->id) == CancelResult::deleted);
-    CHECK_FALSE(store.document(finished->id));
-    CHECK(store.cancel("0123456789abcdef0123456789abcdef") == CancelResult::not_found);
-}
-
-TEST_CASE("jobs: cancel_all stops queued and running jobs") {
-    JobStore store(8, std::chrono::minutes(10), "r");
-    const auto queued = store.create("roll_gap", json::object(), far_deadline);
-    const auto running = store.create("roll_gap", json::object(), far_deadline);
-    REQUIRE(store.start(running));
-    store.cancel_all();
-    CHECK((*store.document(queued->id))["state"] == "cancelled");
-    CHECK(running->cancel_requested);
-    CHECK(store.counts().active() == 1);  // the running one until its computation returns
-}
-
-TEST_CASE("jobs: ids are 32 random hex digits, timestamps RFC 3339 UTC") {
-    std::set<std::string> ids;
-    const std::regex hex("^[0-9a-f]{32}$");
-    for (int i = 0; i < 200; ++i) {
-        const std::string id = random_job_id();
-        CHECK(std::regex_match(id, hex));
-        ids.insert(id);
+    CHECK(document["created_at"] == "1970-01-02T00:00:01.234Z");
+    for (const char* absent : {"started_at", "finished_at", "expires_at", "result", "problem",
+                               "cancel_requested", "points_total", "worker"}) {
+        CAPTURE(absent);
+        CHECK_FALSE(document.contains(absent));
     }
-    CHECK(ids.size() == 200);
-    const auto epoch_plus =
-        std::chrono::system_clock::time_point(std::chrono::milliseconds(86'400'000LL + 1234));
-    CHECK(rfc3339(epoch_plus) == "1970-01-02T00:00:01.234Z");
+
+    job.state = store::JobState::succeeded;
+    job.worker = "replica-b";
+    job.started_ms = day_ms + 2000;
+    job.finished_ms = day_ms + 3000;
+    job.progress = 1.0;
+    job.result = R"({"analysis":"roll_gap","result":{"ok":true}})";
+    document = job_document(job, std::chrono::minutes(10), JobDetail::full);
+    CHECK(document["state"] == "succeeded");
+    CHECK(document["worker"] == "replica-b");
+    CHECK(document["finished_at"] == "1970-01-02T00:00:03.000Z");
+    CHECK(document["expires_at"] == "1970-01-02T00:10:03.000Z");  // finished + retention
+    CHECK(document["result"] == json::parse(*job.result));
+    // List entries leave the result out.
+    CHECK_FALSE(job_document(job, std::chrono::minutes(10), JobDetail::summary).contains("result"));
+
+    CHECK_FALSE(job_expired(job, std::chrono::minutes(10), day_ms + 3000 + 599'999));
+    CHECK(job_expired(job, std::chrono::minutes(10), day_ms + 3000 + 600'000));
+    job.finished_ms.reset();
+    CHECK_FALSE(job_expired(job, std::chrono::milliseconds(0), day_ms * 1000));
 }
 
-TEST_CASE("job store: a full store gives the slot of the oldest cancelled job to a new one") {
-    service::JobStore store(2, std::chrono::minutes(10), "test");
-    const auto running =
-        store.create("roll_gap", nlohmann::json::object(), std::chrono::steady_clock::now());
-    REQUIRE(running);
-    REQUIRE(store.start(running));
-    const auto queued =
-        store.create("roll_gap", nlohmann::json::object(), std::chrono::steady_clock::now());
-    REQUIRE(queued);
-    CHECK_FALSE(
-        store.create("roll_gap", nlohmann::json::object(), std::chrono::steady_clock::now()));
-    CHECK(store.cancel(queued->id) == service::CancelResult::cancelled);
-    const auto next =
-        store.create("roll_gap", nlohmann::json::object(), std::chrono::steady_clock::now());
-    REQUIRE(next);
-    CHECK_FALSE(store.document(queued->id).has_value());  // evicted
-    CHECK(store.document(running->id).has_value());       // a running job is never evicted
-    CHECK(store.counts().total() == 2);
+TEST_CASE("jobs: a chunked job counts its points; a failed job carries its problem") {
+    store::JobRecord job = record();
+    job.state = store::JobState::running;
+    job.points = 200;
+    job.points_done = 50;
+    job.progress = 0.25;
+    job.cancel_requested = true;
+    json document = job_document(job, std::chrono::minutes(1), JobDetail::full);
+    CHECK(document["points_total"] == 200);
+    CHECK(document["points_done"] == 50);
+    CHECK(document["progress"] == 0.25);
+    CHECK(document["cancel_requested"] == true);
+
+    job.state = store::JobState::failed;
+    job.problem = R"({"code":"invalid_scenario","status":422})";
+    document = job_document(job, std::chrono::minutes(1), JobDetail::full);
+    CHECK(document["problem"]["code"] == "invalid_scenario");
+    CHECK_FALSE(document.contains("result"));
+}
+
+TEST_CASE("jobs: the body hash is FNV-1a 64 (published test vectors) and tells bodies apart") {
+    // Test vectors of the FNV reference (Fowler, Noll, Vo: "FNV-1a 64" of "", "a", "foobar").
+    CHECK(body_hash("") == "cbf29ce484222325");
+    CHECK(body_hash("a") == "af63dc4c8601ec8c");
+    CHECK(body_hash("foobar") == "85944171f73967e8");
+    std::set<std::string> hashes;
+    for (int i = 0; i < 500; ++i)
+        hashes.insert(body_hash(json{{"analysis", "roll_gap"}, {"n", i}}.dump()));
+    CHECK(hashes.size() == 500);
 }

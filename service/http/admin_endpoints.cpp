@@ -6,6 +6,7 @@
 
 #include <unistd.h>
 
+#include "api/text.h"
 #include "service/http/responses.h"
 #include "service/version.h"
 
@@ -51,7 +52,13 @@ void answer_admin(RouteId route, ServiceState& state, httplib::Response& respons
 
 std::string metrics_text(ServiceState& state) {
     const WorkerPoolStats stats = state.pool.stats();
-    const JobCounts counts = state.jobs.counts();
+    // Jobs by state come from the store (shared by all replicas); absent while it is down.
+    std::optional<store::JobCounts> counts;
+    if (auto store = state.store.get()) {
+        auto counted = store->counts();
+        state.store.report(counted.status);
+        counts = counted.value;
+    }
     std::vector<GaugeSample> gauges{
         {"rollgap_workers", "Compute worker threads.", "", static_cast<double>(stats.workers)},
         {"rollgap_workers_busy", "Compute workers running an analysis.", "",
@@ -66,14 +73,8 @@ std::string metrics_text(ServiceState& state) {
         {"rollgap_queue_capacity", "", "lane=\"batch\"", static_cast<double>(stats.batch_capacity)},
         {"rollgap_requests_in_flight", "Synchronous compute requests read and not yet answered.",
          "", static_cast<double>(state.in_flight.load())},
-        {"rollgap_jobs", "Stored jobs by state.", "state=\"queued\"",
-         static_cast<double>(counts.queued)},
-        {"rollgap_jobs", "", "state=\"running\"", static_cast<double>(counts.running)},
-        {"rollgap_jobs", "", "state=\"succeeded\"", static_cast<double>(counts.succeeded)},
-        {"rollgap_jobs", "", "state=\"failed\"", static_cast<double>(counts.failed)},
-        {"rollgap_jobs", "", "state=\"cancelled\"", static_cast<double>(counts.cancelled)},
         {"rollgap_jobs_capacity", "Jobs the store holds at most.", "",
-         static_cast<double>(state.jobs.capacity())},
+         static_cast<double>(state.config.max_jobs)},
         {"rollgap_ready", "1 while the service accepts work, 0 while it drains.", "",
          state.draining ? 0.0 : 1.0},
         {"rollgap_store_up",
@@ -83,6 +84,16 @@ std::string metrics_text(ServiceState& state) {
         {"process_start_time_seconds", "Start time of the process since the Unix epoch, seconds.",
          "", std::chrono::duration<double>(state.start_time.time_since_epoch()).count()},
     };
+    if (counts) {
+        const std::size_t by_state[] = {counts->queued, counts->running, counts->succeeded,
+                                        counts->failed, counts->cancelled};
+        for (std::size_t i = 0; i < std::size(by_state); ++i) {
+            const auto state_name = store::job_state_name(static_cast<store::JobState>(i));
+            gauges.push_back(
+                {"rollgap_jobs", i == 0 ? "Jobs in the store (all replicas) by state." : "",
+                 api::concat("state=\"", state_name, "\""), static_cast<double>(by_state[i])});
+        }
+    }
     if (const auto rss = resident_memory_bytes()) {
         gauges.push_back(
             {"process_resident_memory_bytes", "Resident memory size, bytes.", "", *rss});

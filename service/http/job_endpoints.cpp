@@ -1,21 +1,57 @@
 #include "service/http/job_endpoints.h"
 
 #include <algorithm>
-#include <cmath>
+#include <charconv>
 
-#include "api/field_errors.h"
 #include "api/text.h"
 #include "service/evaluate.h"
-#include "service/http/compute.h"
 #include "service/http/responses.h"
 #include "service/http/routes.h"
+#include "service/jobs.h"
 
 namespace rollgap::service::http {
 
 using api::concat;
 using nlohmann::json;
 
-void JobEndpoints::create(json request, httplib::Response& response) {
+namespace {
+
+bool valid_idempotency_key(const std::string& key) {
+    return !key.empty() && key.size() <= JobEndpoints::max_idempotency_key &&
+           std::all_of(key.begin(), key.end(), [](char c) { return c > ' ' && c < 0x7f; });
+}
+
+void invalid_parameter(httplib::Response& response, std::string_view name, std::string_view rule) {
+    set_problem(response, api::ProblemCode::invalid_request,
+                concat("query parameter '", name, "': ", rule));
+}
+
+}  // namespace
+
+std::shared_ptr<store::JobStore> JobEndpoints::store_or_503(httplib::Response& response) {
+    auto store = state_.store.get();
+    if (!store) state_.store_unavailable(response, "the job store is unavailable; retry later");
+    return store;
+}
+
+void JobEndpoints::store_failure(store::StoreStatus status, const std::string& id,
+                                 httplib::Response& response) {
+    state_.store.report(status);
+    switch (status) {
+        case store::StoreStatus::not_found: not_found(id, response); return;
+        case store::StoreStatus::unavailable:
+            state_.store_unavailable(response, "the job store is unavailable; retry later");
+            return;
+        default:
+            set_problem(
+                response, api::ProblemCode::internal,
+                concat("the job store refused the operation (", store::status_name(status), ")"));
+            return;
+    }
+}
+
+void JobEndpoints::create(json request, const std::string& idempotency_key,
+                          httplib::Response& response) {
     if (auto problem = check_envelope(request)) {
         set_json(response, problem->http_status, problem->body, problem->media_type());
         return;
@@ -24,78 +60,140 @@ void JobEndpoints::create(json request, httplib::Response& response) {
         state_.overloaded(response, "the service is shutting down and accepts no new jobs");
         return;
     }
-    std::string analysis = request["analysis"].get<std::string>();
-    std::shared_ptr<Job> job = state_.jobs.create(std::move(analysis), std::move(request),
-                                                  SteadyClock::now() + state_.config.job_deadline);
-    if (!job) {
-        state_.overloaded(response,
-                          concat("the job store is full (", std::to_string(state_.jobs.capacity()),
+    if (!idempotency_key.empty() && !valid_idempotency_key(idempotency_key)) {
+        set_problem(response, api::ProblemCode::invalid_request,
+                    concat("the Idempotency-Key header must be 1 to ",
+                           std::to_string(max_idempotency_key), " visible ASCII characters"));
+        return;
+    }
+    auto store = store_or_503(response);
+    if (!store) return;
+    store::NewJob job;
+    job.analysis = request["analysis"].get<std::string>();
+    job.request = request.dump();  // object keys sorted: the canonical text
+    job.deadline_ms = store::system_millis() + state_.config.job_deadline.count();
+    job.instance = state_.config.instance;
+    if (!idempotency_key.empty()) job.idempotency_key = idempotency_key;
+    job.body_hash = body_hash(job.request);
+    const auto created = store->create(job);
+    state_.store.report(created.status);
+    switch (created.status) {
+        case store::StoreStatus::ok: break;
+        case store::StoreStatus::full:
+            state_.overloaded(
+                response, concat("the job store is full (", std::to_string(state_.config.max_jobs),
                                  " jobs); retry later or DELETE finished jobs"));
-        return;
+            return;
+        case store::StoreStatus::conflict:
+            set_problem(response, api::ProblemCode::conflict,
+                        "the Idempotency-Key was used for a job with another request body");
+            return;
+        default: store_failure(created.status, "", response); return;
     }
-    if (!state_.pool.try_submit(
-            Lane::batch, [this, job] { run(job); }, job.get())) {
-        state_.jobs.remove(job->id);
-        state_.overloaded(response, "the job queue is full; retry later");
-        return;
-    }
-    response.set_header("Location", concat(jobs_prefix, job->id));
-    if (auto document = state_.jobs.document(job->id)) {
-        set_json(response, 202, *document, "application/json");
-    } else {
-        response.status = 202;  // already finished and expired (retention 0)
-    }
-}
-
-void JobEndpoints::run(const std::shared_ptr<Job>& job) {
-    if (!state_.jobs.start(job)) {
-        state_.metrics.count_skipped("cancelled");
-        return;
-    }
-    const auto late = [job] { return SteadyClock::now() >= job->deadline; };
-    const auto cancelled = [job] { return job->cancel_requested.load(); };
-    core::Control control = control_for(state_, [this, late, cancelled] {
-        return cancelled() || late() || state_.hard_cancel.load();
-    });
-    control.progress = [job](double fraction) {
-        if (std::isfinite(fraction)) job->progress = std::clamp(fraction, 0.0, 1.0);
-    };
-    Outcome outcome = compute(state_, job->request, control, late, cancelled);
-    if (!cancelled() && (late() || state_.hard_cancel)) {
-        outcome = problem_outcome(deadline_problem(state_.config.job_deadline));
-    }
-    state_.jobs.finish(job, std::move(outcome));
+    const store::JobRecord& record = created.value->job;
+    if (created.value->created) runner_.wake();
+    response.set_header("Location", concat(jobs_prefix, record.id));
+    set_json(response, created.value->created ? 202 : 200,
+             job_document(record, state_.config.job_retention, JobDetail::full),
+             "application/json");
 }
 
 void JobEndpoints::get(const std::string& id, httplib::Response& response) {
-    if (auto document = state_.jobs.document(id)) {
-        set_json(response, 200, *document, "application/json");
-    } else {
-        not_found(id, response);
+    auto store = store_or_503(response);
+    if (!store) return;
+    const auto found = store->get(id);
+    if (!found.ok()) {
+        store_failure(found.status, id, response);
+        return;
     }
+    state_.store.report(found.status);
+    if (job_expired(*found.value, state_.config.job_retention, store::system_millis())) {
+        not_found(id, response);
+        return;
+    }
+    set_json(response, 200,
+             job_document(*found.value, state_.config.job_retention, JobDetail::full),
+             "application/json");
+}
+
+void JobEndpoints::list(const httplib::Request& request, httplib::Response& response) {
+    store::ListQuery query;
+    query.limit = default_page;
+    if (request.has_param("state")) {
+        const std::string name = request.get_param_value("state");
+        query.state = store::job_state_from_name(name);
+        if (!query.state) {
+            invalid_parameter(response, "state",
+                              "one of queued, running, succeeded, failed, cancelled");
+            return;
+        }
+    }
+    if (request.has_param("limit")) {
+        const std::string text = request.get_param_value("limit");
+        std::size_t limit = 0;
+        const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), limit);
+        if (text.empty() || error != std::errc{} || end != text.data() + text.size() || limit < 1 ||
+            limit > max_page) {
+            invalid_parameter(response, "limit",
+                              concat("an integer from 1 to ", std::to_string(max_page)));
+            return;
+        }
+        query.limit = limit;
+    }
+    if (request.has_param("cursor")) query.cursor = request.get_param_value("cursor");
+    auto store = store_or_503(response);
+    if (!store) return;
+    const auto page = store->list(query);
+    if (page.status == store::StoreStatus::invalid) {
+        state_.store.report(page.status);
+        invalid_parameter(response, "cursor", "the next_cursor of an earlier page");
+        return;
+    }
+    if (!page.ok()) {
+        store_failure(page.status, "", response);
+        return;
+    }
+    state_.store.report(page.status);
+    json jobs = json::array();
+    const auto now = store::system_millis();
+    for (const store::JobRecord& job : page.value->jobs) {
+        if (job_expired(job, state_.config.job_retention, now)) continue;
+        jobs.push_back(job_document(job, state_.config.job_retention, JobDetail::summary));
+    }
+    json body = {{"jobs", std::move(jobs)}};
+    if (page.value->next_cursor) body["next_cursor"] = *page.value->next_cursor;
+    set_json(response, 200, body, "application/json");
 }
 
 void JobEndpoints::not_found(const std::string& id, httplib::Response& response) {
     set_problem(response, api::ProblemCode::not_found,
                 concat("no job ", api::quoted_for_message(id),
-                       " on this instance: it never existed, has expired or was deleted"));
+                       ": it never existed, has expired or was deleted"));
 }
 
 void JobEndpoints::cancel(const std::string& id, httplib::Response& response) {
-    json document;
-    std::shared_ptr<Job> job;
-    switch (state_.jobs.cancel(id, &document, &job)) {
-        case CancelResult::not_found: not_found(id, response); return;
-        case CancelResult::cancelled:
-            // It will never run: its task leaves the batch lane now, not when a worker is free.
-            state_.pool.withdraw(job.get());
-            set_json(response, 200, document, "application/json");
-            return;
-        case CancelResult::cancel_requested:
-            set_json(response, 202, document, "application/json");
-            return;
-        case CancelResult::deleted: response.status = 204; return;
+    auto store = store_or_503(response);
+    if (!store) return;
+    const auto cancelled = store->cancel(id);
+    if (!cancelled.ok()) {
+        store_failure(cancelled.status, id, response);
+        return;
     }
+    state_.store.report(cancelled.status);
+    if (*cancelled.value == store::CancelResult::deleted) {
+        response.status = 204;
+        return;
+    }
+    // Running: the worker hears it at its next renewal wherever it runs; here at once.
+    if (*cancelled.value == store::CancelResult::cancel_requested) runner_.cancel_local(id);
+    const auto after = store->get(id);
+    if (!after.ok()) {
+        store_failure(after.status, id, response);
+        return;
+    }
+    set_json(response, *cancelled.value == store::CancelResult::cancelled ? 200 : 202,
+             job_document(*after.value, state_.config.job_retention, JobDetail::full),
+             "application/json");
 }
 
 }  // namespace rollgap::service::http

@@ -1,31 +1,43 @@
 #pragma once
-// The job endpoints: POST /v1/jobs (the facade's envelope check, then the batch lane),
-// GET and DELETE /v1/jobs/{id}. A job's scenario and options are checked when it runs.
+// The job endpoints over the durable store: POST /v1/jobs (the facade's envelope check, then a
+// row in the store), GET /v1/jobs (a page of jobs), GET and DELETE /v1/jobs/{id} on any
+// replica. A job's scenario and options are checked when it runs.
 
-#include <memory>
 #include <string>
 
 #include <httplib.h>
 #include <nlohmann/json.hpp>
 
+#include "service/http/job_runner.h"
 #include "service/http/service_state.h"
 
 namespace rollgap::service::http {
 
 class JobEndpoints {
 public:
-    explicit JobEndpoints(ServiceState& state) : state_(state) {}
+    JobEndpoints(ServiceState& state, JobRunner& runner) : state_(state), runner_(runner) {}
 
-    void create(nlohmann::json request, httplib::Response& response);
+    // `idempotency_key`: the Idempotency-Key header ("" when absent).
+    void create(nlohmann::json request, const std::string& idempotency_key,
+                httplib::Response& response);
     void get(const std::string& id, httplib::Response& response);
-    // A queued job leaves the batch lane at once, so its slot is free again.
+    void list(const httplib::Request& request, httplib::Response& response);
     void cancel(const std::string& id, httplib::Response& response);
 
+    static constexpr std::size_t max_idempotency_key = 200;
+    static constexpr std::size_t default_page = 20;
+    static constexpr std::size_t max_page = 100;
+
 private:
-    void run(const std::shared_ptr<Job>& job);
+    // The store, or nullptr after answering 503 store_unavailable.
+    std::shared_ptr<store::JobStore> store_or_503(httplib::Response& response);
+    // Answers a failed store operation (not found, unavailable, …).
+    void store_failure(store::StoreStatus status, const std::string& id,
+                       httplib::Response& response);
     void not_found(const std::string& id, httplib::Response& response);
 
     ServiceState& state_;
+    JobRunner& runner_;
 };
 
 }  // namespace rollgap::service::http

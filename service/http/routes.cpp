@@ -16,7 +16,7 @@ constexpr std::array routes{
     Route{RouteId::maps, "/v1/maps", post, true, "map", false},
     Route{RouteId::evaluate, "/v1/evaluate", post, true, "evaluate", false},
     Route{RouteId::calibrate, "/v1/calibrate", post, true, "calibrate", false},
-    Route{RouteId::jobs, "/v1/jobs", post, true, "", false},
+    Route{RouteId::jobs, "/v1/jobs", get | post, true, "", false},
     Route{RouteId::job, "/v1/jobs/{id}", get | del, true, "", false},
     Route{RouteId::openapi, "/openapi.json", get, false, "", false},
     Route{RouteId::livez, "/livez", get, false, "", true},

@@ -7,7 +7,6 @@ namespace rollgap::service::http {
 ServiceState::ServiceState(ServerConfig resolved, Evaluator evaluate)
     : config(std::move(resolved)), evaluator(evaluate ? std::move(evaluate) : facade_evaluator()),
       pool(config.workers, config.queue_length, 2 * config.max_jobs + 1, config.job_workers),
-      jobs(config.max_jobs, config.job_retention, config.instance),
       store(config.store, store::StoreLimits{config.max_jobs, config.job_retention}) {}
 
 void ServiceState::overloaded(httplib::Response& response, std::string detail) const {

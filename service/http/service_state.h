@@ -1,6 +1,6 @@
 #pragma once
 // What the parts of the HTTP layer share: the resolved configuration, the evaluator, the
-// compute workers, the job store, the metrics, and the drain flags.
+// compute workers, the durable job store, the metrics, and the drain flags.
 
 #include <atomic>
 #include <chrono>
@@ -11,7 +11,6 @@
 #include "service/config.h"
 #include "service/http/store_handle.h"
 #include "service/http_server.h"
-#include "service/jobs.h"
 #include "service/metrics.h"
 #include "service/worker_pool.h"
 
@@ -26,7 +25,6 @@ struct ServiceState {
     Evaluator evaluator;
     Metrics metrics;
     WorkerPool pool;
-    JobStore jobs;
     StoreHandle store;  // the durable store: jobs, chunks, stored scenarios
 
     std::atomic<bool> draining{false};     // SIGTERM: no new work, /readyz fails
@@ -38,7 +36,9 @@ struct ServiceState {
     void overloaded(httplib::Response& response, std::string detail) const;
     // 503 store_unavailable + Retry-After; marks the store down.
     void store_unavailable(httplib::Response& response, std::string detail);
-    bool busy() { return in_flight.load() > 0 || !pool.idle() || jobs.counts().active() > 0; }
+    // Synchronous requests or work items on this replica (jobs queued in the store wait for
+    // any replica and do not hold a drain).
+    bool busy() const { return in_flight.load() > 0 || !pool.idle(); }
 };
 
 }  // namespace rollgap::service::http

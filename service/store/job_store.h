@@ -72,7 +72,8 @@ struct JobRecord {
     double progress = 0.0;               // 0..1; for chunked jobs the share of finished points
     std::optional<std::string> result;   // JSON text, when succeeded
     std::optional<std::string> problem;  // JSON text, when failed
-    std::string instance;
+    std::string instance;                // the replica that accepted it
+    std::optional<std::string> worker;   // the replica that claimed its work last
     Millis created_ms = 0;
     std::optional<Millis> started_ms;
     std::optional<Millis> finished_ms;
@@ -82,6 +83,12 @@ struct JobRecord {
     std::int64_t points_done = 0;
     std::int64_t chunks = 1;
     std::int64_t chunks_done = 0;
+};
+
+struct JobCounts {
+    std::size_t queued = 0, running = 0, succeeded = 0, failed = 0, cancelled = 0;
+    std::size_t total() const { return queued + running + succeeded + failed + cancelled; }
+    std::size_t active() const { return queued + running; }
 };
 
 struct Created {
@@ -115,6 +122,7 @@ struct WorkItem {
     std::int64_t chunks = 1;
     std::int64_t begin = 0, end = 0;
     Millis lease_until_ms = 0;
+    Millis deadline_ms = 0;  // the job's deadline
 };
 
 struct Renewed {
@@ -155,6 +163,8 @@ public:
     // The finished chunks of a chunked job so far, in point order (partial results).
     virtual Result<std::vector<ChunkResult>> finished_chunks(const std::string& id) = 0;
     virtual Result<CancelResult> cancel(const std::string& id) = 0;
+    // Jobs by state (one cheap query: metrics are scraped every few seconds).
+    virtual Result<JobCounts> counts() = 0;
 
     // Work. `owner` names the replica (for the job document and logs).
     virtual Result<std::optional<WorkItem>> claim(const std::string& owner,

@@ -94,7 +94,7 @@ constexpr std::string_view job_columns =
     "j.id, j.analysis, j.request, j.state, j.progress, j.result, j.problem, j.instance, j.created_ms, "
     "j.started_ms, j.finished_ms, j.deadline_ms, j.cancel_requested, j.points, j.chunks, j.seq, "
     "(SELECT COUNT(*) FROM chunks c WHERE c.job_id = j.id AND c.state = 'done'), "
-    "(SELECT COALESCE(SUM(c.end_point - c.begin_point), 0) FROM chunks c WHERE c.job_id = j.id AND c.state = 'done')";
+    "(SELECT COALESCE(SUM(c.end_point - c.begin_point), 0) FROM chunks c WHERE c.job_id = j.id AND c.state = 'done'), j.worker";
 
 JobRecord job_from_row(const Row& r) {
     JobRecord job;
@@ -114,6 +114,7 @@ JobRecord job_from_row(const Row& r) {
     job.chunks = to_int(r.at(14));
     job.chunks_done = to_int(r.at(16));
     job.points_done = to_int(r.at(17));
+    job.worker = r.at(18);
     if (job.state == JobState::succeeded) {
         job.progress = 1.0;
     } else if (job.points > 0) {
@@ -152,7 +153,7 @@ public:
                     if (existing) return;
                 }
                 const auto count = to_int(s.exec("SELECT COUNT(*) FROM jobs").at(0).at(0));
-                if (count >= static_cast<std::int64_t>(limits_.max_jobs))
+                if (count >= static_cast<std::int64_t>(limits_.max_jobs) && !evict_cancelled(s))
                     throw Abort{StoreStatus::full, "max_jobs"};
                 const std::int64_t chunks =
                     spec.points > 0 ? (spec.points + spec.chunk_size - 1) / spec.chunk_size : 1;
@@ -285,6 +286,25 @@ public:
         return {StoreStatus::ok, result, {}};
     }
 
+    Result<JobCounts> counts() override {
+        JobCounts counts;
+        auto status = read([&](Session& s) {
+            for (const Row& r : s.exec("SELECT state, COUNT(*) FROM jobs GROUP BY state")) {
+                const auto n = static_cast<std::size_t>(to_int(r.at(1)));
+                switch (job_state_from_name(r.at(0).value_or("")).value_or(JobState::failed)) {
+                    case JobState::queued: counts.queued += n; break;
+                    case JobState::running: counts.running += n; break;
+                    case JobState::succeeded: counts.succeeded += n; break;
+                    case JobState::failed: counts.failed += n; break;
+                    case JobState::cancelled: counts.cancelled += n; break;
+                }
+            }
+        });
+        if (status.status != StoreStatus::ok)
+            return Result<JobCounts>::failure(status.status, status.detail);
+        return {StoreStatus::ok, counts, {}};
+    }
+
     Result<std::optional<WorkItem>> claim(const std::string& owner,
                                           std::chrono::milliseconds lease) override {
         std::optional<WorkItem> item;
@@ -296,7 +316,8 @@ public:
                                                     ? " FOR UPDATE OF c SKIP LOCKED"
                                                     : "";
                 const Rows rows = s.exec(
-                    "SELECT c.job_id, c.idx, c.begin_point, c.end_point, j.analysis, j.request, j.chunks "
+                    "SELECT c.job_id, c.idx, c.begin_point, c.end_point, j.analysis, j.request, j.chunks, "
+                    "j.deadline_ms "
                     "FROM chunks c JOIN jobs j ON j.id = c.job_id "
                     "WHERE j.state IN ('queued', 'running') AND j.cancel_requested = 0 "
                     "AND (c.state = 'queued' OR (c.state = 'running' AND c.lease_until_ms < $1)) "
@@ -312,13 +333,15 @@ public:
                 w.analysis = r.at(4).value_or("");
                 w.request = r.at(5).value_or("");
                 w.chunks = to_int(r.at(6));
+                w.deadline_ms = to_int(r.at(7));
                 w.lease_until_ms = now + lease.count();
                 s.exec(
                     "UPDATE chunks SET state = 'running', lease_token = $3, lease_owner = $4, lease_until_ms = $5 "
                     "WHERE job_id = $1 AND idx = $2",
                     {w.lease.job_id, w.lease.chunk, token, owner, w.lease_until_ms});
                 s.exec(
-                    "UPDATE jobs SET state = 'running', started_ms = $2, worker = $3 WHERE id = $1 AND state = 'queued'",
+                    "UPDATE jobs SET state = 'running', started_ms = COALESCE(started_ms, $2), worker = $3 "
+                    "WHERE id = $1",
                     {w.lease.job_id, now, owner});
                 item = std::move(w);
             },
@@ -612,6 +635,18 @@ private:
             "WHERE job_id = $1 AND state IN ('queued', 'running')",
             {id});
         s.exec("UPDATE jobs SET state = $2, finished_ms = $3 WHERE id = $1", {id, state, now});
+    }
+
+    // A client that cancelled a job gave up its slot: when the store is full, the cancelled
+    // job that finished first makes room. False if there is none.
+    static bool evict_cancelled(Session& s) {
+        const Rows oldest = s.exec(
+            "SELECT id FROM jobs WHERE state = 'cancelled' ORDER BY finished_ms, seq LIMIT 1");
+        if (oldest.empty()) return false;
+        const Param id{oldest.at(0).at(0).value_or("")};
+        s.exec("DELETE FROM chunks WHERE job_id = $1", {id});
+        s.exec("DELETE FROM jobs WHERE id = $1", {id});
+        return true;
     }
 
     std::size_t purge_in(Session& s, Millis now) {

@@ -115,6 +115,8 @@ const cases = [
   ['no such route', 'GET', '/v1/nothing', {}, 404],
   ['method not allowed', 'GET', '/v1/roll-gap', {}, 405],
   ['no such job', 'GET', '/v1/jobs/0123456789abcdef0123456789abcdef', {}, 404],
+  ['jobs bad limit', 'GET', '/v1/jobs?limit=0', {}, 422],
+  ['jobs bad state', 'GET', '/v1/jobs?state=done', {}, 422],
 ];
 
 // The jobs: create, poll to the end, read as JSON and CSV, delete.
@@ -140,6 +142,13 @@ async function jobCases(base, run) {
   }
   await run(['failed job', 'GET', `/v1/jobs/${failing.json.id}`, {}, 200, equals('/state', 'failed')]);
   await run(['failed job csv', 'GET', `/v1/jobs/${failing.json.id}`, { accept: 'text/csv' }, 406]);
+  // The list, and a retried submission with an Idempotency-Key.
+  await run(['list jobs', 'GET', '/v1/jobs?limit=1', {}, 200, equals('/jobs/0/id', failing.json.id)]);
+  await run(['list failed jobs', 'GET', '/v1/jobs?state=failed', {}, 200, equals('/jobs/0/state', 'failed')]);
+  const keyed = (body) => ({ ...json(body), headers: { ...json(body).headers, 'Idempotency-Key': 'contract-1' } });
+  const first = await run(['keyed job', 'POST', '/v1/jobs', keyed({ analysis: 'roll_gap' }), 202]);
+  await run(['keyed job again', 'POST', '/v1/jobs', keyed({ analysis: 'roll_gap' }), 200, equals('/id', first.json.id)]);
+  await run(['keyed job other body', 'POST', '/v1/jobs', keyed({ analysis: 'stability' }), 409]);
 }
 
 function templateMatch(template, path) {

@@ -14,6 +14,8 @@
 
 #include <atomic>
 #include <cctype>
+#include <cstdlib>
+#include <filesystem>
 #include <cerrno>
 #include <chrono>
 #include <condition_variable>
@@ -24,6 +26,7 @@
 #include <string>
 #include <string_view>
 #include <thread>
+#include <vector>
 
 #include <doctest/doctest.h>
 #include <httplib.h>
@@ -48,7 +51,29 @@ inline bool eventually(const std::function<bool()>& condition,
     return condition();
 }
 
-// A small configuration for tests: loopback, any port, few threads, short drain.
+// A fresh directory under the system's temporary directory, removed when the test program
+// exits (a server of the test may still hold files in it until its end).
+inline std::string fresh_temp_dir() {
+    struct Registry {
+        std::mutex mutex;
+        std::vector<std::filesystem::path> dirs;
+        ~Registry() {
+            for (const auto& dir : dirs) {
+                std::error_code ignored;
+                std::filesystem::remove_all(dir, ignored);
+            }
+        }
+    };
+    static Registry registry;
+    std::string pattern = (std::filesystem::temp_directory_path() / "rollgap-test-XXXXXX").string();
+    REQUIRE(::mkdtemp(pattern.data()) != nullptr);
+    std::lock_guard lock(registry.mutex);
+    registry.dirs.emplace_back(pattern);
+    return pattern;
+}
+
+// A small configuration for tests: loopback, any port, few threads, short drain, and a job
+// store of its own (a fresh SQLite file: no test sees another's jobs).
 inline service::ServerConfig test_config() {
     service::ServerConfig config;
     config.bind_address = "127.0.0.1";
@@ -59,6 +84,8 @@ inline service::ServerConfig test_config() {
     config.queue_length = 8;
     config.drain_timeout = std::chrono::milliseconds(2000);
     config.instance = "test";
+    config.data_dir = fresh_temp_dir();
+    config.store = "sqlite:" + config.data_dir + "/jobs.db";
     return config;
 }
 
