@@ -132,7 +132,7 @@ def sweep_request(points):
             "options": {"parameter": "/lubricant/viscosity_Pa_s",
                         "range": {"from": 0.00045, "to": 0.0007, "count": points},
                         "quantity": "critical_speed",
-                        "critical_speed": {"speed_min_m_per_s": 15, "speed_max_m_per_s": 25,
+                        "critical_speed": {"speed_min_m_per_s": 17, "speed_max_m_per_s": 23,
                                            "relative_tolerance": 0.01}}}
 
 
@@ -228,7 +228,7 @@ def main():
         print(f"machine: {os.cpu_count()} cores, load average {os.getloadavg()[0]:.1f} at start "
               f"(other work on the machine shows in the times)")
         request = sweep_request(args.points)
-        print(f"sweep: {args.points} points (critical speed vs lubricant viscosity, 15-25 m/s, "
+        print(f"sweep: {args.points} points (critical speed vs lubricant viscosity, 17-23 m/s, "
               f"1 % tolerance), chunks of {args.chunk_points}, lease {args.lease_ms} ms; "
               f"median of {args.repeat}")
 
