@@ -3,7 +3,9 @@
 // replica gives its work back, the Idempotency-Key, pagination of GET /v1/jobs, DELETE reaching
 // a worker of another server through the store, and a store that is unavailable and comes back.
 
+#include "service/chunked.h"
 #include "service/evaluate.h"
+#include "service/store/job_store.h"
 
 #include <doctest/doctest.h>
 
@@ -61,7 +63,8 @@ std::vector<std::string> page_ids(const json& page) {
 
 }  // namespace
 
-TEST_CASE("durable jobs: a finished and a queued job survive a restart; the queued one then runs") {
+TEST_CASE(
+    "durable jobs: a finished and a queued job survive a restart and the queued one then runs") {
     Gate gate;  // never opened: A holds the gated job until its drain gives it back
     service::ServerConfig config = test_config();
     config.workers = 2;
@@ -105,7 +108,7 @@ TEST_CASE("durable jobs: a finished and a queued job survive a restart; the queu
     CHECK(after_running["result"] == service::evaluate(held).body);
 }
 
-TEST_CASE("durable jobs: the Idempotency-Key returns the same job; another body is a 409") {
+TEST_CASE("durable jobs: the Idempotency-Key returns the same job and another body is a 409") {
     TestServer server;
     auto client = server.client();
     const json request = {{"analysis", "roll_gap"}, {"options", {{"distributions", false}}}};
@@ -145,7 +148,8 @@ TEST_CASE("durable jobs: the Idempotency-Key returns the same job; another body 
     CHECK(server.server->job_counts().total() == 2);
 }
 
-TEST_CASE("durable jobs: GET /v1/jobs lists newest first; the cursor walks all; state filters") {
+TEST_CASE(
+    "durable jobs: GET /v1/jobs lists newest first and the cursor walks all and the state filters") {
     Gate gate;
     service::ServerConfig config = test_config();
     config.workers = 2;
@@ -221,7 +225,7 @@ TEST_CASE("durable jobs: DELETE on one server reaches the worker of another thro
 }
 
 TEST_CASE(
-    "durable jobs: an unavailable store stops jobs only (503 store_unavailable); service resumes when it is back") {
+    "durable jobs: an unavailable store stops jobs only (503 store_unavailable) and service resumes when it is back") {
     // A data directory that cannot be created: its path is a regular file (chmod would not stop
     // root, who runs CI).
     const std::filesystem::path blocker = std::filesystem::path(fresh_temp_dir()) / "data";
@@ -267,4 +271,82 @@ TEST_CASE(
     CHECK(server.server->metrics_text().find("rollgap_store_up 1") != std::string::npos);
     // The refused submissions left nothing behind.
     CHECK(body_json(client.Get("/v1/jobs"))["jobs"].size() == 1);
+}
+
+namespace {
+
+const json five_point_sweep = {{"analysis", "sweep"},
+                               {"options",
+                                {{"parameter", "/lubricant/viscosity_Pa_s"},
+                                 {"values", {0.0004, 0.0005, 0.0006, 0.0007, 0.0008}}}}};
+
+}  // namespace
+
+TEST_CASE("durable jobs: a sweep computed in chunks is assembled into the single-process result") {
+    service::ServerConfig config = test_config();
+    config.chunk_points = 2;  // chunks [0, 2), [2, 4), [4, 5)
+    TestServer server(config);
+    auto client = server.client();
+    const std::string location = submit(client, five_point_sweep);
+    const json document = poll_until_finished(client, location, std::chrono::milliseconds(60000));
+    CHECK(document["state"] == "succeeded");
+    CHECK(document["points_total"] == 5);
+    CHECK(document["points_done"] == 5);
+    CHECK(document["progress"] == 1.0);
+    CHECK_FALSE(document.contains("partial_result"));
+    CHECK(document["result"].dump() == service::evaluate(five_point_sweep).body.dump());
+    CHECK(server.server->metrics_text().find("rollgap_work_items_total{outcome=\"succeeded\"} 3") !=
+          std::string::npos);
+}
+
+TEST_CASE("durable jobs: a running chunked job shows its finished points as a partial result") {
+    service::ServerConfig config = test_config();
+    // Another replica, played by the test on the same store, created the job, holds all three
+    // chunks and finished the first.
+    auto opened = service::store::open_store(config.store);
+    REQUIRE(opened.ok());
+    auto& store = **opened.value;
+    service::store::NewJob job;
+    job.analysis = "sweep";
+    job.request = five_point_sweep.dump();
+    job.deadline_ms = service::store::system_millis() + 60'000;
+    job.instance = "replica-test";
+    job.points = 5;
+    job.chunk_size = 2;
+    const auto created = store.create(job);
+    REQUIRE(created.ok());
+    const std::string location = "/v1/jobs/" + created.value->job.id;
+    std::vector<service::store::WorkItem> items;
+    for (int i = 0; i < 3; ++i) {
+        auto claimed = store.claim("replica-test", std::chrono::seconds(60));
+        REQUIRE(claimed.ok());
+        REQUIRE(claimed.value->has_value());
+        items.push_back(**claimed.value);
+    }
+    REQUIRE(items.front().begin == 0);
+    const auto first = service::evaluate_points(five_point_sweep, items[0].begin, items[0].end);
+    REQUIRE(first.ok());
+    REQUIRE(
+        store.complete(items[0].lease, service::store::Outcome::succeeded, first.body.dump()).ok());
+
+    TestServer server(config);
+    auto client = server.client();
+    const json document = body_json(client.Get(location.c_str()));
+    CHECK(document["state"] == "running");
+    CHECK(document["worker"] == "replica-test");
+    CHECK(document["points_total"] == 5);
+    CHECK(document["points_done"] == 2);
+    CHECK(document["progress"] == doctest::Approx(0.4));
+    const json& partial = document["partial_result"];
+    CHECK(partial["partial"] == true);
+    CHECK(partial["points_total"] == 5);
+    CHECK(partial["points_done"] == 2);
+    REQUIRE(partial["points"].size() == 2);
+    const json whole = service::evaluate(five_point_sweep).body;
+    for (int i = 0; i < 2; ++i) {
+        CAPTURE(i);
+        CHECK(partial["points"][i]["index"] == i);
+        CHECK(partial["points"][i]["point"] == whole["result"]["points"][i]);
+    }
+    CHECK_FALSE(document.contains("result"));
 }

@@ -163,7 +163,7 @@ TEST_CASE(
     const auto options = client.Options("/v1/jobs");
     REQUIRE(options);
     CHECK(options->status == 204);
-    CHECK(options->get_header_value("Allow") == "POST, OPTIONS");
+    CHECK(options->get_header_value("Allow") == "GET, HEAD, POST, OPTIONS");
 }
 
 TEST_CASE("http: 415 unless the body is declared application/json") {

@@ -51,11 +51,17 @@ api::Problem deadline_problem(std::chrono::milliseconds budget) {
 Outcome compute(ServiceState& state, const json& request, const core::Control& control,
                 const std::function<bool()>& late,
                 const std::function<bool()>& cancelled_by_client) {
+    return compute(state, request, control, late, cancelled_by_client, state.evaluator);
+}
+
+Outcome compute(ServiceState& state, const json& request, const core::Control& control,
+                const std::function<bool()>& late, const std::function<bool()>& cancelled_by_client,
+                const Evaluator& evaluator) {
     const std::string_view analysis = analysis_label(request);
     const auto start = SteadyClock::now();
     Outcome outcome;
     try {
-        outcome = state.evaluator(request, control);
+        outcome = evaluator(request, control);
     } catch (const std::exception& error) {
         spdlog::error("analysis {} threw: {}", analysis, error.what());
         outcome = problem_outcome(api::make_problem(

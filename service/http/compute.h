@@ -17,6 +17,10 @@ namespace rollgap::service::http {
 Outcome compute(ServiceState& state, const nlohmann::json& request, const core::Control& control,
                 const std::function<bool()>& late,
                 const std::function<bool()>& cancelled_by_client);
+// The same with another evaluator than the service's (a chunk of a sweep's points).
+Outcome compute(ServiceState& state, const nlohmann::json& request, const core::Control& control,
+                const std::function<bool()>& late, const std::function<bool()>& cancelled_by_client,
+                const Evaluator& evaluator);
 
 // A Control that stops when `stop` says so, with the configured thread budget.
 core::Control control_for(const ServiceState& state, std::function<bool()> stop);

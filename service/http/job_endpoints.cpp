@@ -4,6 +4,7 @@
 #include <charconv>
 
 #include "api/text.h"
+#include "service/chunked.h"
 #include "service/evaluate.h"
 #include "service/http/responses.h"
 #include "service/http/routes.h"
@@ -75,6 +76,12 @@ void JobEndpoints::create(json request, const std::string& idempotency_key,
     job.instance = state_.config.instance;
     if (!idempotency_key.empty()) job.idempotency_key = idempotency_key;
     job.body_hash = body_hash(job.request);
+    // A sweep or map is stored as chunks of points that workers on any replica claim.
+    if (const auto points = chunkable_points(request); points && *points > 0) {
+        job.points = *points;
+        job.chunk_size =
+            static_cast<std::int64_t>(std::max<std::size_t>(state_.config.chunk_points, 1));
+    }
     const auto created = store->create(job);
     state_.store.report(created.status);
     switch (created.status) {
@@ -93,8 +100,7 @@ void JobEndpoints::create(json request, const std::string& idempotency_key,
     const store::JobRecord& record = created.value->job;
     if (created.value->created) runner_.wake();
     response.set_header("Location", concat(jobs_prefix, record.id));
-    set_json(response, created.value->created ? 202 : 200,
-             job_document(record, state_.config.job_retention, JobDetail::full),
+    set_json(response, created.value->created ? 202 : 200, full_document(*store, record),
              "application/json");
 }
 
@@ -111,9 +117,31 @@ void JobEndpoints::get(const std::string& id, httplib::Response& response) {
         not_found(id, response);
         return;
     }
-    set_json(response, 200,
-             job_document(*found.value, state_.config.job_retention, JobDetail::full),
-             "application/json");
+    set_json(response, 200, full_document(*store, *found.value), "application/json");
+}
+
+json JobEndpoints::full_document(store::JobStore& store, const store::JobRecord& job) {
+    json document = job_document(job, state_.config.job_retention, JobDetail::full);
+    if (job.points <= 0) return document;
+    const json request = json::parse(job.request, nullptr, false);
+    if (job.state == store::JobState::succeeded && document.contains("result")) {
+        // The store keeps the concatenated point documents; the answer is assembled on read
+        // (docs/job-store.md): the same bytes evaluate() gives in one process.
+        const Outcome assembled = assemble_points(request, document["result"]);
+        document.erase("result");
+        document[assembled.ok() ? "result" : "problem"] = assembled.body;
+    } else if ((job.state == store::JobState::queued || job.state == store::JobState::running) &&
+               job.points_done > 0) {
+        const auto finished = store.finished_chunks(job.id);
+        state_.store.report(finished.status);
+        if (finished.ok()) {
+            std::vector<std::pair<std::int64_t, json>> chunks;
+            for (const store::ChunkResult& chunk : *finished.value)
+                chunks.emplace_back(chunk.begin, json::parse(chunk.result, nullptr, false));
+            document["partial_result"] = partial_result(job.points, chunks);
+        }
+    }
+    return document;
 }
 
 void JobEndpoints::list(const httplib::Request& request, httplib::Response& response) {
@@ -192,8 +220,7 @@ void JobEndpoints::cancel(const std::string& id, httplib::Response& response) {
         return;
     }
     set_json(response, *cancelled.value == store::CancelResult::cancelled ? 200 : 202,
-             job_document(*after.value, state_.config.job_retention, JobDetail::full),
-             "application/json");
+             full_document(*store, *after.value), "application/json");
 }
 
 }  // namespace rollgap::service::http

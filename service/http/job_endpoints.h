@@ -35,6 +35,9 @@ private:
     void store_failure(store::StoreStatus status, const std::string& id,
                        httplib::Response& response);
     void not_found(const std::string& id, httplib::Response& response);
+    // The job document with what needs the store or the request: a chunked job's result
+    // assembled from its points, or its partial result while it runs.
+    nlohmann::json full_document(store::JobStore& store, const store::JobRecord& job);
 
     ServiceState& state_;
     JobRunner& runner_;

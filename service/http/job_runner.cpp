@@ -5,6 +5,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include "service/chunked.h"
 #include "service/http/compute.h"
 
 namespace rollgap::service::http {
@@ -151,18 +152,26 @@ void JobRunner::run(const std::shared_ptr<Item>& item) {
     core::Control control = control_for(state_, [this, &item, late, cancelled] {
         return cancelled() || item->lost.load() || late() || state_.hard_cancel.load();
     });
+    // A chunk of a sweep's or map's points: the job's progress is its share of finished
+    // points, which the store counts itself.
+    const bool chunk = work.end > work.begin;
     auto last_progress = SteadyClock::now() - progress_interval;
-    control.progress = [&](double fraction) {
-        const auto now = SteadyClock::now();
-        if (!std::isfinite(fraction) || now - last_progress < progress_interval) return;
-        last_progress = now;
-        if (store.progress(work.lease, std::clamp(fraction, 0.0, 1.0)) ==
-            store::StoreStatus::conflict)
-            item->lost = true;
-    };
+    if (!chunk)
+        control.progress = [&](double fraction) {
+            const auto now = SteadyClock::now();
+            if (!std::isfinite(fraction) || now - last_progress < progress_interval) return;
+            last_progress = now;
+            if (store.progress(work.lease, std::clamp(fraction, 0.0, 1.0)) ==
+                store::StoreStatus::conflict)
+                item->lost = true;
+        };
 
     const json request = json::parse(work.request, nullptr, false);
-    Outcome outcome = compute(state_, request, control, late, cancelled);
+    Outcome outcome = chunk ? compute(state_, request, control, late, cancelled,
+                                      [&work](const json& whole, const core::Control& stop) {
+                                          return evaluate_points(whole, work.begin, work.end, stop);
+                                      })
+                            : compute(state_, request, control, late, cancelled);
 
     if (item->lost) {
         finish(item, "lost");
