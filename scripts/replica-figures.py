@@ -179,25 +179,26 @@ class Cluster:
             replica.stop()
 
 
-def timed_sweep(cluster, request, kill_at=None):
-    """Wall time of the sweep job submitted to the last replica; kills the first one once
-    `kill_at` of its points are done (returns the time of the kill as well)."""
+def timed_sweep(cluster, request, mark_at=None, kill=False):
+    """Wall time of the sweep job submitted to the last replica, and the time at which
+    `mark_at` of its points were done; with `kill`, the first replica is killed then."""
     survivor = cluster.replicas[-1]
     start = time.monotonic()
     job_id = submit(survivor, request)
-    killed = {}
+    marked = {}
 
-    def maybe_kill(job):
-        if kill_at is not None and not killed and job.get("points_done", 0) >= kill_at:
-            cluster.replicas[0].kill()
-            killed["at"] = time.monotonic() - start
-            killed["points_done"] = job.get("points_done", 0)
+    def mark(job):
+        if mark_at is not None and not marked and job.get("points_done", 0) >= mark_at:
+            if kill:
+                cluster.replicas[0].kill()
+            marked["at"] = time.monotonic() - start
+            marked["points_done"] = job.get("points_done", 0)
 
-    job = wait_done(survivor, job_id, poll=0.01, on_poll=maybe_kill)
+    job = wait_done(survivor, job_id, poll=0.01, on_poll=mark)
     elapsed = time.monotonic() - start
     if job["state"] != "succeeded":
         raise RuntimeError(f"sweep job {job['state']}: {job.get('problem')}")
-    return elapsed, job, killed
+    return elapsed, job, marked
 
 
 def median_latency(replica, method, path, body, count):
@@ -237,7 +238,6 @@ def main():
                        check=True, stdout=subprocess.DEVNULL)
         print(f"  rollgap run (one process, no store): {time.monotonic() - t:.2f} s")
 
-        undisturbed = {}
         for label, extra in (("default threads (--workers 2, analysis threads = cores)", []),
                              ("one thread per replica (--workers 1 --analysis-threads 1)",
                               ["--workers", "1", "--analysis-threads", "1"])):
@@ -248,29 +248,28 @@ def main():
                     with Cluster(args, postgres, directory, count, extra) as cluster:
                         runs.append(timed_sweep(cluster, request)[0])
                 times[count] = statistics.median(runs)
-            undisturbed[label] = times[2]
             print(f"  {label}: 1 replica {times[1]:.2f} s, 2 replicas {times[2]:.2f} s, "
                   f"speed-up {times[1] / times[2]:.2f}x")
 
         # Early, the survivor has other chunks to compute while the dead replica's lease runs
-        # out; late, it has nothing else left and waits for the lease.
-        label = "default threads (--workers 2, analysis threads = cores)"
+        # out; late, it has nothing else left and waits for the lease. The cost: the time from
+        # the kill to the end, minus the same stretch of an undisturbed run (from the moment
+        # as many points were done), medians.
         for share in (30, 80):
-            deaths = []
-            for _ in range(args.repeat):
-                with Cluster(args, postgres, directory, 2, []) as cluster:
-                    elapsed, _, killed = timed_sweep(cluster, request,
-                                                     kill_at=args.points * share // 100)
-                    deaths.append((elapsed, killed))
-            if any(not k for _, k in deaths):
-                print("  (the sweep finished before the kill point: no death measured)")
-                deaths = [(e, k) for e, k in deaths if k] or deaths
-            cost = statistics.median(e for e, _ in deaths) - undisturbed[label]
-            print(f"kill -9 of one of 2 replicas at {share} % of the sweep: finished in "
-                  + ", ".join(f"{e:.2f} s (killed at {k.get('at', 0):.2f} s, "
-                              f"{k.get('points_done', 0)} points done)" for e, k in deaths)
-                  + f"; median cost vs undisturbed {cost:+.2f} s "
-                  f"(lease {args.lease_ms / 1000:.1f} s)")
+            tails = {}
+            for kill in (False, True):
+                runs = []
+                for _ in range(args.repeat):
+                    with Cluster(args, postgres, directory, 2, []) as cluster:
+                        elapsed, _, marked = timed_sweep(cluster, request,
+                                                         args.points * share // 100, kill)
+                        if marked:
+                            runs.append(elapsed - marked["at"])
+                tails[kill] = statistics.median(runs) if runs else float("nan")
+            print(f"kill -9 of one of 2 replicas once {share} % of the points are done: the rest "
+                  f"took {tails[True]:.2f} s vs {tails[False]:.2f} s undisturbed: the death cost "
+                  f"{tails[True] - tails[False]:+.2f} s (lease {args.lease_ms / 1000:.1f} s, "
+                  f"chunks of {args.chunk_points} points)")
 
         with Cluster(args, postgres, directory, 1, []) as cluster:
             replica = cluster.replicas[0]
