@@ -23,6 +23,7 @@
 #include "core/scenario.h"
 #include "service/analyses.h"
 #include "service/analysis.h"
+#include "service/chunked.h"
 #include "embedded/openapi_json.h"  // generated from service/openapi.json: openapi_json()
 #include "service/version.h"
 
@@ -315,6 +316,11 @@ json openapi_document() {
     json& schemas = document["components"]["schemas"];
     schemas["Scenario"] = scenario_json_schema(false);
     schemas["ScenarioPatch"] = scenario_json_schema(true);
+    // A running chunked job's points so far, typed by the result tables' point components.
+    json& partial = schemas["Job"]["properties"]["partial_result"];
+    json typed = partial_result_schema();
+    typed["description"] = partial.value("description", "");
+    partial = std::move(typed);
 
     json codes = json::array();
     for (const api::ProblemKind& kind : api::problem_kinds()) codes.push_back(kind.slug);

@@ -16,30 +16,9 @@ using nlohmann::json;
 
 namespace {
 
-json poll_until_finished(httplib::Client& client, const std::string& location,
-                         std::chrono::milliseconds timeout = std::chrono::milliseconds(10000)) {
-    json document;
-    eventually(
-        [&] {
-            const auto result = client.Get(location.c_str());
-            if (!result || result->status != 200) return false;
-            document = json::parse(result->body);
-            const std::string state = document["state"];
-            return state == "succeeded" || state == "failed" || state == "cancelled";
-        },
-        timeout);
-    return document;
-}
-
 std::string create_job(httplib::Client& client, const json& request) {
-    const auto result = post_json(client, "/v1/jobs", request);
-    REQUIRE(result);
-    CAPTURE(result->body);
-    REQUIRE(result->status == 202);
-    const std::string location = result->get_header_value("Location");
-    const json document = json::parse(result->body);
-    CHECK(location == "/v1/jobs/" + document["id"].get<std::string>());
-    CHECK(document["instance"] == "test");
+    const std::string location = submit_job(client, request);
+    CHECK(body_json(client.Get(location.c_str()))["instance"] == "test");
     return location;
 }
 

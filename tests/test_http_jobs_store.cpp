@@ -22,29 +22,6 @@ using nlohmann::json;
 
 namespace {
 
-json poll_until_finished(httplib::Client& client, const std::string& location,
-                         std::chrono::milliseconds timeout = std::chrono::milliseconds(10000)) {
-    json document;
-    eventually(
-        [&] {
-            const auto result = client.Get(location.c_str());
-            if (!result || result->status != 200) return false;
-            document = json::parse(result->body);
-            const std::string state = document["state"];
-            return state == "succeeded" || state == "failed" || state == "cancelled";
-        },
-        timeout);
-    return document;
-}
-
-std::string submit(httplib::Client& client, const json& request) {
-    const auto result = post_json(client, "/v1/jobs", request);
-    REQUIRE(result);
-    CAPTURE(result->body);
-    REQUIRE(result->status == 202);
-    return result->get_header_value("Location");
-}
-
 // Routes requests that ask for distributions to `gated`, the rest to the facade.
 service::Evaluator gated_when_distributions(Gate& gate) {
     return [gated = gate.evaluator(), facade = service::facade_evaluator()](
@@ -78,11 +55,11 @@ TEST_CASE(
         config.instance = "replica-a";
         TestServer a(config, gated_when_distributions(gate));
         auto client = a.client();
-        finished = submit(client, quick);
+        finished = submit_job(client, quick);
         REQUIRE(poll_until_finished(client, finished)["state"] == "succeeded");
-        running = submit(client, held);
+        running = submit_job(client, held);
         REQUIRE(eventually([&] { return gate.started() == 1; }));
-        queued = submit(client, quick);
+        queued = submit_job(client, quick);
         CHECK(body_json(client.Get(queued.c_str()))["state"] == "queued");
         a.server->shutdown();
         // The running item stopped at the drain timeout and went back to the store.
@@ -144,7 +121,7 @@ TEST_CASE("durable jobs: the Idempotency-Key returns the same job and another bo
     CHECK(server.server->job_counts().total() == 1);
 
     // Without a key every submission is a job of its own.
-    submit(client, request);
+    submit_job(client, request);
     CHECK(server.server->job_counts().total() == 2);
 }
 
@@ -158,7 +135,7 @@ TEST_CASE(
     auto client = server.client();
     std::vector<std::string> created;
     for (int i = 0; i < 5; ++i) {
-        const std::string location = submit(client, {{"analysis", "roll_gap"}});
+        const std::string location = submit_job(client, {{"analysis", "roll_gap"}});
         created.push_back(location.substr(std::string("/v1/jobs/").size()));
         if (i == 0) REQUIRE(eventually([&] { return gate.started() == 1; }));
     }
@@ -203,7 +180,7 @@ TEST_CASE("durable jobs: DELETE on one server reaches the worker of another thro
     config.instance = "replica-a";
     TestServer a(config, gate.evaluator());
     auto client_a = a.client();
-    const std::string location = submit(client_a, {{"analysis", "roll_gap"}});
+    const std::string location = submit_job(client_a, {{"analysis", "roll_gap"}});
     REQUIRE(eventually([&] { return gate.started() == 1; }));
 
     config.instance = "replica-b";
@@ -287,7 +264,7 @@ TEST_CASE("durable jobs: a sweep computed in chunks is assembled into the single
     config.chunk_points = 2;  // chunks [0, 2), [2, 4), [4, 5)
     TestServer server(config);
     auto client = server.client();
-    const std::string location = submit(client, five_point_sweep);
+    const std::string location = submit_job(client, five_point_sweep);
     const json document = poll_until_finished(client, location, std::chrono::milliseconds(60000));
     CHECK(document["state"] == "succeeded");
     CHECK(document["points_total"] == 5);

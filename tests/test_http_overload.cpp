@@ -180,13 +180,15 @@ TEST_CASE("shutdown: `rollgap serve` drains on SIGTERM and exits 0") {
     // A port picked by the kernel, released for the child to bind.
     const int port = free_loopback_port();
     REQUIRE(port > 0);
+    const std::string data_dir = fresh_temp_dir();  // a job store of its own
     const pid_t child = ::fork();
     REQUIRE(child >= 0);
     if (child == 0) {
         const std::string port_text = std::to_string(port);
         ::setenv("ROLLGAP_LOG_LEVEL", "warn", 1);
         ::execl(program.c_str(), "rollgap", "serve", "--port", port_text.c_str(), "--admin-port",
-                "0", "--workers", "1", "--io-threads", "4", static_cast<char*>(nullptr));
+                "0", "--workers", "1", "--io-threads", "4", "--data-dir", data_dir.c_str(),
+                static_cast<char*>(nullptr));
         ::_exit(127);
     }
     httplib::Client client("127.0.0.1", port);

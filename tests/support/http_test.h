@@ -147,6 +147,34 @@ inline json body_json(const httplib::Result& result) {
     return json::parse(result->body);
 }
 
+// Polls the job at `location` until it finished (or `timeout` passes); its last document.
+inline json poll_until_finished(
+    httplib::Client& client, const std::string& location,
+    std::chrono::milliseconds timeout = std::chrono::milliseconds(10000)) {
+    json document;
+    eventually(
+        [&] {
+            const auto result = client.Get(location.c_str());
+            if (!result || result->status != 200) return false;
+            document = json::parse(result->body);
+            const std::string state = document["state"];
+            return state == "succeeded" || state == "failed" || state == "cancelled";
+        },
+        timeout);
+    return document;
+}
+
+// POST /v1/jobs, which must answer 202 with the job's Location; the Location.
+inline std::string submit_job(httplib::Client& client, const json& request) {
+    const auto result = post_json(client, "/v1/jobs", request);
+    REQUIRE(result);
+    CAPTURE(result->body);
+    REQUIRE(result->status == 202);
+    const std::string location = result->get_header_value("Location");
+    CHECK(location == "/v1/jobs/" + json::parse(result->body)["id"].get<std::string>());
+    return location;
+}
+
 // Whether `received` holds a whole HTTP response (headers and a Content-Length body).
 inline bool response_complete(const std::string& received) {
     const std::size_t end = received.find("\r\n\r\n");
