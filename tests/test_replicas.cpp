@@ -52,16 +52,9 @@ json single_process_result(const std::filesystem::path& directory, const json& r
     return json::parse(output);
 }
 
-// POST /v1/jobs; the new job's id.
+// POST /v1/jobs (202 with the job's Location); the new job's id.
 std::string submit(httplib::Client& client, const json& request) {
-    const auto result = post_json(client, "/v1/jobs", request);
-    REQUIRE(result);
-    CAPTURE(result->body);
-    REQUIRE((result->status == 201 || result->status == 202));
-    const json document = json::parse(result->body);
-    REQUIRE(document["id"].is_string());
-    CHECK(result->get_header_value("Location") == "/v1/jobs/" + document["id"].get<std::string>());
-    return document["id"];
+    return submit_job(client, request).substr(std::string("/v1/jobs/").size());
 }
 
 struct Answer {
@@ -81,6 +74,8 @@ bool finished(const json& job) {
 }
 
 // Polls the job through `client` until it is finished or `timeout` passes; its last document.
+// (Every 20 ms, not as fast as poll_until_finished: a running sweep's document carries its
+// partial result, read from the store, and polling must not slow the replicas it measures.)
 json wait_finished(httplib::Client& client, const std::string& id,
                    std::chrono::milliseconds timeout = std::chrono::seconds(60)) {
     json last;
