@@ -35,6 +35,8 @@
 #include <spdlog/sinks/base_sink.h>
 #include <spdlog/spdlog.h>
 
+#include "support/loopback_port.h"
+
 namespace rollgap::test {
 
 using nlohmann::json;

@@ -4,8 +4,6 @@
 // tests run as root (the server refuses root). Missing binaries are a failure, not a skip:
 // the store's tests must run against a real server.
 
-#include <netinet/in.h>
-#include <sys/socket.h>
 #include <unistd.h>
 
 #include <cstdio>
@@ -13,27 +11,11 @@
 #include <filesystem>
 #include <string>
 
+#include "support/loopback_port.h"
+
 namespace rollgap::test {
 
 inline constexpr const char* postgres_bin = "/usr/lib/postgresql/15/bin";
-
-// A port no one listens on now (the OS picks it; there is a small window before the server binds).
-inline int free_loopback_port() {
-    const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-    if (fd < 0) return 0;
-    sockaddr_in address{};
-    address.sin_family = AF_INET;
-    address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    address.sin_port = 0;
-    socklen_t length = sizeof address;
-    int port = 0;
-    if (::bind(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) == 0 &&
-        ::getsockname(fd, reinterpret_cast<sockaddr*>(&address), &length) == 0) {
-        port = ntohs(address.sin_port);
-    }
-    ::close(fd);
-    return port;
-}
 
 class PostgresServer {
 public:
