@@ -20,10 +20,13 @@
 #include "service/config.h"
 #include "service/cpu_quota.h"
 
+#include "support/program.h"
+
 namespace {
 
 using rollgap::service::cgroup_cpu_limit;
 using rollgap::service::cpu_budget;
+using rollgap::test::rollgap_program;
 
 const std::filesystem::path fixtures =
     std::filesystem::path(__FILE__).parent_path() / "fixtures" / "cgroup";
@@ -134,14 +137,7 @@ TEST_CASE("cpu quota: the service's workers and analysis budget default to the C
 }
 
 TEST_CASE("cpu quota: `taskset -c 0 rollgap serve` starts one worker and logs it") {
-    // The test runner is build/tests/rollgap_tests; the program is build/rollgap.
-    const std::filesystem::path program =
-        std::filesystem::canonical("/proc/self/exe").parent_path().parent_path() / "rollgap";
-    if (!std::filesystem::exists(program)) {
-        MESSAGE("no " << program.string()
-                      << " next to the tests (build the rollgap target): skipped");
-        return;
-    }
+    const std::filesystem::path program = rollgap_program();
     const std::filesystem::path log = std::filesystem::temp_directory_path() /
                                       ("rollgap-taskset-" + std::to_string(::getpid()) + ".log");
     const pid_t child = ::fork();

@@ -13,6 +13,7 @@
 #include <unistd.h>
 #include <vector>
 
+#include "support/program.h"
 #include "support/http_test.h"
 
 using namespace rollgap;
@@ -169,14 +170,7 @@ TEST_CASE("shutdown: work still running at the drain timeout is cancelled") {
 }
 
 TEST_CASE("shutdown: `rollgap serve` drains on SIGTERM and exits 0") {
-    // The test runner is build/tests/rollgap_tests; the program is build/rollgap.
-    const std::filesystem::path program =
-        std::filesystem::canonical("/proc/self/exe").parent_path().parent_path() / "rollgap";
-    if (!std::filesystem::exists(program)) {
-        MESSAGE("no " << program.string()
-                      << " next to the tests (build the rollgap target): skipped");
-        return;
-    }
+    const std::filesystem::path program = rollgap_program();
     // A port picked by the kernel, released for the child to bind.
     const int port = free_loopback_port();
     REQUIRE(port > 0);

@@ -30,14 +30,9 @@
 #include "support/http_test.h"
 #include "support/nginx.h"
 #include "support/postgres.h"
+#include "support/program.h"
 
 namespace rollgap::test {
-
-// The `rollgap` program of this build: the test runner is build/tests/rollgap_tests, the
-// program build/rollgap (tests/CMakeLists.txt makes the runner depend on it).
-inline std::filesystem::path rollgap_program() {
-    return std::filesystem::canonical("/proc/self/exe").parent_path().parent_path() / "rollgap";
-}
 
 // A fresh directory under /tmp, removed with its contents on destruction.
 class TempDir {
