@@ -180,11 +180,11 @@ function templateMatch(template, path) {
   return pattern.test(path.split('?')[0]);
 }
 
-// Fresh data directories: the service's store, and one whose database path is a directory
+// A data directory whose database path is a directory
 // (the store unavailable).
 const dataDir = mkdtempSync(join(tmpdir(), 'rollgap-contract-'));
 mkdirSync(join(dataDir, 'broken.db'));
-const service = await startService(binary, ['--data-dir', dataDir]);
+const service = await startService(binary);  // a fresh data directory of its own (service.mjs)
 const broken = await startService(binary, ['--store', `sqlite:${join(dataDir, 'broken.db')}`]);
 let validated = 0;
 const failures = [];
