@@ -150,7 +150,9 @@ TEST_CASE(
 TEST_CASE("jobs over http: the store is bounded (503 + Retry-After) and finished jobs expire") {
     service::ServerConfig config = test_config();
     config.max_jobs = 2;
-    config.job_retention = std::chrono::milliseconds(300);
+    // Long enough that both jobs still hold their slots when the third arrives on a loaded
+    // machine (300 ms was not: a purge freed a slot first), short enough for the test.
+    config.job_retention = std::chrono::milliseconds(1500);
     TestServer server(config);
     auto client = server.client();
     const json request = {{"analysis", "roll_gap"}, {"options", {{"distributions", false}}}};
@@ -164,10 +166,12 @@ TEST_CASE("jobs over http: the store is bounded (503 + Retry-After) and finished
 
     CHECK(poll_until_finished(client, first)["state"] == "succeeded");
     // After the retention the job is gone and its slot free again.
-    CHECK(eventually([&] {
-        const auto result = client.Get(first.c_str());
-        return result && result->status == 404;
-    }));
+    CHECK(eventually(
+        [&] {
+            const auto result = client.Get(first.c_str());
+            return result && result->status == 404;
+        },
+        std::chrono::milliseconds(10'000)));
     create_job(client, request);
 }
 
