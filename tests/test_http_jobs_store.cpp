@@ -185,6 +185,9 @@ TEST_CASE(
         CHECK(problem["code"] == "invalid_request");
         const std::string name = std::string(bad).substr(0, std::string(bad).find('='));
         CHECK(problem["detail"].get<std::string>().find("'" + name + "'") != std::string::npos);
+        REQUIRE(problem["errors"].size() == 1);
+        CHECK(problem["errors"][0]["pointer"] == "/query/" + name);
+        CHECK(problem["errors"][0].contains("bound"));
     }
     gate.open();
 }

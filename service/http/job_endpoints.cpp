@@ -23,9 +23,13 @@ bool valid_idempotency_key(const std::string& key) {
            std::all_of(key.begin(), key.end(), [](char c) { return c > ' ' && c < 0x7f; });
 }
 
+// The parameter is named as a field of the request (`/query/limit`), with its rule as the
+// bound, like every other field error.
 void invalid_parameter(httplib::Response& response, std::string_view name, std::string_view rule) {
     set_problem(response, api::ProblemCode::invalid_request,
-                concat("query parameter '", name, "': ", rule));
+                concat("query parameter '", name, "': ", rule),
+                {api::FieldError{concat("/query/", name), concat("expected ", rule),
+                                 std::string(rule), std::nullopt}});
 }
 
 }  // namespace
