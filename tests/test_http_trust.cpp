@@ -67,7 +67,8 @@ TEST_CASE("trust: on loopback a Host outside the served names is 421 (DNS rebind
     CHECK(rebound.find("evil.example") == std::string::npos);  // the Host is not echoed
     CHECK(get_with_host(port, "/v1/roll-gap", "evil.example").starts_with("HTTP/1.1 421"));
     // The names of this machine's loopback service.
-    for (const std::string host : {"127.0.0.1" + p, "localhost" + p, "LOCALHOST", "[::1]" + p}) {
+    for (const std::string& host :
+         std::vector<std::string>{"127.0.0.1" + p, "localhost" + p, "LOCALHOST", "[::1]" + p}) {
         CAPTURE(host);
         CHECK(get_with_host(port, "/v1/scenarios/default", host).starts_with("HTTP/1.1 200"));
     }
@@ -124,7 +125,7 @@ TEST_CASE("trust: unsafe requests from a foreign browser page are 403; curl with
                     {{"Origin", "https://app.example"}, {"Sec-Fetch-Site", "cross-site"}}, "{}",
                     "application/json")
               ->status == 200);
-    CHECK(client.Post("/v1/roll-gap", {{"Sec-Fetch-Site", "none"}})->status == 200);
+    CHECK(client.Post("/v1/roll-gap", httplib::Headers{{"Sec-Fetch-Site", "none"}})->status == 200);
     // PUT and DELETE are unsafe too; a GET from anywhere is a read the browser keeps from the page.
     const httplib::Headers evil = {{"Origin", "http://evil.example"}};
     CHECK(client.Put("/v1/scenarios/stand-1", evil, "{}", "application/json")->status == 403);

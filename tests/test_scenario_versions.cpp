@@ -8,6 +8,7 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <string>
 
 #include "service/store/job_store.h"
@@ -150,7 +151,8 @@ TEST_CASE("scenario versions: a store of the previous schema keeps its scenarios
         "CREATE TABLE scenarios (name TEXT PRIMARY KEY, body TEXT NOT NULL,"
         " version BIGINT NOT NULL, updated_ms BIGINT NOT NULL);"
         "INSERT INTO scenarios VALUES ('mill-7', '{\"old\":true}', 4, 1700000000000);";
-    REQUIRE(std::system(("sqlite3 '" + file + "' '" + sql + "'").c_str()) == 0);
+    std::ofstream(dir + "/v1.sql") << sql;
+    REQUIRE(std::system(("sqlite3 '" + file + "' < '" + dir + "/v1.sql'").c_str()) == 0);
     auto opened = open_store("sqlite:" + file);
     REQUIRE_MESSAGE(opened.ok(), opened.detail);
     auto store = *opened.value;

@@ -32,6 +32,8 @@ std::string host_of(std::string_view header) {
     if (header.starts_with('[')) {
         const auto close = header.find(']');
         host = std::string(header.substr(1, close == std::string_view::npos ? close : close - 1));
+    } else if (std::count(header.begin(), header.end(), ':') > 1) {
+        host = std::string(header);  // a bare IPv6 address (a setting, never a Host header)
     } else {
         host = std::string(header.substr(0, header.find(':')));
     }
