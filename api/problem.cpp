@@ -22,6 +22,13 @@ constexpr std::array kinds{
     ProblemKind{ProblemCode::unreadable_input, "unreadable_input", 400,
                 "Request could not be read"},
     ProblemKind{ProblemCode::unauthorized, "unauthorized", 401, "Unauthorized"},
+    ProblemKind{ProblemCode::forbidden, "forbidden", 403, "Client key lacks the scope"},
+    // 421 (RFC 9110 §15.5.20): this server does not answer for the authority the request
+    // names; a rebound DNS name pointing a browser at a loopback service gets it.
+    ProblemKind{ProblemCode::misdirected_request, "misdirected_request", 421,
+                "Host is not served here"},
+    ProblemKind{ProblemCode::cross_site_request, "cross_site_request", 403,
+                "Cross-site request refused"},
     ProblemKind{ProblemCode::not_found, "not_found", 404, "Not found"},
     ProblemKind{ProblemCode::method_not_allowed, "method_not_allowed", 405, "Method not allowed"},
     ProblemKind{ProblemCode::payload_too_large, "payload_too_large", 413, "Request is too large"},
@@ -47,6 +54,10 @@ constexpr std::array kinds{
     // ready, only what is kept in the database waits for it.
     ProblemKind{ProblemCode::store_unavailable, "store_unavailable", 503,
                 "Job store is unavailable"},
+    // Not 503 like a full job store: jobs expire and free their slots, stored scenarios stay
+    // until someone deletes them, so retrying would not help.
+    ProblemKind{ProblemCode::insufficient_storage, "insufficient_storage", 507,
+                "Stored scenario limit reached"},
     ProblemKind{ProblemCode::deadline_exceeded, "deadline_exceeded", 504,
                 "Analysis exceeded its deadline"},
     // The facade cannot tell why its Control said stop: a caller whose reason is a deadline

@@ -20,6 +20,9 @@ enum class ProblemCode {
     unknown_analysis,         // "analysis" names no analysis the service offers
     unreadable_input,         // the request could not be read at all (CLI: missing file)
     unauthorized,             // HTTP: a compute endpoint without the configured bearer token
+    forbidden,                // HTTP: a known client key without the scope the route needs
+    misdirected_request,      // HTTP: a Host this service does not answer for (DNS rebinding)
+    cross_site_request,       // HTTP: an unsafe method from a foreign browser origin
     not_found,                // HTTP: no such route
     method_not_allowed,       // HTTP: route exists, method does not
     payload_too_large,        // the request exceeds the size limit
@@ -36,6 +39,7 @@ enum class ProblemCode {
     precondition_required,    // HTTP: overwriting a stored scenario needs If-Match
     overloaded,               // HTTP: every worker busy and the queue full
     store_unavailable,        // HTTP: the job store cannot be reached; retry later
+    insufficient_storage,     // HTTP: the store holds as many stored scenarios as it may
     deadline_exceeded,        // the analysis did not finish within its time budget
     cancelled,                // the caller stopped the analysis (core::Control), e.g. a deleted job
     internal,                 // a bug: an exception escaped an analysis

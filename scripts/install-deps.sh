@@ -9,7 +9,7 @@ set -euo pipefail
 # --- The packages -------------------------------------------------------------------------
 # Add new packages to one of these groups (or a new group) and to PACKAGES below.
 BUILD_PACKAGES=(build-essential cmake pkg-config)
-LIBRARY_PACKAGES=(libeigen3-dev libsundials-dev libcpp-httplib-dev nlohmann-json3-dev libspdlog-dev libcli11-dev libsqlite3-dev libpqxx-dev)
+LIBRARY_PACKAGES=(libeigen3-dev libsundials-dev libcpp-httplib-dev nlohmann-json3-dev libspdlog-dev libcli11-dev libsqlite3-dev libpqxx-dev libssl-dev)
 # postgresql: the job store tests start a PostgreSQL 15 server of their own (initdb, pg_ctl).
 TEST_PACKAGES=(doctest-dev postgresql)
 # The sanitizer build and the fuzzers (scripts/test.sh, scripts/fuzz.sh): clang 14 (clang++),

@@ -19,6 +19,7 @@
 #include "api/scenario_json.h"
 #include "api/text.h"
 #include "service/analyses.h"
+#include "service/client_keys.h"
 #include "service/config.h"
 #include "service/csv_answer.h"
 #include "service/evaluate.h"
@@ -48,6 +49,9 @@ constexpr std::array commands{
     Command{"serve", "", "run the HTTP service (REST API v1; 'rollgap serve --help')"},
     Command{"healthcheck", "", "ask a running service's /readyz (container health check)"},
     Command{"openapi", "", "print the service's OpenAPI 3.1 document"},
+    Command{"key", "new NAME --scopes read,compute,write,admin",
+            "make a client key: prints the key (shown once) on the first line\n"
+            "and the line for the key file (--key-file) on the second"},
 };
 
 CLI::App* add_command(CLI::App& app, std::string_view name) {
@@ -201,6 +205,15 @@ int run_cli(std::span<const std::string_view> arguments, std::istream& in, std::
     std::string url = default_healthcheck_url();
     health->add_option("--url", url, "http://HOST:PORT/PATH");
     CLI::App* openapi = add_command(app, "openapi");
+    CLI::App* key = add_command(app, "key");
+    key->require_subcommand(1, 1);
+    CLI::App* key_new = key->add_subcommand("new", "make a client key");
+    key_new->allow_extras();
+    std::string key_name;
+    std::string key_scopes;
+    key_new->add_option("NAME", key_name, "the key's name: 1..32 of a-z 0-9 . -")->required();
+    key_new->add_option("--scopes", key_scopes, "comma-separated: read, compute, write, admin")
+        ->required();
     CLI::App* help = app.add_subcommand("help", "print this help")->group("");
 
     // CLI11 takes the arguments last first.
@@ -248,7 +261,7 @@ int run_cli(std::span<const std::string_view> arguments, std::istream& in, std::
         }
         return usage_error(err, api::concat("unexpected argument '", first, "'"));
     }
-    for (const CLI::App* command : {scenario, run, health, openapi, help}) {
+    for (const CLI::App* command : {scenario, run, health, openapi, key_new, help}) {
         if (command->parsed() && !command->remaining().empty()) {
             return usage_error(
                 err, api::concat("unexpected argument '", command->remaining().front(), "' after '",
@@ -274,6 +287,16 @@ int run_cli(std::span<const std::string_view> arguments, std::istream& in, std::
             return exit_internal_error;
         }
         return server.healthcheck(url, out, err);
+    }
+    if (key_new->parsed()) {
+        const auto made = new_key(key_name, key_scopes);
+        if (!made) {
+            return usage_error(err,
+                               "key new: NAME is 1..32 of a-z 0-9 . - and --scopes a "
+                               "comma-separated list of read, compute, write, admin");
+        }
+        out << made->key << '\n' << made->line << '\n';
+        return exit_success;
     }
     if (openapi->parsed()) {
         out << openapi_document().dump(2) << '\n';

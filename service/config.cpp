@@ -2,11 +2,13 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <charconv>
 #include <cstdlib>
 #include <fstream>
 #include <iterator>
 #include <sstream>
+#include <vector>
 
 #include <unistd.h>
 
@@ -71,6 +73,17 @@ constexpr std::array settings{
                   "the bearer token itself (environment only: a flag would show in ps)"},
     ConfigSetting{"--token-file", "ROLLGAP_TOKEN_FILE", "PATH",
                   "file holding the bearer token required by the compute endpoints"},
+    ConfigSetting{"--key-file", "ROLLGAP_KEY_FILE", "PATH",
+                  "client keys with scopes, one 'NAME SHA256HEX SCOPES' line each (rollgap key "
+                  "new); re-read within a second of a change"},
+    ConfigSetting{"--allowed-hosts", "ROLLGAP_ALLOWED_HOSTS", "NAMES",
+                  "comma-separated Host names served, * for any; others: 421 (default: when bound "
+                  "to loopback, the bind address, localhost, 127.0.0.1 and ::1; else any)"},
+    ConfigSetting{"--allowed-origins", "ROLLGAP_ALLOWED_ORIGINS", "ORIGINS",
+                  "comma-separated browser origins (scheme://host[:port]) allowed to POST, PUT, "
+                  "PATCH or DELETE besides the service's own; others: 403 (default none)"},
+    ConfigSetting{"--max-scenarios", "ROLLGAP_MAX_SCENARIOS", "N",
+                  "stored scenarios at once; a new name beyond: 507 (default 1000)"},
     ConfigSetting{"--instance", "ROLLGAP_INSTANCE", "NAME",
                   "this replica's name in job documents (default: the host name)"},
     ConfigSetting{"--data-dir", "ROLLGAP_DATA_DIR", "DIR",
@@ -128,6 +141,9 @@ constexpr std::array integer_settings{
     IntegerSetting{"ROLLGAP_MAX_JOBS", 0, 1'000'000, "0..1000000",
                    [](ServerConfig& c, long long n) { c.max_jobs = static_cast<std::size_t>(n); }},
     IntegerSetting{
+        "ROLLGAP_MAX_SCENARIOS", 1, 1'000'000, "1..1000000",
+        [](ServerConfig& c, long long n) { c.max_scenarios = static_cast<std::size_t>(n); }},
+    IntegerSetting{
         "ROLLGAP_JOB_WORKERS", 0, 1024, "0..1024 (0: max(1, workers/2))",
         [](ServerConfig& c, long long n) { c.job_workers = static_cast<std::size_t>(n); }},
     IntegerSetting{"ROLLGAP_RETRY_AFTER", 0, 3600, "0..3600 s",
@@ -155,6 +171,19 @@ std::optional<long long> parse_integer(std::string_view text, long long min, lon
 std::string trim_trailing_newlines(std::string text) {
     while (!text.empty() && (text.back() == '\n' || text.back() == '\r')) text.pop_back();
     return text;
+}
+
+std::string_view trimmed_view(std::string_view text) {
+    while (!text.empty() && std::isspace(static_cast<unsigned char>(text.front())))
+        text.remove_prefix(1);
+    while (!text.empty() && std::isspace(static_cast<unsigned char>(text.back())))
+        text.remove_suffix(1);
+    return text;
+}
+
+bool loopback_address(std::string_view address) {
+    return address.starts_with("127.") || address == "::1" || address == "[::1]" ||
+           address == "localhost";
 }
 
 bool valid_log_level(std::string_view level) {
@@ -195,6 +224,26 @@ std::optional<std::string> apply(ServerConfig& config, const ConfigSetting& sett
             std::string(std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>()));
         if (token.empty()) return concat("the token file named by ", source, " is empty");
         config.token = std::move(token);
+    } else if (env == "ROLLGAP_KEY_FILE") {
+        if (value.empty()) return bad("a file");
+        config.key_file = value;
+    } else if (env == "ROLLGAP_ALLOWED_HOSTS" || env == "ROLLGAP_ALLOWED_ORIGINS") {
+        std::vector<std::string> items;
+        std::string_view rest = value;
+        while (!rest.empty()) {
+            const auto comma = rest.find(',');
+            std::string item(trimmed_view(rest.substr(0, comma)));
+            rest = comma == std::string_view::npos ? std::string_view() : rest.substr(comma + 1);
+            if (item.empty()) continue;
+            for (char& c : item) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+            if (env == "ROLLGAP_ALLOWED_ORIGINS" && !item.starts_with("http://") &&
+                !item.starts_with("https://"))
+                return bad("origins like https://host or http://host:port, comma-separated");
+            while (env == "ROLLGAP_ALLOWED_ORIGINS" && item.ends_with('/')) item.pop_back();
+            items.push_back(std::move(item));
+        }
+        (env == "ROLLGAP_ALLOWED_HOSTS" ? config.allowed_hosts : config.allowed_origins) =
+            std::move(items);
     } else if (env == "ROLLGAP_DATA_DIR") {
         if (value.empty()) return bad("a directory");
         config.data_dir = value;
@@ -219,6 +268,12 @@ std::string host_name() {
     return name.data();
 }
 
+std::string join(const std::vector<std::string>& items) {
+    std::string text;
+    for (const std::string& item : items) text += (text.empty() ? "" : ",") + item;
+    return text;
+}
+
 }  // namespace
 
 std::span<const ConfigSetting> config_settings() { return settings; }
@@ -239,6 +294,11 @@ ServerConfig ServerConfig::resolved() const {
     config.job_workers = std::min(config.job_workers, config.workers);
     if (config.instance.empty()) config.instance = host_name();
     if (config.store.empty()) config.store = concat("sqlite:", config.data_dir, "/jobs.db");
+    // A service on loopback is reachable from the browsers of this machine only: a DNS name
+    // rebound to 127.0.0.1 would hand a foreign page its answers, unless Host is checked.
+    if (config.allowed_hosts.empty() && loopback_address(config.bind_address)) {
+        config.allowed_hosts = {config.bind_address, "localhost", "127.0.0.1", "::1"};
+    }
     // Instances started on any free port (tests, side-by-side runs) must not all claim 8081.
     if (config.port == 0 && !config.admin_port_set) config.admin_port = 0;
     return config;
@@ -339,21 +399,175 @@ std::string describe(const ServerConfig& config) {
          << " job_workers=" << config.job_workers << " max_body_bytes=" << config.max_body_bytes
          << " log_level=" << config.log_level << " instance=" << config.instance
          << " store=" << redacted_store(config.store) << " lease_ms=" << config.lease.count()
-         << " chunk_points=" << config.chunk_points
-         << " token=" << (config.token ? "set" : "unset");
+         << " chunk_points=" << config.chunk_points << " token=" << (config.token ? "set" : "unset")
+         << " key_file=" << (config.key_file.empty() ? "unset" : config.key_file)
+         << " max_scenarios=" << config.max_scenarios << " allowed_hosts="
+         << (config.allowed_hosts.empty() ? std::string("any") : join(config.allowed_hosts))
+         << " allowed_origins="
+         << (config.allowed_origins.empty() ? std::string("none") : join(config.allowed_origins));
     return text.str();
 }
 
+namespace {
+
+constexpr std::array<std::string_view, 2> dsn_schemes{"postgresql://", "postgres://"};
+
+bool host_character(char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '.' || c == '-' || c == '_' ||
+           c == ':' || c == '[' || c == ']' || c == ',' || c == '%';
+}
+
+// The user info of a URI DSN, conservatively: everything between the scheme and its last `@`
+// (a raw `@`, `/` or `?` in a password is not escaped by everyone); empty without an `@`.
+std::string_view user_info(std::string_view dsn) {
+    for (const std::string_view scheme : dsn_schemes) {
+        if (!dsn.starts_with(scheme)) continue;
+        const std::string_view rest = dsn.substr(scheme.size());
+        const auto at = rest.rfind('@');
+        return at == std::string_view::npos ? std::string_view() : rest.substr(0, at);
+    }
+    return {};
+}
+
+bool is_space_or_quote(char c) {
+    return std::isspace(static_cast<unsigned char>(c)) != 0 || c == '"' || c == '\'';
+}
+
+// The value of every `password=` (case-insensitive) in `text`, key=value form: up to the next
+// blank, or a quoted value with its backslash escapes.
+std::string redact_password_values(std::string_view text) {
+    std::string out;
+    std::size_t i = 0;
+    const std::string lower_text = [&] {
+        std::string l(text);
+        for (char& c : l) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+        return l;
+    }();
+    while (i < text.size()) {
+        const auto found = lower_text.find("password", i);
+        if (found == std::string::npos) break;
+        std::size_t j = found + 8;
+        while (j < text.size() && text[j] == ' ') ++j;
+        if (j >= text.size() || text[j] != '=') {
+            out.append(text.substr(i, j - i));
+            i = j;
+            continue;
+        }
+        ++j;
+        while (j < text.size() && text[j] == ' ') ++j;
+        out.append(text.substr(i, found + 8 - i));
+        out += "=…";
+        if (j < text.size() && text[j] == '\'') {
+            ++j;
+            while (j < text.size() && text[j] != '\'') j += text[j] == '\\' ? 2 : 1;
+            i = std::min(j + 1, text.size());
+        } else {
+            while (j < text.size() && !std::isspace(static_cast<unsigned char>(text[j])) &&
+                   text[j] != '&' && text[j] != '"')
+                ++j;
+            i = j;
+        }
+    }
+    if (i < text.size()) out.append(text.substr(i));
+    return out;
+}
+
+std::string percent_decoded(std::string_view text) {
+    std::string out;
+    for (std::size_t i = 0; i < text.size(); ++i) {
+        int value = 0;
+        if (text[i] == '%' && i + 2 < text.size() &&
+            std::from_chars(text.data() + i + 1, text.data() + i + 3, value, 16).ptr ==
+                text.data() + i + 3) {
+            out += static_cast<char>(value);
+            i += 2;
+        } else {
+            out += text[i];
+        }
+    }
+    return out;
+}
+
+}  // namespace
+
 std::string redacted_store(std::string_view setting) {
-    for (const std::string_view scheme : {"postgresql://", "postgres://"}) {
+    for (const std::string_view scheme : dsn_schemes) {
         if (!setting.starts_with(scheme)) continue;
-        std::string_view rest = setting.substr(scheme.size());
-        rest = rest.substr(0, rest.find_first_of("/?"));  // host[:port], with user info
-        if (const auto at = rest.rfind('@'); at != std::string_view::npos)
-            rest = rest.substr(at + 1);
-        return concat(scheme, "…@", rest);
+        const std::string_view rest = setting.substr(scheme.size());
+        const auto at = rest.rfind('@');
+        // An `@` after a `?` may be the query's (…?password=a@b) or a raw one in a password
+        // (u:p?x@host): either way the host cannot be told for sure.
+        const auto query = rest.find('?');
+        if (at != std::string_view::npos && query != std::string_view::npos && query < at)
+            return concat(scheme, "…");
+        std::string_view host = at == std::string_view::npos ? rest : rest.substr(at + 1);
+        host = host.substr(0, host.find_first_of("/?#"));
+        // Without an `@` the part before the first `/` is the host; with one, a raw `/` in the
+        // password has been skipped. Anything but host characters is shown as nothing.
+        if (host.empty() || !std::all_of(host.begin(), host.end(), host_character))
+            return concat(scheme, "…");
+        return concat(scheme, "…@", host);
     }
     return std::string(setting);  // sqlite:PATH or postgresql-file:PATH: no secret in it
+}
+
+std::string redact_dsn_secrets(std::string_view text, std::string_view dsn) {
+    std::string out(text);
+    // The DSN itself, wherever it is repeated whole (it may hold blanks a token would stop at).
+    if (!dsn.empty()) {
+        const std::string shown = redacted_store(dsn);
+        for (auto at = out.find(dsn); at != std::string::npos;
+             at = out.find(dsn, at + shown.size()))
+            out.replace(at, dsn.size(), shown);
+    }
+    // Every other URI DSN, up to a blank or a quote.
+    for (const std::string_view scheme : dsn_schemes) {
+        std::size_t from = 0;
+        for (auto at = out.find(scheme, from); at != std::string::npos;
+             at = out.find(scheme, from)) {
+            std::size_t end = at + scheme.size();
+            while (end < out.size() && !is_space_or_quote(out[end])) ++end;
+            const std::string shown = redacted_store(std::string_view(out).substr(at, end - at));
+            out.replace(at, end - at, shown);
+            from = at + shown.size();
+        }
+    }
+    out = redact_password_values(out);
+    // Double-quoted values that echo a piece of the DSN's user info (libpq quotes what it refuses).
+    const std::string_view info = user_info(dsn);
+    if (info.empty()) return out;
+    std::vector<std::string> pieces;
+    const auto add_pieces = [&pieces](std::string_view whole) {
+        std::size_t begin = 0;
+        for (std::size_t i = 0; i <= whole.size(); ++i) {
+            if (i == whole.size() ||
+                std::string_view(":/?@&=#").find(whole[i]) != std::string_view::npos) {
+                if (i > begin) pieces.emplace_back(whole.substr(begin, i - begin));
+                begin = i + 1;
+            }
+        }
+    };
+    add_pieces(info);
+    add_pieces(percent_decoded(info));
+    std::string result;
+    std::size_t i = 0;
+    while (i < out.size()) {
+        const auto open = out.find('"', i);
+        const auto close = open == std::string::npos ? open : out.find('"', open + 1);
+        if (close == std::string::npos) break;
+        const std::string_view quoted = std::string_view(out).substr(open + 1, close - open - 1);
+        const bool echoes =
+            (!quoted.empty() && std::string_view(info).find(quoted) != std::string_view::npos) ||
+            std::any_of(pieces.begin(), pieces.end(), [quoted](const std::string& piece) {
+                return piece.size() >= 2 && quoted.find(piece) != std::string_view::npos;
+            });
+        result.append(out, i, open + 1 - i);
+        result += echoes ? "…" : std::string(quoted);
+        result += '"';
+        i = close + 1;
+    }
+    result.append(out, std::min(i, out.size()), std::string::npos);
+    return result;
 }
 
 }  // namespace rollgap::service

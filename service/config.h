@@ -11,6 +11,7 @@
 #include <string>
 #include <string_view>
 #include <variant>
+#include <vector>
 
 namespace CLI {
 class App;
@@ -42,6 +43,17 @@ struct ServerConfig {
     std::size_t max_body_bytes = 1024 * 1024;
     std::string log_level = "info";    // trace debug info warn error critical off
     std::optional<std::string> token;  // bearer token for the compute endpoints; never logged
+                                       // (a client key named "token" with every scope)
+    std::string key_file;  // client keys with scopes (service/http/client_keys.h), re-read
+                           // when it changes; empty: none
+    // Host names (without port) the public listener answers for; empty: when bound to
+    // loopback, the bind address, localhost, 127.0.0.1 and ::1 (resolved()), otherwise any.
+    // "*": any (a front proxy in the same pod decides which names are served).
+    std::vector<std::string> allowed_hosts;
+    // Browser origins (scheme://host[:port]) whose unsafe requests are accepted besides the
+    // service's own origin.
+    std::vector<std::string> allowed_origins;
+    std::size_t max_scenarios = 1000;  // stored scenarios (names), beyond: 507
     std::string instance;              // names this replica in job documents; default: host name
     // The job store (docs/job-store.md). `store` empty: sqlite:<data_dir>/jobs.db, so one
     // machine keeps its jobs across restarts with no server to run.
@@ -82,7 +94,17 @@ std::string config_usage();
 // "bind=127.0.0.1 port=8080 workers=2 ... token=set": for the start-up log line, no secret.
 std::string describe(const ServerConfig& config);
 
-// The store setting for logs: a DSN's user, password and parameters left out.
+// The store setting for logs: a DSN's user, password and parameters left out; when the host
+// cannot be told apart from the user info for sure (a raw `/`, `?` or `@` in a password, an
+// `@` in the query), the DSN is shown as `postgresql://…` alone.
 std::string redacted_store(std::string_view setting);
+
+// `text` (a libpq error, an exception's message) with every secret of a DSN taken out: each
+// `postgres(ql)://…` DSN it holds (as redacted_store() shows it), each `password=` value
+// (key=value form, quoted or not), and, when the DSN `dsn` that produced the text is given,
+// every double-quoted value that echoes a piece of its user info or password (libpq quotes
+// what it refuses: `invalid percent-encoded token: "pa%zz"`, a password read as a port). Call
+// it on any text that reaches a log or a problem after a DSN went through libpq.
+std::string redact_dsn_secrets(std::string_view text, std::string_view dsn = {});
 
 }  // namespace rollgap::service

@@ -57,6 +57,7 @@ struct RequestContext {
     std::string id;
     const Route* route = nullptr;
     std::size_t in_bytes = 0;
+    std::string client = "anonymous";  // the client key's name (request_checks.h)
 };
 thread_local RequestContext t_context;
 
@@ -139,7 +140,8 @@ struct HttpServer::Impl {
         log_request(
             *request_logger,
             {id, method_label(request.method), route, request.path, response.status, seconds,
-             context.active ? context.in_bytes : 0, response.body.size(), request.remote_addr});
+             context.active ? context.in_bytes : 0, response.body.size(), request.remote_addr,
+             context.active ? std::string_view(context.client) : std::string_view("anonymous")});
         context = RequestContext{};
     }
 
@@ -148,7 +150,8 @@ struct HttpServer::Impl {
     httplib::Server::HandlerResponse pre_route(const httplib::Request& request,
                                                httplib::Response& response, bool on_admin) {
         begin(request, response, on_admin);
-        if (refuse(t_context.route, request, response, config()))
+        if (refuse(t_context.route, request, response, config(), state.keys, on_admin,
+                   t_context.client))
             return httplib::Server::HandlerResponse::Handled;
         if (request.method == "POST" || request.method == "PUT")
             return httplib::Server::HandlerResponse::Unhandled;  // → handle_post
@@ -159,7 +162,8 @@ struct HttpServer::Impl {
     int expect_continue(const httplib::Request& request, httplib::Response& response,
                         bool on_admin) {
         begin(request, response, on_admin);
-        if (refuse(t_context.route, request, response, config())) {
+        if (refuse(t_context.route, request, response, config(), state.keys, on_admin,
+                   t_context.client)) {
             response.set_header("Connection", "close");
             return response.status;
         }
@@ -185,10 +189,13 @@ struct HttpServer::Impl {
                               httplib::Response& response) {
         switch (route.id) {
             case RouteId::scenarios:
-            case RouteId::scenario: scenario_endpoints.get_or_delete(request, response); return;
+            case RouteId::scenario:
+                scenario_endpoints.get_or_delete(request, t_context.client, response);
+                return;
             case RouteId::scenarios_default:
                 if (request.method == "DELETE") {
-                    scenario_endpoints.get_or_delete(request, response);  // 422: reserved
+                    // 422: reserved
+                    scenario_endpoints.get_or_delete(request, t_context.client, response);
                     return;
                 }
                 response.status = 200;
@@ -284,7 +291,7 @@ struct HttpServer::Impl {
                 job_endpoints.create(std::move(document),
                                      request.get_header_value("Idempotency-Key"), response);
             } else if (request.method == "PUT") {
-                scenario_endpoints.put(request, std::move(document), response);
+                scenario_endpoints.put(request, std::move(document), t_context.client, response);
             } else {
                 run_route(*route, std::move(document), response);
                 if (response.status == 200)
@@ -400,6 +407,10 @@ struct HttpServer::Impl {
     bool start(std::string* error) {
         // A client that disconnects while we write must not kill the process.
         std::signal(SIGPIPE, SIG_IGN);
+        if (auto refused = state.keys.load()) {
+            if (error != nullptr) *error = *refused;
+            return false;
+        }
         configure(server, config().io_threads, false);
         configure(admin, admin_threads, true);
 

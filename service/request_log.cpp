@@ -60,10 +60,10 @@ std::string logfmt_value(std::string_view text, std::size_t max_chars) {
 std::string format_request_line(const RequestLogEntry& entry) {
     return fmt::format(
         "request id={} method={} route={} path={} status={} duration_ms={:.3f} in_bytes={} "
-        "out_bytes={} remote={}",
+        "out_bytes={} remote={} key={}",
         logfmt_value(entry.id), logfmt_value(entry.method, 16), logfmt_value(entry.route),
         logfmt_value(entry.path), entry.status, entry.seconds * 1e3, entry.in_bytes,
-        entry.out_bytes, logfmt_value(entry.remote, 64));
+        entry.out_bytes, logfmt_value(entry.remote, 64), logfmt_value(entry.key, 40));
 }
 
 void log_request(spdlog::logger& logger, const RequestLogEntry& entry) {

@@ -1,7 +1,7 @@
 #pragma once
 // One structured (logfmt) log line per HTTP request:
 //   request id=4f1c… method=POST route=/v1/roll-gap path=/v1/roll-gap status=200
-//   duration_ms=0.84 in_bytes=2 out_bytes=1830 remote=127.0.0.1
+//   duration_ms=0.84 in_bytes=2 out_bytes=1830 remote=127.0.0.1 key=ci-runner
 // Never a body, never a header other than the request id, never the token.
 
 #include <cstddef>
@@ -23,6 +23,7 @@ struct RequestLogEntry {
     std::size_t in_bytes = 0;
     std::size_t out_bytes = 0;
     std::string_view remote;
+    std::string_view key = "anonymous";  // the client key's name, never the key
 };
 
 std::string format_request_line(const RequestLogEntry& entry);

@@ -1,5 +1,7 @@
 #include "service/http/request_checks.h"
 
+#include <algorithm>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -13,22 +15,101 @@ namespace {
 
 using api::concat;
 
-bool authorized(const httplib::Request& request, const std::string& token) {
+// The value after "Bearer ", or nothing.
+std::optional<std::string> bearer(const httplib::Request& request) {
     const std::string header = request.get_header_value("Authorization");
     constexpr std::string_view scheme = "bearer ";
     if (header.size() < scheme.size() ||
         lower(std::string_view(header).substr(0, scheme.size())) != scheme) {
-        return false;
+        return std::nullopt;
     }
-    return constant_time_equal(trim(std::string_view(header).substr(scheme.size())), token);
+    return std::string(trim(std::string_view(header).substr(scheme.size())));
+}
+
+// The host of a Host header, lower case, without port and IPv6 brackets.
+std::string host_of(std::string_view header) {
+    std::string host;
+    if (header.starts_with('[')) {
+        const auto close = header.find(']');
+        host = std::string(header.substr(1, close == std::string_view::npos ? close : close - 1));
+    } else if (std::count(header.begin(), header.end(), ':') > 1) {
+        host = std::string(header);  // a bare IPv6 address (a setting, never a Host header)
+    } else {
+        host = std::string(header.substr(0, header.find(':')));
+    }
+    return lower(host);
+}
+
+bool host_allowed(const httplib::Request& request, const ServerConfig& config) {
+    // HTTP/1.0 without Host: a browser always sends one, so nothing to rebind.
+    if (config.allowed_hosts.empty() || !request.has_header("Host")) return true;
+    const std::string host = host_of(request.get_header_value("Host"));
+    return std::any_of(
+        config.allowed_hosts.begin(), config.allowed_hosts.end(),
+        [&host](const std::string& allowed) { return allowed == "*" || host_of(allowed) == host; });
+}
+
+bool unsafe_method(const std::string& method) {
+    return method == "POST" || method == "PUT" || method == "PATCH" || method == "DELETE";
+}
+
+// An unsafe request a browser sent from a page of another origin. The service's own origin
+// (the workbench at /) is the one whose host and port are the Host the request was sent to;
+// --allowed-origins adds others. Clients that are not browsers send neither header.
+std::optional<std::string> cross_site(const httplib::Request& request, const ServerConfig& config) {
+    if (!unsafe_method(request.method)) return std::nullopt;
+    const std::string origin = lower(request.get_header_value("Origin"));
+    if (!origin.empty() && std::find(config.allowed_origins.begin(), config.allowed_origins.end(),
+                                     origin) != config.allowed_origins.end()) {
+        return std::nullopt;
+    }
+    if (request.has_header("Origin")) {
+        const std::string host = lower(request.get_header_value("Host"));
+        const bool same = !host.empty() &&
+                          (origin == concat("http://", host) || origin == concat("https://", host));
+        if (!same) {
+            return concat("the Origin ",
+                          api::quoted_for_message(request.get_header_value("Origin")),
+                          " is not this service's and not in --allowed-origins");
+        }
+    }
+    const std::string site = lower(request.get_header_value("Sec-Fetch-Site"));
+    if (site == "cross-site" || site == "same-site")
+        return concat("Sec-Fetch-Site: ", site, ": a page of another site sent it");
+    return std::nullopt;
 }
 
 }  // namespace
 
+Scope route_scope(const Route& route, std::string_view method) {
+    const bool reads = method == "GET" || method == "HEAD";
+    switch (route.id) {
+        case RouteId::scenarios:
+        case RouteId::scenario: return reads ? scope_read : scope_write;
+        case RouteId::jobs:
+        case RouteId::job: return reads ? scope_read : scope_compute;
+        default: return scope_compute;
+    }
+}
+
 bool refuse(const Route* route, const httplib::Request& request, httplib::Response& response,
-            const ServerConfig& config) {
+            const ServerConfig& config, KeyRing& keys, bool on_admin, std::string& client) {
     bool refused = true;
-    if (route == nullptr) {
+    client = "anonymous";
+    std::optional<ClientIdentity> identity;
+    const bool needs_key = route != nullptr && route->compute && keys.enabled() &&
+                           request.method != "OPTIONS" && method_allowed(*route, request.method);
+    if (needs_key) {
+        if (const auto value = bearer(request)) identity = keys.identify(*value);
+        if (identity) client = identity->name;
+    }
+    std::optional<std::string> foreign;
+    if (!on_admin && !host_allowed(request, config)) {
+        // Never echo the Host: it is what a rebinding page chose.
+        set_problem(response, api::ProblemCode::misdirected_request,
+                    "this service does not answer for the Host of the request; the names it "
+                    "serves are set with --allowed-hosts");
+    } else if (route == nullptr) {
         set_problem(response, api::ProblemCode::not_found,
                     concat("no route ", api::quoted_for_message(request.path),
                            "; GET /openapi.json lists them"));
@@ -40,10 +121,25 @@ bool refuse(const Route* route, const httplib::Request& request, httplib::Respon
         set_problem(response, api::ProblemCode::method_not_allowed,
                     concat(request.method, " is not allowed on ", route->pattern,
                            "; allowed: ", allow_header(*route)));
-    } else if (route->compute && config.token && !authorized(request, *config.token)) {
+    } else if (foreign = on_admin ? std::nullopt : cross_site(request, config); foreign) {
+        set_problem(response, api::ProblemCode::cross_site_request,
+                    concat(request.method,
+                           " from a browser page of another origin is refused: ", *foreign));
+    } else if (needs_key && !identity) {
         response.set_header("WWW-Authenticate", "Bearer realm=\"rollgap\"");
         set_problem(response, api::ProblemCode::unauthorized,
-                    "this endpoint needs the header Authorization: Bearer <token>");
+                    "this endpoint needs the header Authorization: Bearer <token> with a known "
+                    "token or client key");
+    } else if (const Scope scope = route_scope(*route, request.method);
+               needs_key && !identity->has(scope)) {
+        response.set_header(
+            "WWW-Authenticate",
+            concat("Bearer realm=\"rollgap\", error=\"insufficient_scope\", scope=\"",
+                   scope_name(scope), "\""));
+        set_problem(
+            response, api::ProblemCode::forbidden,
+            concat("the client key ", identity->name, " lacks the scope ", scope_name(scope),
+                   " that ", request.method, " ", route->pattern, " needs"));
     } else if ((request.method == "POST" || request.method == "PUT") && has_body(request) &&
                !is_json_media_type(request.get_header_value("Content-Type"))) {
         // An empty body is the request {} whatever its declared type.

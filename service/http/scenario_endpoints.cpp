@@ -100,6 +100,25 @@ std::string rfc3339(store::Millis millis) {
     return concat(std::string_view(text, length), fraction);
 }
 
+// Last-Modified: an IMF-fixdate (RFC 9110 §5.6.7).
+std::string http_date(store::Millis millis) {
+    const std::time_t seconds = static_cast<std::time_t>(millis / 1000);
+    std::tm utc{};
+    gmtime_r(&seconds, &utc);
+    char text[40];
+    const std::size_t length = std::strftime(text, sizeof text, "%a, %d %b %Y %H:%M:%S GMT", &utc);
+    return std::string(text, length);
+}
+
+// The parameter is named as a field of the request (`/query/limit`), with its rule as the
+// bound, as GET /v1/jobs does.
+void invalid_parameter(httplib::Response& response, std::string_view name, std::string_view rule) {
+    set_problem(response, api::ProblemCode::invalid_request,
+                concat("query parameter '", name, "': ", rule),
+                {api::FieldError{concat("/query/", name), concat("expected ", rule),
+                                 std::string(rule), std::nullopt}});
+}
+
 // 422 for a name in the path that cannot be stored (the pattern, or `default`).
 bool refuse_name(const std::string& name, httplib::Response& response) {
     auto error = api::stored_scenario_name_error(name, "/name");
@@ -154,33 +173,55 @@ bool ScenarioEndpoints::expected_version(store::JobStore& store, const std::stri
     return true;
 }
 
-void ScenarioEndpoints::get_or_delete(const httplib::Request& request,
+void ScenarioEndpoints::get_or_delete(const httplib::Request& request, const std::string& client,
                                       httplib::Response& response) {
     if (!request.path.starts_with(scenario_prefix)) {
-        list(response);
+        list(request, response);
         return;
     }
     const std::string name = request.path.substr(scenario_prefix.size());
     if (request.method == "DELETE") {
-        remove(name, request, response);
+        remove(name, request, client, response);
     } else {
         get(name, response);
     }
 }
 
-void ScenarioEndpoints::list(httplib::Response& response) {
+void ScenarioEndpoints::list(const httplib::Request& request, httplib::Response& response) {
+    store::ScenarioQuery query;
+    query.limit = default_page;
+    if (request.has_param("limit")) {
+        const std::string text = request.get_param_value("limit");
+        std::size_t limit = 0;
+        const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), limit);
+        if (text.empty() || error != std::errc{} || end != text.data() + text.size() || limit < 1 ||
+            limit > max_page) {
+            invalid_parameter(response, "limit",
+                              concat("an integer from 1 to ", std::to_string(max_page)));
+            return;
+        }
+        query.limit = limit;
+    }
+    if (request.has_param("cursor")) query.cursor = request.get_param_value("cursor");
     const auto store = state_.store.get();
     if (!store) return state_.store_unavailable(response, std::string(store_down));
-    auto listed = store->list_scenarios();
+    auto listed = store->list_scenario_page(query);
     state_.store.report(listed.status);
+    if (listed.status == StoreStatus::invalid) {
+        invalid_parameter(response, "cursor", "the next_cursor of an earlier page");
+        return;
+    }
     if (!listed.ok()) return state_.store_unavailable(response, std::string(store_down));
     json scenarios = json::array();
-    for (const store::Scenario& scenario : *listed.value) {
+    for (const store::Scenario& scenario : listed.value->scenarios) {
         scenarios.push_back({{"name", scenario.name},
                              {"version", scenario.version},
-                             {"updated_at", rfc3339(scenario.updated_ms)}});
+                             {"updated_at", rfc3339(scenario.updated_ms)},
+                             {"author", scenario.author}});
     }
-    set_json(response, 200, {{"scenarios", std::move(scenarios)}}, "application/json");
+    json body = {{"scenarios", std::move(scenarios)}};
+    if (listed.value->next_cursor) body["next_cursor"] = *listed.value->next_cursor;
+    set_json(response, 200, body, "application/json");
 }
 
 void ScenarioEndpoints::get(const std::string& name, httplib::Response& response) {
@@ -197,18 +238,21 @@ void ScenarioEndpoints::get(const std::string& name, httplib::Response& response
     if (!found.ok()) return state_.store_unavailable(response, std::string(store_down));
     response.status = 200;
     response.set_header("ETag", etag(found.value->version));
+    // Who wrote this version and when; the body stays the scenario itself.
+    response.set_header("Last-Modified", http_date(found.value->updated_ms));
+    response.set_header("Rollgap-Author", found.value->author);
     response.set_content(found.value->body, "application/json");
 }
 
 void ScenarioEndpoints::remove(const std::string& name, const httplib::Request& request,
-                               httplib::Response& response) {
+                               const std::string& client, httplib::Response& response) {
     if (refuse_name(name, response)) return;
     const auto store = state_.store.get();
     if (!store) return state_.store_unavailable(response, std::string(store_down));
     std::optional<std::int64_t> expected;
     if (!expected_version(*store, name, entity_tags(request, "If-Match"), {}, expected, response))
         return;
-    const StoreStatus status = store->delete_scenario(name, expected);
+    const StoreStatus status = store->delete_scenario(name, expected, client);
     state_.store.report(status);
     switch (status) {
         case StoreStatus::ok: response.status = 204; return;
@@ -220,7 +264,7 @@ void ScenarioEndpoints::remove(const std::string& name, const httplib::Request& 
     }
 }
 
-void ScenarioEndpoints::put(const httplib::Request& request, json body,
+void ScenarioEndpoints::put(const httplib::Request& request, json body, const std::string& client,
                             httplib::Response& response) {
     const std::string name = request.path.substr(scenario_prefix.size());
     if (refuse_name(name, response)) return;
@@ -246,7 +290,7 @@ void ScenarioEndpoints::put(const httplib::Request& request, json body,
     const EntityTags if_none_match = entity_tags(request, "If-None-Match");
     std::optional<std::int64_t> expected;
     if (!expected_version(*store, name, if_match, if_none_match, expected, response)) return;
-    auto written = store->put_scenario(name, dump(resolved), expected);
+    auto written = store->put_scenario(name, dump(resolved), expected, client);
     state_.store.report(written.status);
     switch (written.status) {
         case StoreStatus::ok: break;
@@ -260,6 +304,11 @@ void ScenarioEndpoints::put(const httplib::Request& request, json body,
                                    "version you edited (GET it), so that no other edit is lost"));
             }
             return;
+        case StoreStatus::full:
+            set_problem(response, api::ProblemCode::insufficient_storage,
+                        concat("the store holds ", std::to_string(state_.config.max_scenarios),
+                               " scenarios, its limit (--max-scenarios); DELETE one first"));
+            return;
         case StoreStatus::invalid:
             // The store's own name rule; refuse_name() let it through, so say it plainly.
             set_problem(response, api::ProblemCode::invalid_request,
@@ -267,7 +316,7 @@ void ScenarioEndpoints::put(const httplib::Request& request, json body,
             return;
         default: state_.store_unavailable(response, std::string(store_down)); return;
     }
-    const bool created = written.value->version == 1;
+    const bool created = written.value->created;
     response.set_header("ETag", etag(written.value->version));
     if (created) response.set_header("Location", concat(scenario_prefix, name));
     set_json(response, created ? 201 : 200, resolved, "application/json");

@@ -1,9 +1,11 @@
 #pragma once
 // Stored stand scenarios: PUT/GET/DELETE /v1/scenarios/{name} and GET /v1/scenarios, kept in
 // the job store by name and versioned (ETag "<version>", If-Match / If-None-Match), so that two
-// editors cannot overwrite each other. A body is a merge patch onto the default scenario,
-// validated as an analysis' scenario is; the resolved full scenario is stored. `default` is the
-// built-in default, served from code (GET /v1/scenarios/default) and never stored.
+// editors cannot overwrite each other. A name's versions count up across delete and re-create
+// (a stale ETag never matches a new scenario); each records its author and time. A body is a merge
+// patch onto the default scenario, validated as an analysis' scenario is; the resolved full
+// scenario is stored. `default` is the built-in default, served from code (GET
+// /v1/scenarios/default) and never stored.
 
 #include <cstdint>
 #include <optional>
@@ -24,15 +26,22 @@ class ScenarioEndpoints {
 public:
     explicit ScenarioEndpoints(ServiceState& state) : state_(state) {}
 
+    // Page sizes of GET /v1/scenarios (?limit=&cursor=), as GET /v1/jobs.
+    static constexpr std::size_t default_page = 50;
+    static constexpr std::size_t max_page = 200;
+
     // GET /v1/scenarios, GET and DELETE /v1/scenarios/{name} (also `default`: DELETE → 422).
-    void get_or_delete(const httplib::Request& request, httplib::Response& response);
+    // `client` (the key's name) is recorded as the author of what a write stores.
+    void get_or_delete(const httplib::Request& request, const std::string& client,
+                       httplib::Response& response);
     // PUT /v1/scenarios/{name}; `body` is the parsed request body ({} when empty).
-    void put(const httplib::Request& request, nlohmann::json body, httplib::Response& response);
+    void put(const httplib::Request& request, nlohmann::json body, const std::string& client,
+             httplib::Response& response);
 
 private:
-    void list(httplib::Response& response);
+    void list(const httplib::Request& request, httplib::Response& response);
     void get(const std::string& name, httplib::Response& response);
-    void remove(const std::string& name, const httplib::Request& request,
+    void remove(const std::string& name, const httplib::Request& request, const std::string& client,
                 httplib::Response& response);
 
     // The version a write may replace under the request's If-Match / If-None-Match: the one

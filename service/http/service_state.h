@@ -8,6 +8,7 @@
 
 #include <httplib.h>
 
+#include "service/client_keys.h"
 #include "service/config.h"
 #include "service/http/store_handle.h"
 #include "service/http_server.h"
@@ -26,6 +27,7 @@ struct ServiceState {
     Metrics metrics;
     WorkerPool pool;
     StoreHandle store;  // the durable store: jobs, chunks, stored scenarios
+    KeyRing keys;       // the bearer token and the client keys (never in the store)
 
     std::atomic<bool> draining{false};     // SIGTERM: no new work, /readyz fails
     std::atomic<bool> hard_cancel{false};  // the drain timeout passed: stop everything

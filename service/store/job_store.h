@@ -140,16 +140,32 @@ struct ChunkResult {
     std::string result;  // JSON array of the chunk's points
 };
 
+// One version of a stored scenario (table scenario_versions): versions of a name count up
+// for ever, across deletes, so an ETag never names two different scenarios.
 struct Scenario {
     std::string name;
     std::string body;  // JSON text
     std::int64_t version = 0;
-    Millis updated_ms = 0;
+    Millis updated_ms = 0;  // when this version was written
+    std::string author;     // who wrote it: the client key's name, or "anonymous"
+    bool created = false;   // put_scenario: the name held no scenario before this version
+};
+
+struct ScenarioQuery {
+    std::size_t limit = 50;
+    std::optional<std::string> cursor;  // next_cursor of the previous page
+};
+
+struct ScenarioPage {
+    std::vector<Scenario> scenarios;  // by name, bodies omitted
+    std::optional<std::string> next_cursor;
 };
 
 struct StoreLimits {
     std::size_t max_jobs = 1000;                     // jobs in any state
     std::chrono::milliseconds retention{3'600'000};  // a finished job is kept this long
+    std::size_t max_scenarios = 1000;                // stored scenarios (names not deleted)
+    std::size_t scenario_history = 20;               // versions kept per name, newest first
 };
 
 class JobStore {
@@ -183,13 +199,19 @@ public:
     virtual Result<std::size_t> purge() = 0;
 
     // Stored stand scenarios; `default` is reserved (invalid). `if_match`: the version the
-    // caller last saw; a mismatch (or a missing scenario) is a conflict.
+    // caller last saw; a mismatch (or a missing scenario) is a conflict. A new name beyond
+    // StoreLimits::max_scenarios is `full`. `author` is recorded on the version written (a
+    // delete is a version too: who removed the stand).
     virtual Result<Scenario> put_scenario(const std::string& name, const std::string& body,
-                                          std::optional<std::int64_t> if_match) = 0;
+                                          std::optional<std::int64_t> if_match,
+                                          const std::string& author = "anonymous") = 0;
     virtual Result<Scenario> get_scenario(const std::string& name) = 0;
     virtual StoreStatus delete_scenario(const std::string& name,
-                                        std::optional<std::int64_t> if_match) = 0;
+                                        std::optional<std::int64_t> if_match,
+                                        const std::string& author = "anonymous") = 0;
     virtual Result<std::vector<Scenario>> list_scenarios() = 0;  // by name, bodies omitted
+    // A page of list_scenarios(); a cursor that is no scenario name is `invalid`.
+    virtual Result<ScenarioPage> list_scenario_page(const ScenarioQuery& query) = 0;
 };
 
 // From the `--store` setting: `sqlite:/path/to/file.db`, a `postgresql://…` (or

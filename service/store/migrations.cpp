@@ -56,6 +56,27 @@ constexpr std::array<std::string_view, 6> version_1 = {
         updated_ms BIGINT NOT NULL))",
 };
 
+// Stored scenarios become versions (issue 16): one row per write, the counter of a name kept
+// across deletes (a delete is a row marked `deleted`), the history per name bounded by the
+// store. `kind` tells stand scenarios from later kinds (stored mills).
+constexpr std::array<std::string_view, 4> version_2 = {
+    R"(CREATE TABLE scenario_versions (
+        name TEXT NOT NULL,
+        version BIGINT NOT NULL,
+        kind TEXT NOT NULL DEFAULT 'stand',
+        body TEXT NOT NULL,
+        author TEXT NOT NULL,
+        created BIGINT NOT NULL,
+        deleted INTEGER NOT NULL DEFAULT 0,
+        PRIMARY KEY (name, version)))",
+    // Versions written before authors were recorded.
+    "INSERT INTO scenario_versions (name, version, kind, body, author, created, deleted) "
+    "SELECT name, version, 'stand', body, 'unknown', updated_ms, 0 FROM scenarios",
+    "DROP TABLE scenarios",
+    // Counting and listing the live names reads this index only, never the bodies.
+    "CREATE INDEX scenario_versions_live ON scenario_versions (deleted, name, version)",
+};
+
 std::string dialect_sql(std::string_view sql, Dialect dialect) {
     std::string text(sql);
     const std::string_view key = "{SEQ}";
@@ -87,6 +108,11 @@ StoreStatus migrate(Backend& backend, std::string& detail) {
                     s.exec(dialect_sql(statement, dialect));
                 s.exec("INSERT INTO schema_migrations (version, applied_ms) VALUES ($1, $2)",
                        {std::int64_t{1}, system_millis()});
+            }
+            if (current < 2) {
+                for (std::string_view statement : version_2) s.exec(statement);
+                s.exec("INSERT INTO schema_migrations (version, applied_ms) VALUES ($1, $2)",
+                       {std::int64_t{2}, system_millis()});
             }
         },
         {}, detail);

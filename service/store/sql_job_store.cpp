@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "service/store/sql_backend.h"
+#include "service/store/sql_scenario_store.h"
 
 namespace rollgap::service::store {
 
@@ -125,18 +126,11 @@ JobRecord job_from_row(const Row& r) {
     return job;
 }
 
-bool valid_scenario_name(const std::string& name) {
-    if (name.empty() || name.size() > 64) return false;
-    return std::all_of(name.begin(), name.end(), [](char c) {
-        return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
-               c == '-' || c == '_' || c == '.';
-    });
-}
-
 class SqlJobStore final : public JobStore {
 public:
     SqlJobStore(std::unique_ptr<Backend> backend, StoreLimits limits, Clock clock)
-        : backend_(std::move(backend)), limits_(limits), clock_(std::move(clock)) {}
+        : backend_(std::move(backend)), limits_(limits), clock_(std::move(clock)),
+          scenarios_(*backend_, limits_, clock_) {}
 
     Result<Created> create(const NewJob& spec) override {
         if (spec.points < 0 || (spec.points > 0 && spec.chunk_size <= 0)) {
@@ -508,82 +502,25 @@ public:
         return {StoreStatus::ok, count, {}};
     }
 
+    // Stored scenarios: their own rules (sql_scenario_store.cpp).
     Result<Scenario> put_scenario(const std::string& name, const std::string& body,
-                                  std::optional<std::int64_t> if_match) override {
-        if (auto refused = refuse_name(name)) return Result<Scenario>::failure(*refused, "name");
-        Scenario stored{name, body, 0, 0};
-        auto status = write(
-            [&](Session& s) {
-                stored.updated_ms = clock_();
-                const Rows rows =
-                    s.exec("SELECT version FROM scenarios WHERE name = $1" + lock(), {name});
-                if (rows.empty()) {
-                    if (if_match) throw Abort{StoreStatus::conflict, "no such version"};
-                    stored.version = 1;
-                    s.exec(
-                        "INSERT INTO scenarios (name, body, version, updated_ms) VALUES ($1, $2, 1, $3)",
-                        {name, body, stored.updated_ms});
-                    return;
-                }
-                const std::int64_t current = to_int(rows.at(0).at(0));
-                // Replacing a stored scenario needs the version the editor started from, so
-                // that two editors cannot overwrite each other.
-                if (!if_match || *if_match != current)
-                    throw Abort{StoreStatus::conflict, "version mismatch"};
-                stored.version = current + 1;
-                s.exec(
-                    "UPDATE scenarios SET body = $2, version = $3, updated_ms = $4 WHERE name = $1",
-                    {name, body, stored.version, stored.updated_ms});
-            },
-            {});
-        if (status.status != StoreStatus::ok)
-            return Result<Scenario>::failure(status.status, status.detail);
-        return {StoreStatus::ok, std::move(stored), {}};
+                                  std::optional<std::int64_t> if_match,
+                                  const std::string& author) override {
+        return scenarios_.put(name, body, if_match, author);
     }
-
-    Result<Scenario> get_scenario(const std::string& name) override {
-        if (auto refused = refuse_name(name)) return Result<Scenario>::failure(*refused, "name");
-        Scenario found;
-        auto status = read([&](Session& s) {
-            const Rows rows = s.exec(
-                "SELECT name, body, version, updated_ms FROM scenarios WHERE name = $1", {name});
-            if (rows.empty()) throw Abort{StoreStatus::not_found, {}};
-            const Row& r = rows.at(0);
-            found = {r.at(0).value_or(""), r.at(1).value_or(""), to_int(r.at(2)), to_int(r.at(3))};
-        });
-        if (status.status != StoreStatus::ok)
-            return Result<Scenario>::failure(status.status, status.detail);
-        return {StoreStatus::ok, std::move(found), {}};
+    Result<Scenario> get_scenario(const std::string& name) override { return scenarios_.get(name); }
+    StoreStatus delete_scenario(const std::string& name, std::optional<std::int64_t> if_match,
+                                const std::string& author) override {
+        return scenarios_.remove(name, if_match, author);
     }
-
-    StoreStatus delete_scenario(const std::string& name,
-                                std::optional<std::int64_t> if_match) override {
-        if (auto refused = refuse_name(name)) return *refused;
-        return write(
-                   [&](Session& s) {
-                       const Rows rows =
-                           s.exec("SELECT version FROM scenarios WHERE name = $1" + lock(), {name});
-                       if (rows.empty()) throw Abort{StoreStatus::not_found, {}};
-                       if (if_match && *if_match != to_int(rows.at(0).at(0))) {
-                           throw Abort{StoreStatus::conflict, "version mismatch"};
-                       }
-                       s.exec("DELETE FROM scenarios WHERE name = $1", {name});
-                   },
-                   {})
-            .status;
-    }
-
     Result<std::vector<Scenario>> list_scenarios() override {
-        std::vector<Scenario> all;
-        auto status = read([&](Session& s) {
-            for (const Row& r :
-                 s.exec("SELECT name, version, updated_ms FROM scenarios ORDER BY name")) {
-                all.push_back({r.at(0).value_or(""), {}, to_int(r.at(1)), to_int(r.at(2))});
-            }
-        });
-        if (status.status != StoreStatus::ok)
-            return Result<std::vector<Scenario>>::failure(status.status, status.detail);
-        return {StoreStatus::ok, std::move(all), {}};
+        // Bounded by max_scenarios: one page holding them all.
+        auto all = scenarios_.page({limits_.max_scenarios + 1, std::nullopt});
+        if (!all.ok()) return Result<std::vector<Scenario>>::failure(all.status, all.detail);
+        return {StoreStatus::ok, std::move(all.value->scenarios), {}};
+    }
+    Result<ScenarioPage> list_scenario_page(const ScenarioQuery& query) override {
+        return scenarios_.page(query);
     }
 
 private:
@@ -608,12 +545,6 @@ private:
     // database's write lock.
     std::string lock() const {
         return backend_->dialect() == Dialect::postgresql ? " FOR UPDATE" : "";
-    }
-
-    static std::optional<StoreStatus> refuse_name(const std::string& name) {
-        if (name == reserved_scenario_name || !valid_scenario_name(name))
-            return StoreStatus::invalid;
-        return std::nullopt;
     }
 
     // The id of the job created earlier with `key`; conflict if its body differs.
@@ -659,6 +590,7 @@ private:
     std::unique_ptr<Backend> backend_;
     StoreLimits limits_;
     Clock clock_;
+    SqlScenarioStore scenarios_;
 };
 
 }  // namespace
