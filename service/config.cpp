@@ -84,6 +84,12 @@ constexpr std::array settings{
                   "loses its work to the others after this long (default 15000)"},
     ConfigSetting{"--chunk-points", "ROLLGAP_CHUNK_POINTS", "N",
                   "sweep points or map cells per work item that one replica claims (default 25)"},
+    ConfigSetting{"--store-connections", "ROLLGAP_STORE_CONNECTIONS", "N",
+                  "threads of the job store, each with at most one database connection: a "
+                  "replica opens at most this many PostgreSQL connections (default 4)"},
+    ConfigSetting{"--store-deadline-ms", "ROLLGAP_STORE_DEADLINE_MS", "MS",
+                  "how long a job or scenario request waits for the job store; past it: 503 "
+                  "store_unavailable (default 2000)"},
 };
 
 // The numeric settings: the range a value must lie in and where it goes.
@@ -142,6 +148,11 @@ constexpr std::array integer_settings{
     IntegerSetting{
         "ROLLGAP_CHUNK_POINTS", 1, 100'000, "1..100000",
         [](ServerConfig& c, long long n) { c.chunk_points = static_cast<std::size_t>(n); }},
+    IntegerSetting{
+        "ROLLGAP_STORE_CONNECTIONS", 1, 64, "1..64",
+        [](ServerConfig& c, long long n) { c.store_connections = static_cast<std::size_t>(n); }},
+    IntegerSetting{"ROLLGAP_STORE_DEADLINE_MS", 10, 600'000, "10..600000 ms",
+                   [](ServerConfig& c, long long n) { c.store_deadline = milliseconds(n); }},
 };
 
 std::optional<long long> parse_integer(std::string_view text, long long min, long long max) {
@@ -340,6 +351,8 @@ std::string describe(const ServerConfig& config) {
          << " log_level=" << config.log_level << " instance=" << config.instance
          << " store=" << redacted_store(config.store) << " lease_ms=" << config.lease.count()
          << " chunk_points=" << config.chunk_points
+         << " store_connections=" << config.store_connections
+         << " store_deadline_ms=" << config.store_deadline.count()
          << " token=" << (config.token ? "set" : "unset");
     return text.str();
 }

@@ -49,6 +49,8 @@ struct ServerConfig {
     std::string store;                      // sqlite:PATH | postgresql://… | postgresql-file:PATH
     std::chrono::milliseconds lease{15'000};  // a claimed work item's lease, renewed at a third
     std::size_t chunk_points = 25;            // sweep points / map cells per work item
+    std::size_t store_connections = 4;        // store threads = PostgreSQL connections of a replica
+    std::chrono::milliseconds store_deadline{2000};  // one store operation, then 503
 
     // Resolved values (workers = the CPU budget, analysis_threads = workers, job_workers = ...);
     // call after parsing.

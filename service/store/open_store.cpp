@@ -1,9 +1,11 @@
 // The `--store` setting → a migrated store.
 
+#include <algorithm>
 #include <fstream>
 #include <sstream>
 
 #include "service/store/sql_backend.h"
+#include "service/store/store_executor.h"
 
 namespace rollgap::service::store {
 namespace {
@@ -48,13 +50,21 @@ Result<std::shared_ptr<JobStore>> open_store(const std::string& setting, StoreLi
                           "expected sqlite:PATH, postgresql://… or postgresql-file:PATH");
     }
     if (!backend.ok()) return R::failure(backend.status, backend.detail);
+    // Every operation, the migration included, runs on the executor's threads: they hold the
+    // store's only connections. The migration may wait for another replica's: a longer
+    // deadline.
+    auto executor = std::make_unique<detail::StoreExecutor>(
+        std::move(*backend.value),
+        detail::ExecutorOptions{
+            limits.connections,
+            std::max<std::chrono::milliseconds>(limits.deadline, std::chrono::seconds(30))});
     std::string detail;
-    if (const auto migrated = detail::migrate(**backend.value, detail);
-        migrated != StoreStatus::ok) {
+    if (const auto migrated = detail::migrate(*executor, detail); migrated != StoreStatus::ok) {
         return R::failure(StoreStatus::unavailable, detail);
     }
+    executor->set_deadline(limits.deadline);
     return {StoreStatus::ok,
-            detail::make_sql_job_store(std::move(*backend.value), limits, std::move(clock)),
+            detail::make_sql_job_store(std::move(executor), limits, std::move(clock)),
             {}};
 }
 
