@@ -36,14 +36,28 @@ using std::chrono::milliseconds;
 
 namespace {
 
+// One server for every case (a cluster's initdb costs seconds): each case has a database of
+// its own; its bound is small so that the first case runs at it.
+PostgresServer& shared_postgres() {
+    static PostgresServer server(16);
+    if (!server.running()) server.start();
+    REQUIRE_MESSAGE(server.running(), server.error());
+    return server;
+}
+
 const json quick_job = {{"analysis", "roll_gap"}, {"options", {{"distributions", false}}}};
 
 double elapsed_ms(Clock::time_point since) {
     return std::chrono::duration<double, std::milli>(Clock::now() - since).count();
 }
 
-// Submits `request` (202) and waits for its end; the job's id.
+std::optional<double> store_up(const Replica& replica);
+
+// Submits `request` (202) and waits for its end; the job's id. First waits (bounded) until the
+// replica has opened its store in the background: a request during that waits only the store
+// deadline.
 std::string finished_job(const Replica& replica, const json& request = quick_job) {
+    eventually([&] { return store_up(replica) == 1.0; }, milliseconds(10000));
     httplib::Client client = replica.client(10);
     const std::string location = submit_job(client, request);
     std::string state;
@@ -148,8 +162,7 @@ std::size_t occurrences(const std::string& text, const std::string& needle) {
 TEST_CASE(
     "store outage: two replicas under rounds of 40 concurrent job polls stay within "
     "--store-connections on a PostgreSQL with max_connections 16") {
-    PostgresServer postgres(16);
-    REQUIRE_MESSAGE(postgres.running(), postgres.error());
+    PostgresServer& postgres = shared_postgres();
     TempDir directory("rollgap-bound");
     const std::string dsn = postgres.create_database("bound");
     REQUIRE(!dsn.empty());
@@ -202,19 +215,22 @@ TEST_CASE(
 TEST_CASE(
     "store outage: after a PostgreSQL restart the first job operations succeed and no computed "
     "chunk is lost") {
+    PostgresServer& postgres = shared_postgres();
+    const std::string dsn = postgres.create_database("restart");
+    REQUIRE(!dsn.empty());
+    TempDir directory("rollgap-restart");
     ReplicaOptions options;
     options.environment = {"ROLLGAP_STORE_CONNECTIONS=4"};
     options.chunk_points = 5;
     options.lease = milliseconds(5000);  // longer than the restart: no chunk changes hands
-    ReplicaSet replicas(1, options);
-    Replica& replica = replicas[0];
-    CAPTURE(replicas.logs());
+    Replica replica("a", dsn, directory.path(), options);
+    CAPTURE(replica.log_text());
     const std::string id = finished_job(replica);
     // Connections in use on every thread that may hold one.
     CHECK(statuses(concurrent_gets({replica.port()}, "/v1/jobs/" + id, 40))[200] == 40);
 
-    REQUIRE(replicas.postgres().stop());
-    REQUIRE(replicas.postgres().start());
+    REQUIRE(postgres.stop());
+    REQUIRE(postgres.start());
     auto after = statuses(concurrent_gets({replica.port()}, "/v1/jobs/" + id, 40));
     MESSAGE("the first 40 polls after a restart: " << describe(after));
     CHECK(after[200] == 40);
@@ -238,9 +254,9 @@ TEST_CASE(
                    json::parse(result->body).value("state", "") == "running";
         },
         std::chrono::seconds(10)));
-    REQUIRE(replicas.postgres().stop());
+    REQUIRE(postgres.stop());
     std::this_thread::sleep_for(milliseconds(300));  // chunks finish while it is down
-    REQUIRE(replicas.postgres().start());
+    REQUIRE(postgres.start());
     std::string state;
     eventually(
         [&] {
@@ -262,8 +278,7 @@ TEST_CASE(
 TEST_CASE(
     "store outage: a partition: health and metrics answer at once, job routes answer 503 within "
     "the deadline, analyses go on, and the store comes back") {
-    PostgresServer postgres;
-    REQUIRE_MESSAGE(postgres.running(), postgres.error());
+    PostgresServer& postgres = shared_postgres();
     REQUIRE(!postgres.create_database("partition").empty());
     TcpRelay relay(postgres.port());
     TempDir directory("rollgap-partition");
@@ -274,7 +289,7 @@ TEST_CASE(
         directory.path(), options);
     CAPTURE(replica.log_text());
     const std::string id = finished_job(replica);
-    REQUIRE(eventually([&] { return store_up(replica) == 1.0; }));
+    REQUIRE(store_up(replica) == 1.0);
 
     relay.freeze();
     // Two scrapes pending at once (both admin threads, before the change) ...
