@@ -97,6 +97,12 @@ constexpr std::array settings{
                   "loses its work to the others after this long (default 15000)"},
     ConfigSetting{"--chunk-points", "ROLLGAP_CHUNK_POINTS", "N",
                   "sweep points or map cells per work item that one replica claims (default 25)"},
+    ConfigSetting{"--store-connections", "ROLLGAP_STORE_CONNECTIONS", "N",
+                  "threads of the job store, each with at most one database connection: a "
+                  "replica opens at most this many PostgreSQL connections (default 4)"},
+    ConfigSetting{"--store-deadline-ms", "ROLLGAP_STORE_DEADLINE_MS", "MS",
+                  "how long a job or scenario request waits for the job store; past it: 503 "
+                  "store_unavailable (default 2000)"},
 };
 
 // The numeric settings: the range a value must lie in and where it goes.
@@ -158,6 +164,11 @@ constexpr std::array integer_settings{
     IntegerSetting{
         "ROLLGAP_CHUNK_POINTS", 1, 100'000, "1..100000",
         [](ServerConfig& c, long long n) { c.chunk_points = static_cast<std::size_t>(n); }},
+    IntegerSetting{
+        "ROLLGAP_STORE_CONNECTIONS", 1, 64, "1..64",
+        [](ServerConfig& c, long long n) { c.store_connections = static_cast<std::size_t>(n); }},
+    IntegerSetting{"ROLLGAP_STORE_DEADLINE_MS", 10, 600'000, "10..600000 ms",
+                   [](ServerConfig& c, long long n) { c.store_deadline = milliseconds(n); }},
 };
 
 std::optional<long long> parse_integer(std::string_view text, long long min, long long max) {
@@ -399,175 +410,16 @@ std::string describe(const ServerConfig& config) {
          << " job_workers=" << config.job_workers << " max_body_bytes=" << config.max_body_bytes
          << " log_level=" << config.log_level << " instance=" << config.instance
          << " store=" << redacted_store(config.store) << " lease_ms=" << config.lease.count()
-         << " chunk_points=" << config.chunk_points << " token=" << (config.token ? "set" : "unset")
+         << " chunk_points=" << config.chunk_points
+         << " store_connections=" << config.store_connections
+         << " store_deadline_ms=" << config.store_deadline.count()
+         << " token=" << (config.token ? "set" : "unset")
          << " key_file=" << (config.key_file.empty() ? "unset" : config.key_file)
          << " max_scenarios=" << config.max_scenarios << " allowed_hosts="
          << (config.allowed_hosts.empty() ? std::string("any") : join(config.allowed_hosts))
          << " allowed_origins="
          << (config.allowed_origins.empty() ? std::string("none") : join(config.allowed_origins));
     return text.str();
-}
-
-namespace {
-
-constexpr std::array<std::string_view, 2> dsn_schemes{"postgresql://", "postgres://"};
-
-bool host_character(char c) {
-    return std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '.' || c == '-' || c == '_' ||
-           c == ':' || c == '[' || c == ']' || c == ',' || c == '%';
-}
-
-// The user info of a URI DSN, conservatively: everything between the scheme and its last `@`
-// (a raw `@`, `/` or `?` in a password is not escaped by everyone); empty without an `@`.
-std::string_view user_info(std::string_view dsn) {
-    for (const std::string_view scheme : dsn_schemes) {
-        if (!dsn.starts_with(scheme)) continue;
-        const std::string_view rest = dsn.substr(scheme.size());
-        const auto at = rest.rfind('@');
-        return at == std::string_view::npos ? std::string_view() : rest.substr(0, at);
-    }
-    return {};
-}
-
-bool is_space_or_quote(char c) {
-    return std::isspace(static_cast<unsigned char>(c)) != 0 || c == '"' || c == '\'';
-}
-
-// The value of every `password=` (case-insensitive) in `text`, key=value form: up to the next
-// blank, or a quoted value with its backslash escapes.
-std::string redact_password_values(std::string_view text) {
-    std::string out;
-    std::size_t i = 0;
-    const std::string lower_text = [&] {
-        std::string l(text);
-        for (char& c : l) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-        return l;
-    }();
-    while (i < text.size()) {
-        const auto found = lower_text.find("password", i);
-        if (found == std::string::npos) break;
-        std::size_t j = found + 8;
-        while (j < text.size() && text[j] == ' ') ++j;
-        if (j >= text.size() || text[j] != '=') {
-            out.append(text.substr(i, j - i));
-            i = j;
-            continue;
-        }
-        ++j;
-        while (j < text.size() && text[j] == ' ') ++j;
-        out.append(text.substr(i, found + 8 - i));
-        out += "=…";
-        if (j < text.size() && text[j] == '\'') {
-            ++j;
-            while (j < text.size() && text[j] != '\'') j += text[j] == '\\' ? 2 : 1;
-            i = std::min(j + 1, text.size());
-        } else {
-            while (j < text.size() && !std::isspace(static_cast<unsigned char>(text[j])) &&
-                   text[j] != '&' && text[j] != '"')
-                ++j;
-            i = j;
-        }
-    }
-    if (i < text.size()) out.append(text.substr(i));
-    return out;
-}
-
-std::string percent_decoded(std::string_view text) {
-    std::string out;
-    for (std::size_t i = 0; i < text.size(); ++i) {
-        int value = 0;
-        if (text[i] == '%' && i + 2 < text.size() &&
-            std::from_chars(text.data() + i + 1, text.data() + i + 3, value, 16).ptr ==
-                text.data() + i + 3) {
-            out += static_cast<char>(value);
-            i += 2;
-        } else {
-            out += text[i];
-        }
-    }
-    return out;
-}
-
-}  // namespace
-
-std::string redacted_store(std::string_view setting) {
-    for (const std::string_view scheme : dsn_schemes) {
-        if (!setting.starts_with(scheme)) continue;
-        const std::string_view rest = setting.substr(scheme.size());
-        const auto at = rest.rfind('@');
-        // An `@` after a `?` may be the query's (…?password=a@b) or a raw one in a password
-        // (u:p?x@host): either way the host cannot be told for sure.
-        const auto query = rest.find('?');
-        if (at != std::string_view::npos && query != std::string_view::npos && query < at)
-            return concat(scheme, "…");
-        std::string_view host = at == std::string_view::npos ? rest : rest.substr(at + 1);
-        host = host.substr(0, host.find_first_of("/?#"));
-        // Without an `@` the part before the first `/` is the host; with one, a raw `/` in the
-        // password has been skipped. Anything but host characters is shown as nothing.
-        if (host.empty() || !std::all_of(host.begin(), host.end(), host_character))
-            return concat(scheme, "…");
-        return concat(scheme, "…@", host);
-    }
-    return std::string(setting);  // sqlite:PATH or postgresql-file:PATH: no secret in it
-}
-
-std::string redact_dsn_secrets(std::string_view text, std::string_view dsn) {
-    std::string out(text);
-    // The DSN itself, wherever it is repeated whole (it may hold blanks a token would stop at).
-    if (!dsn.empty()) {
-        const std::string shown = redacted_store(dsn);
-        for (auto at = out.find(dsn); at != std::string::npos;
-             at = out.find(dsn, at + shown.size()))
-            out.replace(at, dsn.size(), shown);
-    }
-    // Every other URI DSN, up to a blank or a quote.
-    for (const std::string_view scheme : dsn_schemes) {
-        std::size_t from = 0;
-        for (auto at = out.find(scheme, from); at != std::string::npos;
-             at = out.find(scheme, from)) {
-            std::size_t end = at + scheme.size();
-            while (end < out.size() && !is_space_or_quote(out[end])) ++end;
-            const std::string shown = redacted_store(std::string_view(out).substr(at, end - at));
-            out.replace(at, end - at, shown);
-            from = at + shown.size();
-        }
-    }
-    out = redact_password_values(out);
-    // Double-quoted values that echo a piece of the DSN's user info (libpq quotes what it refuses).
-    const std::string_view info = user_info(dsn);
-    if (info.empty()) return out;
-    std::vector<std::string> pieces;
-    const auto add_pieces = [&pieces](std::string_view whole) {
-        std::size_t begin = 0;
-        for (std::size_t i = 0; i <= whole.size(); ++i) {
-            if (i == whole.size() ||
-                std::string_view(":/?@&=#").find(whole[i]) != std::string_view::npos) {
-                if (i > begin) pieces.emplace_back(whole.substr(begin, i - begin));
-                begin = i + 1;
-            }
-        }
-    };
-    add_pieces(info);
-    add_pieces(percent_decoded(info));
-    std::string result;
-    std::size_t i = 0;
-    while (i < out.size()) {
-        const auto open = out.find('"', i);
-        const auto close = open == std::string::npos ? open : out.find('"', open + 1);
-        if (close == std::string::npos) break;
-        const std::string_view quoted = std::string_view(out).substr(open + 1, close - open - 1);
-        const bool echoes =
-            (!quoted.empty() && std::string_view(info).find(quoted) != std::string_view::npos) ||
-            std::any_of(pieces.begin(), pieces.end(), [quoted](const std::string& piece) {
-                return piece.size() >= 2 && quoted.find(piece) != std::string_view::npos;
-            });
-        result.append(out, i, open + 1 - i);
-        result += echoes ? "…" : std::string(quoted);
-        result += '"';
-        i = close + 1;
-    }
-    result.append(out, std::min(i, out.size()), std::string::npos);
-    return result;
 }
 
 }  // namespace rollgap::service

@@ -11,6 +11,8 @@
 #include <string>
 #include <string_view>
 #include <variant>
+
+#include "service/store/dsn_redaction.h"
 #include <vector>
 
 namespace CLI {
@@ -61,6 +63,8 @@ struct ServerConfig {
     std::string store;                      // sqlite:PATH | postgresql://… | postgresql-file:PATH
     std::chrono::milliseconds lease{15'000};  // a claimed work item's lease, renewed at a third
     std::size_t chunk_points = 25;            // sweep points / map cells per work item
+    std::size_t store_connections = 4;        // store threads = PostgreSQL connections of a replica
+    std::chrono::milliseconds store_deadline{2000};  // one store operation, then 503
 
     // Resolved values (workers = the CPU budget, analysis_threads = workers, job_workers = ...);
     // call after parsing.
@@ -94,17 +98,8 @@ std::string config_usage();
 // "bind=127.0.0.1 port=8080 workers=2 ... token=set": for the start-up log line, no secret.
 std::string describe(const ServerConfig& config);
 
-// The store setting for logs: a DSN's user, password and parameters left out; when the host
-// cannot be told apart from the user info for sure (a raw `/`, `?` or `@` in a password, an
-// `@` in the query), the DSN is shown as `postgresql://…` alone.
-std::string redacted_store(std::string_view setting);
-
-// `text` (a libpq error, an exception's message) with every secret of a DSN taken out: each
-// `postgres(ql)://…` DSN it holds (as redacted_store() shows it), each `password=` value
-// (key=value form, quoted or not), and, when the DSN `dsn` that produced the text is given,
-// every double-quoted value that echoes a piece of its user info or password (libpq quotes
-// what it refuses: `invalid percent-encoded token: "pa%zz"`, a password read as a port). Call
-// it on any text that reaches a log or a problem after a DSN went through libpq.
-std::string redact_dsn_secrets(std::string_view text, std::string_view dsn = {});
+// The store setting for logs and libpq texts without secrets (service/store/dsn_redaction.h).
+using store::redact_dsn_secrets;
+using store::redacted_store;
 
 }  // namespace rollgap::service

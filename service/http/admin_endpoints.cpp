@@ -34,10 +34,17 @@ void answer_admin(RouteId route, ServiceState& state, httplib::Response& respons
             if (state.draining) {
                 state.overloaded(response, "the service is shutting down");
             } else {
-                set_json(
-                    response, 200,
-                    {{"status", "ready"}, {"instance", config.instance}, {"version", version()}},
-                    "application/json");
+                // A store outage leaves the service ready (synchronous analyses never need the
+                // store); the body says it, from the probe's last answer (never a store call).
+                const auto store = state.store.snapshot();
+                nlohmann::json store_state = {{"up", store.up}};
+                if (!store.up) store_state["detail"] = store.reason;
+                set_json(response, 200,
+                         {{"status", "ready"},
+                          {"instance", config.instance},
+                          {"version", version()},
+                          {"store", std::move(store_state)}},
+                         "application/json");
             }
             return;
         case RouteId::metrics:
@@ -52,13 +59,11 @@ void answer_admin(RouteId route, ServiceState& state, httplib::Response& respons
 
 std::string metrics_text(ServiceState& state) {
     const WorkerPoolStats stats = state.pool.stats();
-    // Jobs by state come from the store (shared by all replicas); absent while it is down.
-    std::optional<store::JobCounts> counts;
-    if (auto store = state.store.get()) {
-        auto counted = store->counts();
-        state.store.report(counted.status);
-        counts = counted.value;
-    }
+    // Jobs by state (shared by all replicas) and the store's state are the background probe's
+    // last answer: a scrape never waits on the store. The counts stay at their last known
+    // values while it is down; absent until it answered once.
+    const StoreHandle::Snapshot probed = state.store.snapshot();
+    const std::optional<store::JobCounts>& counts = probed.counts;
     std::vector<GaugeSample> gauges{
         {"rollgap_workers", "Compute worker threads.", "", static_cast<double>(stats.workers)},
         {"rollgap_workers_busy", "Compute workers running an analysis.", "",
@@ -78,9 +83,10 @@ std::string metrics_text(ServiceState& state) {
         {"rollgap_ready", "1 while the service accepts work, 0 while it drains.", "",
          state.draining ? 0.0 : 1.0},
         {"rollgap_store_up",
-         "1 while the job store answered its last operation, 0 while it is unavailable (jobs "
-         "and stored scenarios answer 503; synchronous analyses are unaffected).",
-         "", state.store.up() ? 1.0 : 0.0},
+         "1 while the job store accepts writes (a probe every second, and every operation), 0 "
+         "while it is unavailable (jobs and stored scenarios answer 503; synchronous analyses "
+         "are unaffected).",
+         "", probed.up ? 1.0 : 0.0},
         {"process_start_time_seconds", "Start time of the process since the Unix epoch, seconds.",
          "", std::chrono::duration<double>(state.start_time.time_since_epoch()).count()},
     };

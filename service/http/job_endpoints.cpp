@@ -97,7 +97,7 @@ void JobEndpoints::create(json request, const std::string& idempotency_key,
             static_cast<std::int64_t>(std::max<std::size_t>(state_.config.chunk_points, 1));
     }
     const auto created = store->create(job);
-    state_.store.report(created.status);
+    state_.store.report_write(created.status);
     switch (created.status) {
         case store::StoreStatus::ok: break;
         case store::StoreStatus::full:
@@ -108,6 +108,17 @@ void JobEndpoints::create(json request, const std::string& idempotency_key,
         case store::StoreStatus::conflict:
             set_problem(response, api::ProblemCode::conflict,
                         "the Idempotency-Key was used for a job with another request body");
+            return;
+        case store::StoreStatus::unavailable:
+            if (created.detail == store::deadline_detail) {
+                // The insert may still commit after the deadline.
+                state_.store_unavailable(
+                    response,
+                    "the job store did not answer in time: the outcome is unknown; retry with "
+                    "the same Idempotency-Key (without one, a retry may create a second job)");
+                return;
+            }
+            store_failure(created.status, "", response);
             return;
         default: store_failure(created.status, "", response); return;
     }

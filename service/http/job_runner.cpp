@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <thread>
 
 #include <spdlog/spdlog.h>
 
@@ -200,8 +201,20 @@ void JobRunner::run(const std::shared_ptr<Item>& item) {
             label = "failed";
         }
     }
-    const auto completed = store.complete(work.lease, stored, text);
-    state_.store.report(completed.status);
+    auto completed = store.complete(work.lease, stored, text);
+    // A computed result is not thrown away because the store did not answer once: the commit
+    // is tried again (the store replaces a broken connection; a completion that did commit
+    // unheard is recognised by its lease token) until it is stored, the lease is lost, the
+    // job's deadline passes or the drain timeout cancels everything.
+    for (auto pause = std::chrono::milliseconds(100);
+         completed.status == store::StoreStatus::unavailable && !item->lost &&
+         !state_.hard_cancel && !late();
+         pause = std::min(2 * pause, std::chrono::milliseconds(2000))) {
+        state_.store.report(completed.status);
+        std::this_thread::sleep_for(pause);
+        completed = store.complete(work.lease, stored, text);
+    }
+    state_.store.report_write(completed.status);
     if (completed.status == store::StoreStatus::conflict) {
         spdlog::info("job {} item {}: lease lost while computing; result discarded",
                      work.lease.job_id, work.lease.chunk);

@@ -3,12 +3,24 @@
 #include "service/http/responses.h"
 
 namespace rollgap::service::http {
+namespace {
+
+store::StoreLimits store_limits(const ServerConfig& config) {
+    store::StoreLimits limits;
+    limits.max_jobs = config.max_jobs;
+    limits.retention = config.job_retention;
+    limits.max_scenarios = config.max_scenarios;
+    limits.connections = config.store_connections;
+    limits.deadline = config.store_deadline;
+    return limits;
+}
+
+}  // namespace
 
 ServiceState::ServiceState(ServerConfig resolved, Evaluator evaluate)
     : config(std::move(resolved)), evaluator(evaluate ? std::move(evaluate) : facade_evaluator()),
       pool(config.workers, config.queue_length, 2 * config.max_jobs + 1, config.job_workers),
-      store(config.store,
-            store::StoreLimits{config.max_jobs, config.job_retention, config.max_scenarios}),
+      store(config.store, store_limits(config), config.instance),
       keys(config.token, config.key_file) {}
 
 void ServiceState::overloaded(httplib::Response& response, std::string detail) const {

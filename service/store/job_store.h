@@ -166,6 +166,11 @@ struct StoreLimits {
     std::chrono::milliseconds retention{3'600'000};  // a finished job is kept this long
     std::size_t max_scenarios = 1000;                // stored scenarios (names not deleted)
     std::size_t scenario_history = 20;               // versions kept per name, newest first
+    // The store executor (store_executor.h): its threads, each with at most one database
+    // connection, and how long a caller waits for one operation before it answers
+    // `unavailable` (a write's outcome is then unknown).
+    std::size_t connections = 4;
+    std::chrono::milliseconds deadline{2000};
 };
 
 class JobStore {
@@ -181,6 +186,10 @@ public:
     virtual Result<CancelResult> cancel(const std::string& id) = 0;
     // Jobs by state (one cheap query: metrics are scraped every few seconds).
     virtual Result<JobCounts> counts() = 0;
+    // The background health probe: a write the store must accept (the heartbeat row of
+    // `owner`), so a store that still reads but no longer writes (read-only file or file
+    // system, full disk) is unavailable, then the jobs by state.
+    virtual Result<JobCounts> probe(const std::string& owner) = 0;
 
     // Work. `owner` names the replica (for the job document and logs).
     virtual Result<std::optional<WorkItem>> claim(const std::string& owner,
@@ -222,5 +231,13 @@ Result<std::shared_ptr<JobStore>> open_store(const std::string& setting, StoreLi
                                              Clock clock = system_millis);
 
 inline constexpr std::string_view reserved_scenario_name = "default";
+
+// The details of `unavailable` that the store gives itself (the rest come from the database).
+inline constexpr std::string_view deadline_detail = "the store did not answer within the deadline";
+inline constexpr std::string_view stalled_detail =
+    "the store is not answering (every store thread is stuck past the deadline)";
+inline constexpr std::string_view queue_full_detail = "the store's queue is full";
+inline constexpr std::string_view moved_detail =
+    "the SQLite file was deleted or moved while the service had it open";
 
 }  // namespace rollgap::service::store

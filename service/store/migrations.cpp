@@ -101,6 +101,9 @@ StoreStatus migrate(Backend& backend, std::string& detail) {
             }
             s.exec(
                 "CREATE TABLE IF NOT EXISTS schema_migrations (version BIGINT PRIMARY KEY, applied_ms BIGINT NOT NULL)");
+            // The health probe's write (JobStore::probe); outside the versions: no data.
+            s.exec(
+                "CREATE TABLE IF NOT EXISTS store_heartbeat (instance TEXT PRIMARY KEY, at_ms BIGINT NOT NULL)");
             const Rows rows = s.exec("SELECT COALESCE(MAX(version), 0) FROM schema_migrations");
             const std::int64_t current = to_int(rows.at(0).at(0));
             if (current < 1) {

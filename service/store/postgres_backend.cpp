@@ -1,32 +1,51 @@
-// PostgreSQL backend: one connection per thread (a libpqxx connection is not thread-safe, and
-// a pool of worker threads each holding its own keeps transactions independent), opened on
-// first use with a connect timeout and dropped on any connection failure so that the next
-// transaction reconnects (libpqxx would otherwise reconnect silently and lose session state).
+// PostgreSQL backend: a small pool of connections (a libpqxx connection is not thread-safe,
+// so a transaction has one to itself). Only the store executor's N threads call transact
+// (store_executor.h), so the pool never holds more than N: that, not the HTTP threads, bounds a
+// replica's connections. A connection idle for a while is closed; one found broken when its
+// transaction begins (the server restarted, a partition cut it) is replaced and the
+// transaction run again on a fresh one, so the first operation after a restart succeeds.
 
-#include <atomic>
+#include <chrono>
 #include <map>
+#include <mutex>
 #include <string>
+#include <vector>
 
 #include <pqxx/pqxx>
 
+#include "service/store/dsn_redaction.h"
 #include "service/store/sql_backend.h"
 
 namespace rollgap::service::store::detail {
 namespace {
 
-// Connections of this thread, by backend serial (a serial, not an address, so a new backend
-// at a reused address never picks up an old backend's connection). A thread's connections
-// close when it exits.
-thread_local std::map<std::uint64_t, std::unique_ptr<pqxx::connection>> thread_connections;
-std::atomic<std::uint64_t> next_serial{1};
+using SteadyClock = std::chrono::steady_clock;
 
 constexpr int max_attempts = 4;  // deadlock or serialization failure: run the transaction again
+// A connection unused this long is closed (the background probe keeps one in use).
+constexpr std::chrono::seconds idle_timeout{30};
 
-std::string with_connect_timeout(const std::string& dsn) {
-    if (dsn.find("connect_timeout") != std::string::npos) return dsn;
+// libpq options the DSN does not set itself: a bounded connect, and TCP keepalives plus a user
+// timeout so that a call stuck on a silent network returns an error (and frees its executor
+// thread) instead of waiting for ever.
+std::string with_connection_options(const std::string& dsn) {
     const bool uri = dsn.rfind("postgresql://", 0) == 0 || dsn.rfind("postgres://", 0) == 0;
-    if (!uri) return dsn + " connect_timeout=5";
-    return dsn + (dsn.find('?') == std::string::npos ? "?" : "&") + "connect_timeout=5";
+    std::string text = dsn;
+    for (const auto& [name, value] :
+         std::map<std::string, std::string>{{"connect_timeout", "5"},
+                                            {"keepalives", "1"},
+                                            {"keepalives_idle", "5"},
+                                            {"keepalives_interval", "2"},
+                                            {"keepalives_count", "3"},
+                                            {"tcp_user_timeout", "10000"}}) {
+        if (dsn.find(name + "=") != std::string::npos) continue;
+        if (uri) {
+            text += (text.find('?') == std::string::npos ? "?" : "&") + name + "=" + value;
+        } else {
+            text += " " + name + "=" + value;
+        }
+    }
+    return text;
 }
 
 class PostgresSession final : public Session {
@@ -65,79 +84,150 @@ private:
 
 class PostgresBackend final : public Backend {
 public:
-    explicit PostgresBackend(std::string dsn) : dsn_(with_connect_timeout(dsn)) {}
-    ~PostgresBackend() override { thread_connections.erase(serial_); }
-    PostgresBackend(const PostgresBackend&) = delete;
-    PostgresBackend& operator=(const PostgresBackend&) = delete;
+    explicit PostgresBackend(const std::string& dsn) : dsn_(with_connection_options(dsn)) {}
 
     Dialect dialect() const override { return Dialect::postgresql; }
 
     StoreStatus transact(bool, const std::function<void(Session&)>& body,
                          const std::function<bool(Session&)>& verify,
                          std::string& detail) override {
+        bool replaced = false;  // a broken pooled connection was replaced once already
         for (int attempt = 1;; ++attempt) {
+            std::unique_ptr<pqxx::connection> connection;
+            bool fresh = false;
+            bool began = false;  // the body ran (its effects on the caller may not be repeated)
             try {
-                pqxx::work tx(connection());
-                PostgresSession session(tx);
-                body(session);
-                try {
-                    tx.commit();
-                } catch (const pqxx::in_doubt_error& e) {
-                    // The commit was sent but its answer lost: it may or may not have happened.
-                    detail = e.what();
-                    drop();
+                connection = acquire(fresh);
+                bool in_doubt = false;
+                {
+                    // The transaction ends (and rolls back if not committed) before its
+                    // connection goes back to the pool.
+                    pqxx::work tx(*connection);
+                    PostgresSession session(tx);
+                    began = true;
+                    body(session);
+                    try {
+                        tx.commit();
+                    } catch (const pqxx::in_doubt_error& e) {
+                        // The commit was sent but its answer lost: it may or may not have
+                        // happened.
+                        detail = redact_dsn_secrets(e.what(), dsn_);
+                        in_doubt = true;
+                    }
+                }
+                if (in_doubt) {
+                    connection.reset();
                     return verify ? settle(verify, detail) : StoreStatus::unavailable;
                 }
+                release(std::move(connection));
                 return StoreStatus::ok;
             } catch (const Abort& a) {
                 detail = a.detail;
+                release(std::move(connection));
                 return a.status;
-            } catch (const pqxx::broken_connection& e) {
-                detail = e.what();
-                drop();
-                return StoreStatus::unavailable;
             } catch (const pqxx::transaction_rollback& e) {
                 // Deadlock or serialization failure: nothing was written; try again.
-                detail = e.what();
+                detail = redact_dsn_secrets(e.what(), dsn_);
+                release(std::move(connection));
                 if (attempt >= max_attempts) return StoreStatus::unavailable;
             } catch (const pqxx::unique_violation& e) {
-                detail = e.what();
+                detail = redact_dsn_secrets(e.what(), dsn_);
+                release(std::move(connection));
                 return StoreStatus::conflict;
             } catch (const std::exception& e) {
-                detail = e.what();
-                if (!connection_open()) drop();
+                detail = redact_dsn_secrets(e.what(), dsn_);
+                const bool broken = connection && !connection->is_open();
+                const bool stale = !began && !fresh && connection != nullptr;
+                if (broken || stale || dynamic_cast<const pqxx::broken_connection*>(&e) != nullptr)
+                    connection.reset();
+                else release(std::move(connection));
+                // A pooled connection that failed before the body ran (the server restarted
+                // since it was last used): nothing was sent that counts; run it again once on a
+                // new connection.
+                if (stale && !replaced) {
+                    replaced = true;
+                    discard_idle();  // opened before the same restart, most likely
+                    continue;
+                }
                 return StoreStatus::unavailable;
             }
         }
     }
 
 private:
-    pqxx::connection& connection() {
-        auto& slot = thread_connections[serial_];
-        if (!slot || !slot->is_open()) slot = std::make_unique<pqxx::connection>(dsn_);
-        return *slot;
+    // A pooled connection (the most recently used: the others age out) or a new one.
+    std::unique_ptr<pqxx::connection> acquire(bool& fresh) {
+        std::vector<std::unique_ptr<pqxx::connection>> expired;  // closed outside the lock
+        std::unique_ptr<pqxx::connection> connection;
+        {
+            std::lock_guard lock(mutex_);
+            close_idle(expired);
+            while (!idle_.empty() && !connection) {
+                connection = std::move(idle_.back().connection);
+                idle_.pop_back();
+                if (!connection->is_open()) expired.push_back(std::move(connection));
+            }
+        }
+        if (connection) return connection;
+        fresh = true;
+        return std::make_unique<pqxx::connection>(dsn_);
     }
-    bool connection_open() const {
-        const auto it = thread_connections.find(serial_);
-        return it != thread_connections.end() && it->second && it->second->is_open();
+
+    void discard_idle() {
+        std::vector<Idle> discarded;
+        {
+            std::lock_guard lock(mutex_);
+            discarded.swap(idle_);
+        }
     }
-    void drop() { thread_connections.erase(serial_); }
+
+    void release(std::unique_ptr<pqxx::connection> connection) {
+        if (!connection || !connection->is_open()) return;
+        std::vector<std::unique_ptr<pqxx::connection>> expired;
+        std::lock_guard lock(mutex_);
+        idle_.push_back({std::move(connection), SteadyClock::now()});
+        close_idle(expired);
+    }
+
+    void close_idle(std::vector<std::unique_ptr<pqxx::connection>>& expired) {
+        const auto now = SteadyClock::now();
+        for (auto it = idle_.begin(); it != idle_.end();) {
+            if (now - it->since > idle_timeout) {
+                expired.push_back(std::move(it->connection));
+                it = idle_.erase(it);
+            } else {
+                ++it;
+            }
+        }
+    }
 
     // After an unknown commit outcome: look, on a new connection, whether the effect is there.
     StoreStatus settle(const std::function<bool(Session&)>& verify, std::string& detail) {
         try {
-            pqxx::read_transaction tx(connection());
-            PostgresSession session(tx);
-            return verify(session) ? StoreStatus::ok : StoreStatus::unavailable;
+            bool fresh = false;
+            auto connection = acquire(fresh);
+            bool found = false;
+            {
+                pqxx::read_transaction tx(*connection);
+                PostgresSession session(tx);
+                found = verify(session);
+            }
+            release(std::move(connection));
+            return found ? StoreStatus::ok : StoreStatus::unavailable;
         } catch (const std::exception& e) {
-            detail = e.what();
-            drop();
+            detail = redact_dsn_secrets(e.what(), dsn_);
             return StoreStatus::unavailable;
         }
     }
 
+    struct Idle {
+        std::unique_ptr<pqxx::connection> connection;
+        SteadyClock::time_point since;
+    };
+
     std::string dsn_;
-    std::uint64_t serial_ = next_serial.fetch_add(1);
+    std::mutex mutex_;
+    std::vector<Idle> idle_;
 };
 
 }  // namespace

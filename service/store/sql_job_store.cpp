@@ -299,6 +299,23 @@ public:
         return {StoreStatus::ok, counts, {}};
     }
 
+    Result<JobCounts> probe(const std::string& owner) override {
+        auto status = write(
+            [&](Session& s) {
+                const Millis now = clock_();
+                s.exec(
+                    "INSERT INTO store_heartbeat (instance, at_ms) VALUES ($1, $2) "
+                    "ON CONFLICT (instance) DO UPDATE SET at_ms = excluded.at_ms",
+                    {owner, now});
+                // Replicas come and go under new names: a day-old row is nobody's.
+                s.exec("DELETE FROM store_heartbeat WHERE at_ms < $1", {now - 86'400'000});
+            },
+            {});
+        if (status.status != StoreStatus::ok)
+            return Result<JobCounts>::failure(status.status, status.detail);
+        return counts();
+    }
+
     Result<std::optional<WorkItem>> claim(const std::string& owner,
                                           std::chrono::milliseconds lease) override {
         std::optional<WorkItem> item;
@@ -396,7 +413,21 @@ public:
                     "SELECT begin_point, end_point FROM chunks WHERE job_id = $1 AND idx = $2 AND lease_token = $3 "
                     "AND state = 'running'",
                     {lease.job_id, lease.chunk, lease.token});
-                if (chunk.empty()) throw Abort{StoreStatus::conflict, "lease lost"};
+                if (chunk.empty()) {
+                    // This lease's result is stored already: an earlier attempt committed
+                    // although its caller did not hear so (deadline, lost answer). Completing
+                    // again is that same completion.
+                    if (outcome == Outcome::succeeded &&
+                        !s.exec("SELECT 1 FROM chunks WHERE job_id = $1 AND idx = $2 AND "
+                                "lease_token = $3 AND state = 'done'",
+                                {lease.job_id, lease.chunk, lease.token})
+                             .empty()) {
+                        after = job_state_from_name(job.at(0).at(0).value_or(""))
+                                    .value_or(JobState::running);
+                        return;
+                    }
+                    throw Abort{StoreStatus::conflict, "lease lost"};
+                }
                 const bool chunked = to_int(job.at(0).at(1)) > 0;
                 if (outcome != Outcome::succeeded) {
                     const std::string state = outcome == Outcome::failed ? "failed" : "cancelled";

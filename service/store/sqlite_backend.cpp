@@ -15,6 +15,7 @@
 #include <sqlite3.h>
 
 #include "service/store/sql_backend.h"
+#include "service/store/store_executor.h"
 
 namespace rollgap::service::store::detail {
 namespace {
@@ -108,6 +109,14 @@ public:
         // A failed COMMIT in SQLite leaves the transaction not committed (no unknown outcome),
         // so `verify` is never needed here.
         std::lock_guard guard(mutex_);
+        // A file deleted (or replaced) under the service: the connection would go on writing
+        // to the unlinked inode, and every job accepted would vanish at the next start.
+        int moved = 0;
+        if (sqlite3_file_control(db_, "main", SQLITE_FCNTL_HAS_MOVED, &moved) == SQLITE_OK &&
+            moved != 0) {
+            detail = moved_detail;
+            return StoreStatus::unavailable;
+        }
         SqliteSession session(db_);
         try {
             session.exec(write ? "BEGIN IMMEDIATE" : "BEGIN", {});

@@ -20,7 +20,8 @@ inline constexpr const char* postgres_bin = "/usr/lib/postgresql/15/bin";
 class PostgresServer {
 public:
     // Creates the cluster and starts it; `error()` says why when `running()` is false.
-    PostgresServer() {
+    // `max_connections`: the server's bound (tests of the service at that bound set it small).
+    explicit PostgresServer(int max_connections = 200) : max_connections_(max_connections) {
         if (!std::filesystem::exists(std::string(postgres_bin) + "/initdb")) {
             error_ = std::string("PostgreSQL 15 server binaries missing in ") + postgres_bin +
                      " (apt-get install postgresql-15, see scripts/install-deps.sh)";
@@ -52,10 +53,10 @@ public:
     PostgresServer& operator=(const PostgresServer&) = delete;
 
     bool start() {
-        running_ =
-            run(tool("pg_ctl") + " -D " + dir_ + "/data -l " + dir_ +
-                "/server.log -w -t 30 start -o \"-p " + std::to_string(port_) + " -k " + dir_ +
-                " -c listen_addresses=127.0.0.1 -c fsync=off -c max_connections=200\"");
+        running_ = run(tool("pg_ctl") + " -D " + dir_ + "/data -l " + dir_ +
+                       "/server.log -w -t 30 start -o \"-p " + std::to_string(port_) + " -k " +
+                       dir_ + " -c listen_addresses=127.0.0.1 -c fsync=off -c max_connections=" +
+                       std::to_string(max_connections_) + "\"");
         if (!running_) error_ = "pg_ctl start failed (see " + dir_ + "/server.log)";
         return running_;
     }
@@ -93,6 +94,7 @@ private:
     std::string dir_;
     std::string error_;
     int port_ = 0;
+    int max_connections_ = 200;
     bool running_ = false;
 };
 

@@ -8,6 +8,8 @@
 // (and a replica dies with the test runner: PR_SET_PDEATHSIG).
 
 #include <fcntl.h>
+#include <grp.h>
+#include <pwd.h>
 #include <signal.h>
 #include <sys/prctl.h>
 #include <sys/wait.h>
@@ -76,6 +78,10 @@ struct ReplicaOptions {
     int chunk_points = 10;
     int workers = 2;
     std::vector<std::string> extra;  // more `rollgap serve` arguments
+    // More environment variables ("NAME=value"): settings a program of another build, which
+    // may not know them, ignores (a flag it does not know stops it).
+    std::vector<std::string> environment;
+    std::string user;  // run as this user (the tests run as root), e.g. "nobody"; empty: ours
 };
 
 // One `rollgap serve` process on 127.0.0.1 (public and admin ports from the OS), its stdout and
@@ -123,6 +129,20 @@ public:
         std::vector<char*> argv;
         for (std::string& arg : args) argv.push_back(arg.data());
         argv.push_back(nullptr);
+        std::vector<std::string> environment = options.environment;
+        for (char** variable = environ; *variable != nullptr; ++variable)
+            environment.emplace_back(*variable);
+        std::vector<char*> envp;
+        for (std::string& variable : environment) envp.push_back(variable.data());
+        envp.push_back(nullptr);
+        uid_t uid = 0;
+        gid_t gid = 0;
+        if (!options.user.empty()) {
+            const passwd* account = ::getpwnam(options.user.c_str());
+            REQUIRE_MESSAGE(account != nullptr, "no user " << options.user);
+            uid = account->pw_uid;
+            gid = account->pw_gid;
+        }
         const std::string log = log_path_.string();
         const pid_t parent = ::getpid();
         pid_ = ::fork();
@@ -135,7 +155,10 @@ public:
                 ::dup2(fd, STDOUT_FILENO);
                 ::dup2(fd, STDERR_FILENO);
             }
-            ::execv(argv[0], argv.data());
+            if (uid != 0 &&
+                (::setgroups(0, nullptr) != 0 || ::setgid(gid) != 0 || ::setuid(uid) != 0))
+                ::_exit(126);
+            ::execve(argv[0], argv.data(), envp.data());
             ::_exit(127);
         }
         // The start-up line names both ports: "msg=listening ... address=127.0.0.1:P
