@@ -30,7 +30,9 @@ run_suite() {
     log=$(mktemp)
     local result=0
     # --no-tests=error: a build that registered no test must fail, not pass silently.
-    ctest --test-dir "$dir" --output-on-failure --no-tests=error \
+    # -j: tests run ROLLGAP_JOBS at a time; those that time or saturate the machine run alone
+    # (RUN_SERIAL, tests/test_properties.cmake).
+    ctest --test-dir "$dir" -j"$ROLLGAP_JOBS" --output-on-failure --no-tests=error \
         --timeout "${ROLLGAP_TEST_TIMEOUT:-600}" 2>&1 | tee "$log" || result=$?
     local line total bad
     line=$(grep -E '^[0-9]+% tests passed, [0-9]+ tests? failed out of [0-9]+' "$log" | tail -1 || true)
