@@ -39,8 +39,10 @@ namespace {
 // A valid Range value of about `bytes` characters: bytes=0-0,1-1,...
 std::string long_range(std::size_t bytes) {
     std::string value = "bytes=0-0";
-    for (int i = 1; value.size() < bytes; ++i)
-        value += "," + std::to_string(i) + "-" + std::to_string(i);
+    for (int i = 1; value.size() < bytes; ++i) {
+        const std::string n = std::to_string(i);
+        value.append(",").append(n).append("-").append(n);
+    }
     return value;
 }
 
