@@ -23,6 +23,9 @@
 #include <csignal>
 #include <mutex>
 #include <thread>
+#include <utility>
+
+#include <sys/socket.h>
 
 #include <httplib.h>
 #include <spdlog/spdlog.h>
@@ -58,7 +61,14 @@ struct RequestContext {
     const Route* route = nullptr;
     std::size_t in_bytes = 0;
     std::string client = "anonymous";  // the client key's name (request_checks.h)
+    std::string path;  // a POST or PUT's own path while httplib dispatches it (see pre_route)
 };
+
+// httplib dispatches POST and PUT by std::regex_match of the path against each registered
+// pattern, and libstdc++'s regex executor recurses per character: a long path touched megabytes
+// of a connection thread's stack. pre_route() has chosen the route already, so httplib is handed
+// this one short path (its one registered pattern) and handle_post() puts the client's back.
+constexpr std::string_view dispatched_path = "/rollgap-dispatch";
 thread_local RequestContext t_context;
 
 ListenerLimits limits_for(const ServerConfig& config) {
@@ -153,8 +163,11 @@ struct HttpServer::Impl {
         if (refuse(t_context.route, request, response, config(), state.keys, on_admin,
                    t_context.client))
             return httplib::Server::HandlerResponse::Handled;
-        if (request.method == "POST" || request.method == "PUT")
+        if (request.method == "POST" || request.method == "PUT") {
+            auto& dispatched = const_cast<httplib::Request&>(request);
+            t_context.path = std::exchange(dispatched.path, std::string(dispatched_path));
             return httplib::Server::HandlerResponse::Unhandled;  // → handle_post
+        }
         guarded(response, [&] { handle_get_or_delete(*t_context.route, request, response); });
         return httplib::Server::HandlerResponse::Handled;
     }
@@ -247,6 +260,7 @@ struct HttpServer::Impl {
     void handle_post(const httplib::Request& request, httplib::Response& response,
                      const httplib::ContentReader& read_content) {
         // pre_route() ran for this request on this thread and let it through.
+        const_cast<httplib::Request&>(request).path = std::move(t_context.path);
         const Route* route = t_context.route;
         const std::size_t limit = config().max_body_bytes;
         std::string body;
@@ -338,7 +352,17 @@ struct HttpServer::Impl {
     // ---- lifecycle ---------------------------------------------------------------------------
 
     void configure(Listener& listener, std::size_t threads, bool on_admin) {
-        listener.new_task_queue = [threads] { return new httplib::ThreadPool(threads); };
+        // Connection threads of a bounded stack: what a request can touch and keep.
+        listener.new_task_queue = [threads] {
+            return new StackBoundedPool(threads, connection_stack_bytes);
+        };
+        // httplib's default sets SO_REUSEPORT, with which a second service binds a port in use
+        // and the kernel spreads its connections over both (different job stores): keep
+        // SO_REUSEADDR only (a restart may bind over connections in TIME_WAIT).
+        listener.set_socket_options([](socket_t sock) {
+            const int yes = 1;
+            ::setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
+        });
         listener.set_payload_max_length(config().max_body_bytes);
         // What the Keep-Alive header announces; the listener's own loop enforces them.
         listener.set_keep_alive_max_count(ListenerLimits{}.max_requests_per_connection);
@@ -355,36 +379,25 @@ struct HttpServer::Impl {
                 return expect_continue(request, response, on_admin);
             });
         if (!on_admin) {
-            for (const Route& route : all_routes()) {
-                if ((route.methods & post) == 0) continue;
-                listener.Post(std::string(route.pattern),
-                              [this](const httplib::Request& request, httplib::Response& response,
-                                     const httplib::ContentReader& reader) {
-                                  handle_post(request, response, reader);
-                              });
-            }
-            // Every PUT route is under /v1/scenarios/; pre_route() refused the others.
-            listener.Put(R"(/v1/scenarios/[^/]+)",
-                         [this](const httplib::Request& request, httplib::Response& response,
-                                const httplib::ContentReader& reader) {
-                             handle_post(request, response, reader);
-                         });
+            // pre_route() refused every POST or PUT its route does not take.
+            const auto post_or_put = [this](const httplib::Request& request,
+                                            httplib::Response& response,
+                                            const httplib::ContentReader& reader) {
+                handle_post(request, response, reader);
+            };
+            listener.Post(std::string(dispatched_path), post_or_put);
+            listener.Put(std::string(dispatched_path), post_or_put);
         }
-        listener.set_error_handler(
-            [](const httplib::Request& request, httplib::Response& response) {
-                if (const Refusal refusal = current_refusal(); refusal != Refusal::none) {
-                    set_problem(response, problem_for_refusal(refusal));
-                    response.set_header("Connection", "close");
-                } else if (response.status == 416) {
-                    // httplib parsed part of the malformed Range before refusing it and would cut
-                    // this answer to that part.
-                    const_cast<httplib::Request&>(request).ranges.clear();
-                }
-                if (!response.has_header("X-Request-Id"))
-                    response.set_header("X-Request-Id", new_request_id());
-                if (!response.body.empty() || response.status == 204) return;
-                set_problem(response, problem_for_status(response.status));
-            });
+        listener.set_error_handler([](const httplib::Request&, httplib::Response& response) {
+            if (const Refusal refusal = current_refusal(); refusal != Refusal::none) {
+                set_problem(response, problem_for_refusal(refusal));
+                response.set_header("Connection", "close");
+            }
+            if (!response.has_header("X-Request-Id"))
+                response.set_header("X-Request-Id", new_request_id());
+            if (!response.body.empty() || response.status == 204) return;
+            set_problem(response, problem_for_status(response.status));
+        });
         listener.set_exception_handler([](const httplib::Request&, httplib::Response& response,
                                           std::exception_ptr) {
             set_problem(response, api::ProblemCode::internal, "the request failed unexpectedly");
@@ -396,6 +409,14 @@ struct HttpServer::Impl {
         listener.set_refusal_renderer([](Refusal refusal, httplib::Response& response) {
             set_problem(response, problem_for_refusal(refusal));
             response.set_header("X-Request-Id", new_request_id());
+        });
+    }
+
+    std::once_flag configured;
+    void configure_once() {
+        std::call_once(configured, [this] {
+            configure(server, config().io_threads, false);
+            configure(admin, admin_threads, true);
         });
     }
 
@@ -411,8 +432,7 @@ struct HttpServer::Impl {
             if (error != nullptr) *error = *refused;
             return false;
         }
-        configure(server, config().io_threads, false);
-        configure(admin, admin_threads, true);
+        configure_once();
 
         bound_port = bind(server, config().bind_address, config().port);
         if (bound_port > 0)
@@ -424,7 +444,9 @@ struct HttpServer::Impl {
                     concat("cannot listen on ",
                            public_failed ? config().bind_address : config().admin_bind_address, ":",
                            std::to_string(public_failed ? config().port : config().admin_port),
-                           public_failed ? "" : " (admin)", " (address in use or not available)");
+                           public_failed ? "" : " (the admin port)",
+                           ": the port is in use by another process or the address is not "
+                           "available on this host");
             }
             return false;
         }
@@ -485,6 +507,11 @@ HttpServer::HttpServer(ServerConfig config, Evaluator evaluator,
 HttpServer::~HttpServer() { shutdown(); }
 
 bool HttpServer::start(std::string* error) { return impl_->start(error); }
+void HttpServer::serve_connection(int fd) {
+    std::signal(SIGPIPE, SIG_IGN);
+    impl_->configure_once();
+    impl_->server.serve_connection(fd);
+}
 int HttpServer::port() const { return impl_->bound_port; }
 int HttpServer::admin_port() const { return impl_->admin_bound_port; }
 const ServerConfig& HttpServer::config() const { return impl_->state.config; }

@@ -51,7 +51,10 @@ public:
     // false and says why in `error`.
     bool start(std::string* error = nullptr);
     int port() const;
-    int admin_port() const;  // the admin listener's bound port
+    int admin_port() const;
+    // Serves one connected socket on the calling thread, as the public listener serves an
+    // accepted connection, and closes it; needs no start(). For the fuzz harness (a socketpair).
+    void serve_connection(int fd);  // the admin listener's bound port
     const ServerConfig& config() const;
 
     // Graceful stop, idempotent and thread-safe: /readyz answers 503 and new synchronous

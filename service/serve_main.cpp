@@ -19,6 +19,9 @@ namespace {
 constexpr int exit_ok = 0;
 constexpr int exit_failure = 1;
 constexpr int exit_usage = 2;
+// The service could not start (a port in use, an address not on this host): like a usage
+// error, something to fix in the settings or the environment, not an internal error.
+constexpr int exit_start_failure = 2;
 
 }  // namespace
 
@@ -42,7 +45,7 @@ int serve(const ServerConfig& parsed) {
     std::string error;
     if (!server.start(&error)) {
         spdlog::critical("msg=\"{}\"", error);
-        return exit_failure;
+        return exit_start_failure;
     }
     spdlog::info("msg=listening version={} address={}:{} admin_address={}:{} {}", version(),
                  config.bind_address, server.port(), config.admin_bind_address, server.admin_port(),

@@ -289,7 +289,7 @@ TEST_CASE(
     SUBCASE("one header line of up to 16 MiB") {
         const auto answer =
             flood(request_line + "X-Flood: ", std::string(65536, 'a'), 16u << 20, false);
-        check_problem(answer.first, 431, "headers_too_large");
+        check_problem(answer.first, 431, "header_fields_too_large");
         MESSAGE("one huge header line: 431 after " << answer.second << " bytes");
         // The header never ended: nginx answered as soon as the line outgrew its buffer.
         CHECK(answer.second < (16u << 20));
@@ -299,7 +299,7 @@ TEST_CASE(
         for (int i = 0; i < 500; ++i) headers += "X-Flood-" + std::to_string(i) + ": v\r\n";
         // 2000 batches of 500 headers (about 15 MiB), never the blank line that ends them.
         const auto answer = flood(request_line, headers, 2000 * headers.size(), false);
-        check_problem(answer.first, 431, "headers_too_large");
+        check_problem(answer.first, 431, "header_fields_too_large");
         MESSAGE("small headers: 431 after " << answer.second << " bytes");
         CHECK(answer.second < 2000 * headers.size());
     }
@@ -563,4 +563,38 @@ TEST_CASE(
     CHECK(pod.find("-c /etc/rollgap/nginx/rollgap.conf") != std::string::npos);
     // The only public port is nginx's: the service is not a container port of its own.
     CHECK(pod.find("containerPort: 8090") == std::string::npos);
+}
+
+TEST_CASE("front proxy: an early refusal of a 200 kB body is the service's own answer, not 502") {
+    // The service refuses these before reading the body and closes the connection; closing
+    // with the body unread reset the connection under the answer, and nginx turned the
+    // service's 415, 404 or 405 into a 502.
+    REQUIRE_MESSAGE(nginx_installed(), "nginx is not installed (scripts/install-deps.sh)");
+    FrontProxy proxy("early-refusal");
+    httplib::Client client = proxy.client();
+    const std::string body(200 * 1000, ' ');
+    struct Case {
+        const char* method;
+        const char* path;
+        const char* content_type;
+        int status;
+        const char* code;
+    };
+    for (const Case& c :
+         {Case{"POST", "/v1/roll-gap", "text/plain", 415, "unsupported_media_type"},
+          Case{"POST", "/v1/nothing", "application/json", 404, "not_found"},
+          Case{"PUT", "/v1/roll-gap", "application/json", 405, "method_not_allowed"}}) {
+        for (int round = 0; round < 3; ++round) {
+            CAPTURE(c.path);
+            CAPTURE(round);
+            const auto result = std::string(c.method) == "POST"
+                                    ? client.Post(c.path, body, c.content_type)
+                                    : client.Put(c.path, body, c.content_type);
+            REQUIRE(result);
+            CAPTURE(result->body.substr(0, 300));
+            CHECK(result->status == c.status);
+            CHECK(json::parse(result->body, nullptr, false).value("code", "") == c.code);
+        }
+    }
+    CHECK(proxy.nginx.error_log().find("reset by peer") == std::string::npos);
 }

@@ -1,6 +1,6 @@
 // Range requests: no rollgap route serves partial content, so a Range header is ignored on
 // every route (the full answer with its own status, never multipart/byteranges), also on the
-// refusals of the Expect: 100-continue check; a malformed Range may get 416 as problem+json.
+// refusals of the Expect: 100-continue check, and a malformed one as well.
 
 #include "service/openapi.h"
 
@@ -72,19 +72,13 @@ TEST_CASE("range: the refusal of an Expect: 100-continue request is problem+json
     CHECK(json::parse(raw_body(response))["code"] == "unsupported_media_type");
 }
 
-TEST_CASE("range: a malformed Range gets 416 problem+json with the whole problem document") {
+TEST_CASE("range: a malformed Range is ignored too (the connection drops Range lines)") {
+    // It used to get httplib's own 416 (its range parser ran before any hook); the connection
+    // layer now drops Range header lines before httplib parses them.
     TestServer server;
     auto client = server.client();
     for (const char* range : {"bytes=0-1,5-2", "bytes=9-3"}) {
         CAPTURE(range);
-        const auto result = client.Get("/livez", {{"Range", range}});
-        REQUIRE(result);
-        CAPTURE(result->body);
-        CHECK(result->status == 416);
-        CHECK(result->get_header_value("Content-Type") == "application/problem+json");
-        CHECK_FALSE(result->has_header("Content-Range"));
-        const json problem = json::parse(result->body);
-        CHECK(problem["status"] == 416);
-        CHECK(problem["code"] == "range_not_satisfiable");
+        check_full_answer(client.Get("/livez", {{"Range", range}}), 200, "application/json");
     }
 }

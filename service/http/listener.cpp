@@ -1,6 +1,7 @@
 #include "service/http/listener.h"
 
 #include <arpa/inet.h>
+#include <limits.h>
 #include <netinet/in.h>
 #include <poll.h>
 #include <sys/socket.h>
@@ -8,10 +9,16 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <cerrno>
+#include <charconv>
 #include <climits>
+#include <cstdint>
 #include <cstring>
+#include <optional>
+#include <stdexcept>
 #include <string>
+#include <string_view>
 #include <thread>
 
 namespace rollgap::service::http {
@@ -87,7 +94,11 @@ public:
         header_bytes_ = 0;
         lines_ = 0;
         line_length_ = 0;
-        previous_ = '\0';
+        line_.clear();
+        handed_ = 0;
+        content_length_.reset();
+        chunked_ = false;
+        body_read_ = 0;
         refusal_ = Refusal::none;
         read_deadline_ = Clock::now() + limits_.read_deadline;
         writing_ = false;
@@ -103,6 +114,18 @@ public:
     bool close_requested() const { return close_requested_; }
     void shut_down() { ::shutdown(fd_, SHUT_RDWR); }
 
+    // Whether the request's body may not have been read to its end: the connection cannot carry
+    // another request, and closing it must not reset the answer.
+    bool body_unread() const {
+        if (phase_ == Phase::headers) return false;  // refused before its body
+        // A chunked body has at least its last chunk; one that was read in part ends in an
+        // answer marked Connection: close (the handler's refusal).
+        if (chunked_) return body_read_ == 0;
+        return content_length_ && body_read_ < *content_length_;
+    }
+    // Whether the client may still be sending: bytes of it wait here or in the socket.
+    bool input_pending() const { return begin_ < end_ || wait_for(fd_, POLLIN, 0) > 0; }
+
     bool is_readable() const override {
         return begin_ < end_ || wait_for(fd_, POLLIN, milliseconds_left(read_deadline_)) > 0;
     }
@@ -112,24 +135,27 @@ public:
     ssize_t read(char* data, std::size_t size) override {
         if (refusal_ != Refusal::none) return -1;
         writing_ = false;  // the next write starts an answer
+        if (handed_ == line_.size() && phase_ == Phase::headers) {
+            // httplib reads the headers one byte at a time; each line is taken whole and checked
+            // before any of it is handed over (a Range line is not handed over at all), and the
+            // bytes after the blank line belong to the body.
+            const ssize_t taken = take_header_line();
+            if (taken <= 0) return taken;
+        }
+        if (handed_ < line_.size()) {
+            const std::size_t n = std::min(size, line_.size() - handed_);
+            std::memcpy(data, line_.data() + handed_, n);
+            handed_ += n;
+            return static_cast<ssize_t>(n);
+        }
         if (begin_ == end_) {
             const ssize_t filled = fill();
             if (filled <= 0) return filled;
         }
-        std::size_t n = std::min(size, end_ - begin_);
-        if (phase_ == Phase::headers) {
-            // httplib reads the headers one byte at a time; each byte is checked before it is
-            // handed over, and the bytes after the blank line belong to the body.
-            std::size_t accepted = 0;
-            while (accepted < n && phase_ == Phase::headers) {
-                if (!accept_header_byte(buffer_[begin_ + accepted])) break;
-                ++accepted;
-            }
-            if (accepted == 0 && refusal_ != Refusal::none) return -1;
-            n = accepted;
-        }
+        const std::size_t n = std::min(size, end_ - begin_);
         std::memcpy(data, buffer_.data() + begin_, n);
         begin_ += n;
+        body_read_ += n;
         return static_cast<ssize_t>(n);
     }
 
@@ -186,6 +212,36 @@ private:
         }
     }
 
+    // Reads the next header line into line_ (refusing it, dropping it if it is a Range, or
+    // keeping it to be handed over); 1 once a line is ready, 0 at the peer's end of stream,
+    // -1 on a refusal or error.
+    ssize_t take_header_line() {
+        for (;;) {
+            line_.clear();
+            handed_ = 0;
+            for (;;) {
+                if (begin_ == end_) {
+                    const ssize_t filled = fill();
+                    if (filled <= 0) return filled;
+                }
+                const char byte = buffer_[begin_];
+                if (!accept_header_byte(byte)) return -1;
+                ++begin_;
+                line_.push_back(byte);
+                if (byte == '\n') break;
+            }
+            if (lines_ == 1) return 1;  // the request line: httplib checks its form
+            if (line_ == "\r\n") {
+                if (!check_framing()) return -1;
+                phase_ = Phase::body;
+                return 1;
+            }
+            if (check_header_line()) return 1;
+            if (refusal_ != Refusal::none) return -1;
+            // A Range line: dropped, the next one is read.
+        }
+    }
+
     // The request line and each header line end in CRLF; a line that is only CRLF ends the
     // headers (httplib's rule: a bare LF does not).
     bool accept_header_byte(char byte) {
@@ -193,16 +249,17 @@ private:
             refusal_ = lines_ == 0 ? Refusal::request_line_too_long : Refusal::header_too_large;
             return false;
         }
+        if (lines_ == 0 && line_length_ >= limits_.max_request_line_bytes) {
+            refusal_ = Refusal::request_line_too_long;
+            return false;
+        }
         if (byte == '\0') {
             refusal_ = Refusal::header_nul;
             return false;
         }
         if (byte == '\n') {
-            const bool blank = line_length_ == 1 && previous_ == '\r';
             ++lines_;
-            if (blank && lines_ > 1) {
-                phase_ = Phase::body;
-            } else if (lines_ - 1 > limits_.max_header_fields) {
+            if (lines_ - 1 > limits_.max_header_fields) {
                 refusal_ = Refusal::too_many_header_fields;
                 return false;
             }
@@ -210,8 +267,66 @@ private:
         } else {
             ++line_length_;
         }
-        previous_ = byte;
         return true;
+    }
+
+    // A header line (in line_, with its line end): false if it is refused (refusal_ set) or
+    // dropped (a Range). httplib skips a line without a colon or with a bare LF and keeps
+    // whitespace before the colon in the name; a proxy may read such lines differently, so
+    // they are refused. Content-Length and Transfer-Encoding are noted for check_framing().
+    bool check_header_line() {
+        const std::string_view line(line_);
+        if (line.size() < 2 || line[line.size() - 2] != '\r')
+            return refuse(Refusal::malformed_header_line);
+        const std::size_t colon = line.find(':');
+        if (colon == std::string_view::npos || colon == 0)
+            return refuse(Refusal::malformed_header_line);
+        const std::string_view name = line.substr(0, colon);
+        if (name.find_first_of(" \t\r") != std::string_view::npos) {
+            return refuse(Refusal::malformed_header_line);
+        }
+        const std::string_view value = trimmed(line.substr(colon + 1, line.size() - colon - 3));
+        if (named(name, "range") || named(name, "if-range")) return false;
+        if (named(name, "content-length")) {
+            if (content_length_) return refuse(Refusal::duplicate_content_length);
+            std::uint64_t length = 0;
+            const auto parsed = std::from_chars(value.data(), value.data() + value.size(), length);
+            if (value.empty() || parsed.ec != std::errc() ||
+                parsed.ptr != value.data() + value.size()) {
+                return refuse(Refusal::invalid_content_length);
+            }
+            content_length_ = length;
+        } else if (named(name, "transfer-encoding")) {
+            if (chunked_ || value != "chunked")
+                return refuse(Refusal::unsupported_transfer_encoding);
+            chunked_ = true;
+        }
+        return true;
+    }
+
+    // At the blank line: one way to find the end of the body.
+    bool check_framing() {
+        if (chunked_ && content_length_)
+            return refuse(Refusal::transfer_encoding_with_content_length);
+        return true;
+    }
+
+    bool refuse(Refusal refusal) {
+        refusal_ = refusal;
+        return false;
+    }
+
+    static std::string_view trimmed(std::string_view text) {
+        while (!text.empty() && (text.front() == ' ' || text.front() == '\t'))
+            text.remove_prefix(1);
+        while (!text.empty() && (text.back() == ' ' || text.back() == '\t')) text.remove_suffix(1);
+        return text;
+    }
+    static bool named(std::string_view name, std::string_view lower_case) {
+        return name.size() == lower_case.size() &&
+               std::equal(name.begin(), name.end(), lower_case.begin(), [](char a, char b) {
+                   return std::tolower(static_cast<unsigned char>(a)) == b;
+               });
     }
 
     int fd_;
@@ -222,7 +337,11 @@ private:
     std::atomic<Phase> phase_{Phase::idle};
     Refusal refusal_ = Refusal::none;
     std::size_t header_bytes_ = 0, lines_ = 0, line_length_ = 0;
-    char previous_ = '\0';
+    std::string line_;        // the header line being read or handed over
+    std::size_t handed_ = 0;  // how much of line_ httplib has read
+    std::optional<std::uint64_t> content_length_;
+    bool chunked_ = false;
+    std::uint64_t body_read_ = 0;  // bytes after the headers handed over
     Clock::time_point read_deadline_{}, write_deadline_{};
     bool writing_ = false;
     std::size_t written_ = 0;
@@ -231,6 +350,57 @@ private:
 
 namespace {
 thread_local Connection* t_connection = nullptr;
+}
+
+StackBoundedPool::StackBoundedPool(std::size_t threads, std::size_t stack_bytes) {
+    pthread_attr_t attributes;
+    if (::pthread_attr_init(&attributes) != 0) throw std::runtime_error("pthread_attr_init failed");
+    ::pthread_attr_setstacksize(&attributes, std::max<std::size_t>(stack_bytes, PTHREAD_STACK_MIN));
+    for (std::size_t i = 0; i < threads; ++i) {
+        pthread_t thread{};
+        if (::pthread_create(&thread, &attributes, &StackBoundedPool::run, this) != 0) break;
+        threads_.push_back(thread);
+    }
+    ::pthread_attr_destroy(&attributes);
+    if (threads > 0 && threads_.empty())
+        throw std::runtime_error("cannot start connection threads");
+}
+
+StackBoundedPool::~StackBoundedPool() { shutdown(); }
+
+void StackBoundedPool::enqueue(std::function<void()> task) {
+    {
+        std::lock_guard lock(mutex_);
+        tasks_.push_back(std::move(task));
+    }
+    ready_.notify_one();
+}
+
+void StackBoundedPool::shutdown() {
+    {
+        std::lock_guard lock(mutex_);
+        if (shutting_down_ && threads_.empty()) return;
+        shutting_down_ = true;
+    }
+    ready_.notify_all();
+    for (pthread_t thread : threads_) ::pthread_join(thread, nullptr);
+    threads_.clear();
+}
+
+// As httplib's ThreadPool: the queued tasks are run to the end before the threads return.
+void* StackBoundedPool::run(void* self) {
+    auto& pool = *static_cast<StackBoundedPool*>(self);
+    for (;;) {
+        std::function<void()> task;
+        {
+            std::unique_lock lock(pool.mutex_);
+            pool.ready_.wait(lock, [&] { return !pool.tasks_.empty() || pool.shutting_down_; });
+            if (pool.tasks_.empty()) return nullptr;
+            task = std::move(pool.tasks_.front());
+            pool.tasks_.pop_front();
+        }
+        task();
+    }
 }
 
 Refusal current_refusal() {
@@ -274,23 +444,30 @@ bool Listener::process_and_close_socket(socket_t sock) {
     }
     t_connection = &connection;
     bool ok = registered;
+    bool linger = true;
     for (std::size_t served = 0; registered && served < limits_.max_requests_per_connection;
          ++served) {
         if (stopping_ || !connection.wait_for_request(limits_.idle_timeout)) break;
         connection.begin_request();
         const bool last = served + 1 == limits_.max_requests_per_connection || stopping_;
         bool closed = false;
-        // Parsed ranges are dropped before anything answers: no route serves partial content.
+        // The connection dropped Range lines already; whatever httplib parsed of other
+        // headers into ranges is dropped too: no route serves partial content.
         ok = process_request(connection, last, closed,
                              [](httplib::Request& request) { request.ranges.clear(); });
         if (connection.refusal() != Refusal::none) {
             if (connection.written() == 0) write_refusal(connection, connection.refusal());
+            // A client too slow to send its request is not waited for again.
+            linger = connection.refusal() != Refusal::read_deadline;
             break;
         }
+        // The rest of an unread body would be taken for the next request.
+        const bool unread = connection.body_unread();
         connection.end_request();
-        if (!ok || closed || last || connection.close_requested()) break;
+        if (unread || !ok || closed || last || connection.close_requested()) break;
     }
     t_connection = nullptr;
+    if (linger && !stopping_ && connection.input_pending()) close_gracefully(sock);
     {
         std::lock_guard lock(mutex_);
         connections_.erase(&connection);
@@ -298,6 +475,25 @@ bool Listener::process_and_close_socket(socket_t sock) {
     ::shutdown(sock, SHUT_RDWR);
     ::close(sock);
     return ok;
+}
+
+// Closing a socket whose receive queue holds data makes the kernel send a reset, which may
+// destroy the answer before the peer has read it (nginx then answers 502 for the service's
+// own 415). The answer is sent first (FIN after it), then what the client still sends is
+// read and dropped until it closes, for at most limits_.linger and limits_.linger_bytes.
+void Listener::close_gracefully(socket_t sock) const {
+    ::shutdown(sock, SHUT_WR);
+    const auto until = Clock::now() + limits_.linger;
+    std::array<char, 16 * 1024> scratch{};
+    std::size_t dropped = 0;
+    while (dropped < limits_.linger_bytes) {
+        const int left = milliseconds_left(until);
+        if (left == 0 || wait_for(sock, POLLIN, left) <= 0) break;
+        const ssize_t n = ::recv(sock, scratch.data(), scratch.size(), 0);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) break;
+        dropped += static_cast<std::size_t>(n);
+    }
 }
 
 void Listener::write_refusal(Connection& connection, Refusal refusal) {

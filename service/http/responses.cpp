@@ -44,8 +44,8 @@ api::Problem problem_for_status(int status) {
             return api::make_problem(
                 ProblemCode::uri_too_long,
                 api::concat("the request line exceeds ",
-                            std::to_string(CPPHTTPLIB_REQUEST_URI_MAX_LENGTH), " bytes"));
-        case 416:
+                            std::to_string(default_max_request_line_bytes), " bytes"));
+        case 416:  // no longer reached: the connection drops Range lines before httplib
             return api::make_problem(
                 ProblemCode::range_not_satisfiable,
                 "the Range header is malformed; no route serves partial content, send none");
@@ -59,8 +59,10 @@ api::Problem problem_for_status(int status) {
 api::Problem problem_for_refusal(Refusal refusal) {
     switch (refusal) {
         case Refusal::request_line_too_long:
-            return api::make_problem(ProblemCode::uri_too_long,
-                                     "the request line exceeds the header size limit");
+            return api::make_problem(
+                ProblemCode::uri_too_long,
+                api::concat("the request line exceeds ",
+                            std::to_string(default_max_request_line_bytes), " bytes"));
         case Refusal::header_too_large:
             return api::make_problem(
                 ProblemCode::header_fields_too_large,
@@ -77,6 +79,28 @@ api::Problem problem_for_refusal(Refusal refusal) {
             return api::make_problem(
                 ProblemCode::request_timeout,
                 "the request did not arrive within the read deadline; the connection closes");
+        case Refusal::duplicate_content_length:
+            return api::make_problem(
+                ProblemCode::invalid_header,
+                "Content-Length is given more than once; the connection closes");
+        case Refusal::invalid_content_length:
+            return api::make_problem(
+                ProblemCode::invalid_header,
+                "Content-Length is not a decimal number; the connection closes");
+        case Refusal::unsupported_transfer_encoding:
+            return api::make_problem(
+                ProblemCode::invalid_header,
+                "the only Transfer-Encoding accepted is exactly \"chunked\", once; the connection "
+                "closes");
+        case Refusal::transfer_encoding_with_content_length:
+            return api::make_problem(
+                ProblemCode::invalid_header,
+                "Transfer-Encoding and Content-Length are both given; the connection closes");
+        case Refusal::malformed_header_line:
+            return api::make_problem(
+                ProblemCode::invalid_header,
+                "a header line is malformed (no colon, whitespace before it, a "
+                "folded line or a bare LF); the connection closes");
         case Refusal::none: break;
     }
     return api::make_problem(ProblemCode::internal, "the request was refused for no known reason");
