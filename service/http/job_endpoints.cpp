@@ -23,15 +23,6 @@ bool valid_idempotency_key(const std::string& key) {
            std::all_of(key.begin(), key.end(), [](char c) { return c > ' ' && c < 0x7f; });
 }
 
-// The parameter is named as a field of the request (`/query/limit`), with its rule as the
-// bound, like every other field error.
-void invalid_parameter(httplib::Response& response, std::string_view name, std::string_view rule) {
-    set_problem(response, api::ProblemCode::invalid_request,
-                concat("query parameter '", name, "': ", rule),
-                {api::FieldError{concat("/query/", name), concat("expected ", rule),
-                                 std::string(rule), std::nullopt}});
-}
-
 }  // namespace
 
 std::shared_ptr<store::JobStore> JobEndpoints::store_or_503(httplib::Response& response) {
@@ -181,18 +172,7 @@ void JobEndpoints::list(const httplib::Request& request, httplib::Response& resp
             return;
         }
     }
-    if (request.has_param("limit")) {
-        const std::string text = request.get_param_value("limit");
-        std::size_t limit = 0;
-        const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), limit);
-        if (text.empty() || error != std::errc{} || end != text.data() + text.size() || limit < 1 ||
-            limit > max_page) {
-            invalid_parameter(response, "limit",
-                              concat("an integer from 1 to ", std::to_string(max_page)));
-            return;
-        }
-        query.limit = limit;
-    }
+    if (!read_page_limit(request, response, max_page, query.limit)) return;
     if (request.has_param("cursor")) query.cursor = request.get_param_value("cursor");
     auto store = store_or_503(response);
     if (!store) return;

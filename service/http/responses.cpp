@@ -4,6 +4,7 @@
 #include <cctype>
 #include <charconv>
 
+#include "api/field_errors.h"
 #include "api/text.h"
 
 namespace rollgap::service::http {
@@ -147,6 +148,29 @@ bool constant_time_equal(std::string_view a, std::string_view b) {
         difference |= static_cast<unsigned>(x ^ y);
     }
     return difference == 0;
+}
+
+void invalid_parameter(httplib::Response& response, std::string_view name, std::string_view rule) {
+    set_problem(response, api::ProblemCode::invalid_request,
+                api::concat("query parameter '", name, "': ", rule),
+                {api::FieldError{api::concat("/query/", name), api::concat("expected ", rule),
+                                 std::string(rule), std::nullopt}});
+}
+
+bool read_page_limit(const httplib::Request& request, httplib::Response& response,
+                     std::size_t max_page, std::size_t& limit) {
+    if (!request.has_param("limit")) return true;
+    const std::string text = request.get_param_value("limit");
+    std::size_t value = 0;
+    const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+    if (text.empty() || error != std::errc{} || end != text.data() + text.size() || value < 1 ||
+        value > max_page) {
+        invalid_parameter(response, "limit",
+                          api::concat("an integer from 1 to ", std::to_string(max_page)));
+        return false;
+    }
+    limit = value;
+    return true;
 }
 
 }  // namespace rollgap::service::http

@@ -36,6 +36,15 @@ std::string_view trim(std::string_view text);
 bool is_json_media_type(std::string_view content_type);
 // The request announces a body (chunked, or a non-zero Content-Length).
 bool has_body(const httplib::Request& request);
+
+// A refused query parameter is a field error like any other: 422 at `/query/<name>`, its rule
+// as the bound.
+void invalid_parameter(httplib::Response& response, std::string_view name, std::string_view rule);
+// The `limit` of a paged listing (GET /v1/jobs, GET /v1/scenarios), an integer from 1 to
+// `max_page`; `limit` keeps its value when the parameter is absent. False (and the 422 in
+// `response`) when it is refused.
+bool read_page_limit(const httplib::Request& request, httplib::Response& response,
+                     std::size_t max_page, std::size_t& limit);
 std::optional<std::size_t> content_length(const httplib::Request& request);
 // Compares in time independent of where the strings differ.
 bool constant_time_equal(std::string_view a, std::string_view b);

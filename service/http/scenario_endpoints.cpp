@@ -110,15 +110,6 @@ std::string http_date(store::Millis millis) {
     return std::string(text, length);
 }
 
-// The parameter is named as a field of the request (`/query/limit`), with its rule as the
-// bound, as GET /v1/jobs does.
-void invalid_parameter(httplib::Response& response, std::string_view name, std::string_view rule) {
-    set_problem(response, api::ProblemCode::invalid_request,
-                concat("query parameter '", name, "': ", rule),
-                {api::FieldError{concat("/query/", name), concat("expected ", rule),
-                                 std::string(rule), std::nullopt}});
-}
-
 // 422 for a name in the path that cannot be stored (the pattern, or `default`).
 bool refuse_name(const std::string& name, httplib::Response& response) {
     auto error = api::stored_scenario_name_error(name, "/name");
@@ -190,18 +181,7 @@ void ScenarioEndpoints::get_or_delete(const httplib::Request& request, const std
 void ScenarioEndpoints::list(const httplib::Request& request, httplib::Response& response) {
     store::ScenarioQuery query;
     query.limit = default_page;
-    if (request.has_param("limit")) {
-        const std::string text = request.get_param_value("limit");
-        std::size_t limit = 0;
-        const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), limit);
-        if (text.empty() || error != std::errc{} || end != text.data() + text.size() || limit < 1 ||
-            limit > max_page) {
-            invalid_parameter(response, "limit",
-                              concat("an integer from 1 to ", std::to_string(max_page)));
-            return;
-        }
-        query.limit = limit;
-    }
+    if (!read_page_limit(request, response, max_page, query.limit)) return;
     if (request.has_param("cursor")) query.cursor = request.get_param_value("cursor");
     const auto store = state_.store.get();
     if (!store) return state_.store_unavailable(response, std::string(store_down));
