@@ -11,7 +11,8 @@ set -euo pipefail
 BUILD_PACKAGES=(build-essential cmake pkg-config)
 LIBRARY_PACKAGES=(libeigen3-dev libsundials-dev libcpp-httplib-dev nlohmann-json3-dev libspdlog-dev libcli11-dev libsqlite3-dev libpqxx-dev libssl-dev)
 # postgresql: the job store tests start a PostgreSQL 15 server of their own (initdb, pg_ctl).
-TEST_PACKAGES=(doctest-dev postgresql)
+# sqlite3: the migration test makes a store of the previous schema with the sqlite3 program.
+TEST_PACKAGES=(doctest-dev postgresql sqlite3)
 # The sanitizer build and the fuzzers (scripts/test.sh, scripts/fuzz.sh): clang 14 (clang++),
 # its sanitizer and libFuzzer runtimes (libclang-rt-14-dev is only a Recommends of clang, and
 # --no-recommends below would leave it out) and llvm for llvm-symbolizer (readable stacks).

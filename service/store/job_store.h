@@ -166,6 +166,9 @@ struct StoreLimits {
     std::chrono::milliseconds retention{3'600'000};  // a finished job is kept this long
     std::size_t max_scenarios = 1000;                // stored scenarios (names not deleted)
     std::size_t scenario_history = 20;               // versions kept per name, newest first
+    // Deleted names whose marker row is kept (it holds the name's version counter); beyond it
+    // the oldest markers go and their versions raise a floor that every new name starts above.
+    std::size_t deleted_names = 1000;
     // The store executor (store_executor.h): its threads, each with at most one database
     // connection, and how long a caller waits for one operation before it answers
     // `unavailable` (a write's outcome is then unknown).

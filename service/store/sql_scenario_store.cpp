@@ -2,7 +2,10 @@
 // name's version counts up for ever (a delete is a version too, marked `deleted`), and an
 // editor's stale If-Match can never match a scenario created again under the same name. The
 // history per name is bounded (StoreLimits::scenario_history); a deleted name keeps only its
-// marker, which holds the counter.
+// marker, which holds the counter. The markers are bounded too (StoreLimits::deleted_names):
+// the oldest go, and the highest version they held becomes the floor, kept in the row of the
+// name '' (never a valid name), above which every name that has no row starts, so a name that
+// lost its marker still never sees a version again.
 
 #include "service/store/sql_scenario_store.h"
 
@@ -28,6 +31,37 @@ std::optional<Row> newest(Session& s, const std::string& name, std::string_view 
 constexpr std::string_view live =
     "v.deleted = 0 AND NOT EXISTS (SELECT 1 FROM scenario_versions w "
     "WHERE w.name = v.name AND w.version > v.version)";
+
+// The version below which no name without rows may start (0 until a marker was dropped).
+std::int64_t version_floor(Session& s) {
+    const Rows rows =
+        s.exec("SELECT COALESCE(MAX(version), 0) FROM scenario_versions WHERE name = ''");
+    return rows.empty() ? 0 : to_int(rows.front().at(0));
+}
+
+// Keeps at most `bound` deleted names' markers: the oldest others go, their versions raise the
+// floor.
+void bound_deleted_names(Session& s, std::size_t bound, std::int64_t now) {
+    const std::string markers =
+        "FROM scenario_versions v WHERE v.deleted = 1 AND v.name <> '' AND NOT EXISTS "
+        "(SELECT 1 FROM scenario_versions w WHERE w.name = v.name AND w.version > v.version)";
+    const std::int64_t count = to_int(s.exec("SELECT COUNT(*) " + markers).at(0).at(0));
+    const auto keep = static_cast<std::int64_t>(bound);
+    if (count <= keep) return;
+    std::int64_t floor = version_floor(s);
+    const Rows oldest =
+        s.exec("SELECT v.name, v.version " + markers + " ORDER BY v.created, v.name LIMIT $1",
+               {count - keep});
+    for (const Row& row : oldest) {
+        floor = std::max(floor, to_int(row.at(1)));
+        s.exec("DELETE FROM scenario_versions WHERE name = $1", {row.at(0).value_or("")});
+    }
+    s.exec("DELETE FROM scenario_versions WHERE name = ''");
+    s.exec(
+        "INSERT INTO scenario_versions (name, version, kind, body, author, created, deleted) "
+        "VALUES ('', $1, $2, '', '', $3, 1)",
+        {floor, std::string(kind_stand), now});
+}
 
 std::optional<StoreStatus> refuse_name(const std::string& name) {
     if (name == reserved_scenario_name || !valid_scenario_name(name)) return StoreStatus::invalid;
@@ -79,7 +113,7 @@ Result<Scenario> SqlScenarioStore::put(const std::string& name, const std::strin
                 throw Abort{StoreStatus::conflict, "version mismatch"};
             }
             stored.created = !exists;
-            stored.version = current ? to_int(current->at(0)) + 1 : 1;
+            stored.version = current ? to_int(current->at(0)) + 1 : version_floor(s) + 1;
             // A creator racing on a name never stored before: the key (name, version) lets one
             // win; the other sees a conflict, as an editor with a stale version does.
             if (s.exec("INSERT INTO scenario_versions (name, version, kind, body, author, created, "
@@ -142,6 +176,7 @@ StoreStatus SqlScenarioStore::remove(const std::string& name, std::optional<std:
                 {name, version + 1, std::string(kind_stand), author, clock_()});
             s.exec("DELETE FROM scenario_versions WHERE name = $1 AND version <= $2",
                    {name, version});
+            bound_deleted_names(s, std::max<std::size_t>(limits_.deleted_names, 1), clock_());
         },
         detail);
 }
