@@ -397,6 +397,11 @@ struct HttpServer::Impl {
                 response.set_header("X-Request-Id", new_request_id());
             if (!response.body.empty() || response.status == 204) return;
             set_problem(response, problem_for_status(response.status));
+            // httplib's own 400: the request line or headers could not be parsed, so where the
+            // next request would start cannot be trusted (found by fuzz_http_request: the bytes
+            // after a malformed request line were read as requests, one 400 each). The
+            // connection ends here, as nginx does.
+            if (response.status == 400) response.set_header("Connection", "close");
         });
         listener.set_exception_handler([](const httplib::Request&, httplib::Response& response,
                                           std::exception_ptr) {
