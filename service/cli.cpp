@@ -99,8 +99,10 @@ void print_usage(std::ostream& stream) {
         stream << "  " << analysis.name << std::string(name_width + 2 - analysis.name.size(), ' ')
                << analysis.summary << '\n';
     }
-    stream << "\n"
-              "exit status: 0 success, 1 internal error, 2 invalid request or usage\n";
+    stream
+        << "\n"
+           "exit status: 0 success, 1 internal error, 2 invalid request or usage, or `serve` could "
+           "not start (a port in use)\n";
 }
 
 int usage_error(std::ostream& err, std::string_view message) {
