@@ -12,6 +12,7 @@ store::StoreLimits store_limits(const ServerConfig& config) {
     limits.max_scenarios = config.max_scenarios;
     limits.connections = config.store_connections;
     limits.deadline = config.store_deadline;
+    limits.client_name = "rollgap/" + config.instance;
     return limits;
 }
 

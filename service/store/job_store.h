@@ -174,6 +174,10 @@ struct StoreLimits {
     // `unavailable` (a write's outcome is then unknown).
     std::size_t connections = 4;
     std::chrono::milliseconds deadline{2000};
+    // How the database names this replica's connections (PostgreSQL `application_name`, seen
+    // in pg_stat_activity): "rollgap/<instance>", so an operator sees which replica holds which
+    // connection. A DSN that sets application_name itself keeps its own.
+    std::string client_name = "rollgap";
 };
 
 class JobStore {

@@ -35,7 +35,7 @@ Result<std::shared_ptr<JobStore>> open_store(const std::string& setting, StoreLi
         backend = detail::open_sqlite(path);
     } else if (starts_with(setting, "postgresql://") || starts_with(setting, "postgres://")) {
         dsn = setting;
-        backend = detail::open_postgresql(dsn);
+        backend = detail::open_postgresql(dsn, limits.client_name);
     } else if (starts_with(setting, "postgresql-file:")) {
         // The DSN's file (a mounted Secret); its text never goes into a detail or a log.
         std::ifstream file(setting.substr(16));
@@ -47,7 +47,7 @@ Result<std::shared_ptr<JobStore>> open_store(const std::string& setting, StoreLi
             return R::failure(StoreStatus::invalid,
                               "the DSN file does not hold a postgresql:// DSN");
         }
-        backend = detail::open_postgresql(dsn);
+        backend = detail::open_postgresql(dsn, limits.client_name);
     } else {
         return R::failure(StoreStatus::invalid,
                           "expected sqlite:PATH, postgresql://… or postgresql-file:PATH");

@@ -5,7 +5,9 @@
 // transaction begins (the server restarted, a partition cut it) is replaced and the
 // transaction run again on a fresh one, so the first operation after a restart succeeds.
 
+#include <cctype>
 #include <chrono>
+#include <cstdio>
 #include <map>
 #include <mutex>
 #include <string>
@@ -27,22 +29,46 @@ constexpr std::chrono::seconds idle_timeout{30};
 
 // libpq options the DSN does not set itself: a bounded connect, and TCP keepalives plus a user
 // timeout so that a call stuck on a silent network returns an error (and frees its executor
-// thread) instead of waiting for ever.
-std::string with_connection_options(const std::string& dsn) {
+// thread) instead of waiting for ever; and the replica's name as application_name.
+std::string with_connection_options(const std::string& dsn, const std::string& client_name) {
     const bool uri = dsn.rfind("postgresql://", 0) == 0 || dsn.rfind("postgres://", 0) == 0;
+    // application_name: at most 63 bytes are kept by the server; printable ASCII only.
+    std::string name;
+    for (const char c : client_name.substr(0, 63))
+        name += (c > ' ' && c < 0x7f) ? c : '_';
     std::string text = dsn;
-    for (const auto& [name, value] :
+    for (const auto& [option, value] :
          std::map<std::string, std::string>{{"connect_timeout", "5"},
                                             {"keepalives", "1"},
                                             {"keepalives_idle", "5"},
                                             {"keepalives_interval", "2"},
                                             {"keepalives_count", "3"},
-                                            {"tcp_user_timeout", "10000"}}) {
-        if (dsn.find(name + "=") != std::string::npos) continue;
+                                            {"tcp_user_timeout", "10000"},
+                                            {"application_name", name}}) {
+        if (value.empty() || dsn.find(option + "=") != std::string::npos) continue;
         if (uri) {
-            text += (text.find('?') == std::string::npos ? "?" : "&") + name + "=" + value;
+            // A URI's query value: percent-encoded but for the unreserved characters.
+            std::string encoded;
+            for (const char c : value) {
+                const bool unreserved = std::isalnum(static_cast<unsigned char>(c)) != 0 ||
+                                        c == '-' || c == '.' || c == '_' || c == '~';
+                if (unreserved) {
+                    encoded += c;
+                } else {
+                    char hex[4];
+                    std::snprintf(hex, sizeof hex, "%%%02X", static_cast<unsigned char>(c));
+                    encoded += hex;
+                }
+            }
+            text += (text.find('?') == std::string::npos ? "?" : "&") + option + "=" + encoded;
         } else {
-            text += " " + name + "=" + value;
+            // A keyword/value string: quoted, with ' and \ escaped.
+            std::string quoted = "'";
+            for (const char c : value) {
+                if (c == '\'' || c == '\\') quoted += '\\';
+                quoted += c;
+            }
+            text += " " + option + "=" + quoted + "'";
         }
     }
     return text;
@@ -84,7 +110,8 @@ private:
 
 class PostgresBackend final : public Backend {
 public:
-    explicit PostgresBackend(const std::string& dsn) : dsn_(with_connection_options(dsn)) {}
+    PostgresBackend(const std::string& dsn, const std::string& client_name)
+        : dsn_(with_connection_options(dsn, client_name)) {}
 
     Dialect dialect() const override { return Dialect::postgresql; }
 
@@ -232,8 +259,10 @@ private:
 
 }  // namespace
 
-Result<std::unique_ptr<Backend>> open_postgresql(const std::string& dsn) {
-    return {StoreStatus::ok, std::unique_ptr<Backend>(std::make_unique<PostgresBackend>(dsn)), {}};
+Result<std::unique_ptr<Backend>> open_postgresql(const std::string& dsn,
+                                                 const std::string& client_name) {
+    return {StoreStatus::ok,
+            std::unique_ptr<Backend>(std::make_unique<PostgresBackend>(dsn, client_name)), {}};
 }
 
 }  // namespace rollgap::service::store::detail

@@ -51,7 +51,9 @@ public:
 
 // Both open lazily enough to report `unavailable` through the returned status.
 Result<std::unique_ptr<Backend>> open_sqlite(const std::string& path);
-Result<std::unique_ptr<Backend>> open_postgresql(const std::string& dsn);
+// `client_name`: the connections' application_name unless the DSN sets one.
+Result<std::unique_ptr<Backend>> open_postgresql(const std::string& dsn,
+                                                 const std::string& client_name);
 
 std::shared_ptr<JobStore> make_sql_job_store(std::unique_ptr<Backend> backend, StoreLimits limits,
                                              Clock clock);
