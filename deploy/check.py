@@ -4,11 +4,11 @@
     python3 deploy/check.py
 
 Every YAML file parses; every resource and generator file a kustomization lists exists; and
-the properties the README promises hold: no session affinity, a PodDisruptionBudget selecting
-the pods, the job store's DSN read from a mounted Secret that the trial database provides, a
-writable data directory on the read-only root filesystem, and a grace period that covers the
-preStop pause, the drain timeout and the exit. With kubectl on the PATH it also builds both
-kustomizations (`kubectl kustomize`, offline). Exit status 0 when every check passes.
+the properties docs/operations.md promises hold: no session affinity, a PodDisruptionBudget
+selecting the pods, the job store's DSN read from a mounted Secret that the trial database
+provides, a writable data directory on the read-only root filesystem, and a grace period that
+covers the preStop pause, the drain timeout and the exit. With kubectl on the PATH it also
+builds both kustomizations (`kubectl kustomize`, offline). Exit status 0 when every check passes.
 """
 import pathlib
 import re
@@ -124,7 +124,8 @@ if deployment:
     for name in ("ROLLGAP_LEASE_MS", "ROLLGAP_CHUNK_POINTS"):
         check(str(env.get(name, {}).get("value", "")).isdigit(), f"{name} is not set to a number")
 
-    # 7. The grace period covers preStop + drain timeout + 2 s exit (README: "Operations").
+    # 7. The grace period covers preStop + drain timeout + 2 s exit (docs/operations.md:
+    # "Logs, metrics, health, shutdown").
     pause = 0
     for c in pod["containers"]:
         command = " ".join(c.get("lifecycle", {}).get("preStop", {}).get("exec", {}).get("command", []))

@@ -68,8 +68,9 @@ service::Evaluator budgeted_facade() {
 }
 
 // Statuses the service answers: the routes' successes, 100 Continue, 304 (the workbench's
-// revalidation) and every error status of the problem table (api/problem.cpp), which the README's
-// "Errors" table lists; 500 (`internal`) is left out: a request must never reach it.
+// revalidation) and every error status of the problem table (api/problem.cpp), which the
+// "Errors" table of docs/http-api.md lists; 500 (`internal`) is left out: a request must never
+// reach it.
 const std::set<int> documented_statuses = [] {
     std::set<int> statuses = {100, 200, 201, 202, 204, 304};
     for (const rollgap::api::ProblemKind& kind : rollgap::api::problem_kinds()) {

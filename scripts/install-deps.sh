@@ -18,9 +18,9 @@ TEST_PACKAGES=(doctest-dev postgresql sqlite3)
 # --no-recommends below would leave it out) and llvm for llvm-symbolizer (readable stacks).
 SANITIZER_PACKAGES=(clang libclang-rt-14-dev llvm)
 # Tools for scripts and CI.
-# curl: the test that runs the README's HTTP examples; nginx: the test that runs two service
-# instances behind a load balancer. (wrk and prometheus/promtool are installed by the scripts
-# that use them, bench-http.sh and check-http.sh, not in CI.)
+# curl: the test that runs the documentation's HTTP examples; nginx: the test that runs two
+# service instances behind a load balancer. (wrk and prometheus/promtool are installed by the
+# scripts that use them, bench-http.sh and check-http.sh, not in CI.)
 # clang-format: the format check of scripts/test.sh (scripts/check-format.sh).
 # python3-yaml: deploy/check.py, the static check of the Kubernetes files (ctest deploy_check).
 TOOL_PACKAGES=(curl nginx clang-format python3-yaml)

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Load runs of the HTTP service that print their figures (README: "Load figures"):
+# Load runs of the HTTP service that print their figures (docs/performance.md: "Load figures"):
 #
 #   overload  more concurrent requests than the workers and the queue hold: answers by status,
 #             p99 of the accepted (200) requests, service RSS at start, middle and end.

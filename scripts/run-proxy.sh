@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Run the front proxy (Debian's nginx with deploy/nginx/rollgap.conf) in the foreground in
-# front of a running service (README: "Front proxy"):
+# front of a running service (docs/operations.md: "Front proxy"):
 #
 #   bash scripts/run-service.sh &          # the service on 127.0.0.1:8080
 #   bash scripts/run-proxy.sh              # the proxy on 127.0.0.1:8000 -> 127.0.0.1:8080

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Install the dependencies, build rollgap and run the HTTP service (`build/rollgap serve`) on
-# http://localhost:8080 in the foreground, the default scenario ready (README: "HTTP service").
+# http://localhost:8080 in the foreground, the default scenario ready (README.md; the API:
+# docs/http-api.md).
 # Ctrl-C or SIGTERM drains it and exits 0.
 #
 # Extra arguments are passed to `rollgap serve` (e.g. --port 9000 --workers 4; --help).

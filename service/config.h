@@ -2,7 +2,7 @@
 // Configuration of the HTTP service (`rollgap serve`): every setting is a flag and an
 // environment variable; a flag wins over the variable, the variable over the default.
 // The table of settings (config_settings()) is what CLI11 parses, what --help prints and what
-// the README documents.
+// docs/operations.md ("Configuration") documents.
 
 #include <chrono>
 #include <cstddef>

@@ -1,6 +1,6 @@
 #pragma once
 // The HTTP service: REST API v1 over cpp-httplib, in front of the same facade as the
-// CLI (service::evaluate). See the README's "HTTP service" and service/openapi.json.
+// CLI (service::evaluate). See docs/http-api.md and service/openapi.json.
 //
 // Threads: httplib's I/O threads (config.io_threads) read requests and write answers; the
 // model runs on the WorkerPool (config.workers) behind bounded queues. An I/O thread

@@ -1,5 +1,6 @@
 // The analysis "calibrate" through the facade: invalid requests are refused with the pointer,
-// bound and unit; the README's example (examples/calibrate.json) is plant data made by the
+// bound and unit; the calibration example of docs/cli.md (examples/calibrate.json, the tests
+// named "README example", which the README links to) is plant data made by the
 // model at known values and the fit returns those values; the calibrated scenario is a merge
 // patch that reproduces them.
 

@@ -18,7 +18,8 @@ using SteadyClock = std::chrono::steady_clock;
 
 namespace {
 
-// The margin the README documents past the drain timeout.
+// The margin docs/operations.md documents past the drain timeout ("Logs, metrics, health,
+// shutdown").
 constexpr milliseconds drain_margin{2000};
 
 }  // namespace

@@ -25,7 +25,7 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 
-// The limits of deploy/nginx/rollgap.conf the test replays against (the README's table).
+// The limits of deploy/nginx/rollgap.conf the test replays against (docs/operations.md's table).
 constexpr auto header_deadline = std::chrono::seconds(10);  // client_header_timeout
 constexpr std::size_t header_line_limit = 8192;             // large_client_header_buffers 4 8k
 constexpr std::size_t body_limit = 1048576;                 // client_max_body_size 1m

@@ -1,6 +1,7 @@
 // Scale-out: two service instances behind nginx on loopback, a sweep sent through the proxy,
-// requests spread over both instances, and a job polled through the proxy with the affinity
-// the README recommends (route by client address).
+// requests spread over both instances, and a job polled through the proxy with affinity by
+// client address: each instance here has a job store of its own. With a shared store
+// (PostgreSQL) no affinity is needed (docs/operations.md: "Scaling out").
 
 #include "service/analyses.h"
 

@@ -1,14 +1,23 @@
-// The README's command-line examples ("Command line"), run as they are written: every fenced
-// block with `echo '<request>' | build/rollgap run -` runs through the command line (run_cli, in
-// process), and every figure the block shows under the command (a number, string or boolean at
-// its place in the trimmed JSON, `…` marking what was left out) must be what the program prints,
-// to the digits the README prints.
+// The documentation's command-line examples (README.md and docs/*.md), run as they are written.
+// A fenced block is an example when its command is `echo '<request>' | build/rollgap run ARGS`
+// or `build/rollgap run ARGS` (the command may continue over lines that end in a backslash):
+// it runs through the command line (run_cli, in process; a request file is read from the
+// repository), and what the block shows under the command must be what the program prints. In
+// trimmed JSON every figure (a number, string or boolean at its place, `…` marking what was left
+// out) must match to the digits the block prints; a CSV example (`--format csv`) must match line
+// for line. A block that mentions `build/rollgap run` but is not such an example fails the
+// test, and so does a file expected to hold examples that holds fewer than expected, so that no
+// example goes unrun.
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <string_view>
@@ -22,41 +31,137 @@ using nlohmann::json;
 
 namespace {
 
-std::string readme_text() {
-    // This file is tests/test_readme_cli.cpp; the README is beside tests/.
-    const std::filesystem::path readme =
-        std::filesystem::path(__FILE__).parent_path().parent_path() / "README.md";
-    std::ifstream file(readme);
-    REQUIRE_MESSAGE(file, "cannot read " << readme.string());
+// This file is tests/test_readme_cli.cpp; the repository root is beside tests/.
+std::filesystem::path repository_root() {
+    return std::filesystem::path(__FILE__).parent_path().parent_path();
+}
+
+std::string read_text(const std::filesystem::path& path) {
+    std::ifstream file(path);
+    REQUIRE_MESSAGE(file, "cannot read " << path.string());
     return {std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>()};
 }
 
-struct Example {
-    std::string request;  // what echo pipes into the program
-    std::string shown;    // the output the README shows under the command (may be empty)
+// README.md and every docs/*.md, relative to the repository root.
+std::vector<std::string> documentation_files() {
+    const std::filesystem::path docs = repository_root() / "docs";
+    REQUIRE_MESSAGE(std::filesystem::is_directory(docs), "no directory " << docs.string());
+    std::vector<std::string> files;
+    for (const auto& entry : std::filesystem::directory_iterator(docs)) {
+        if (entry.is_regular_file() && entry.path().extension() == ".md")
+            files.push_back("docs/" + entry.path().filename().string());
+    }
+    std::sort(files.begin(), files.end());
+    files.insert(files.begin(), "README.md");
+    return files;
+}
+
+// The files that hold command-line examples, and how many each holds at least.
+struct ExpectedExamples {
+    std::string_view file;
+    std::size_t at_least;
+};
+constexpr ExpectedExamples expected_examples[] = {
+    {"README.md", 3},    // the critical speed, a lubricant sweep, a CSV table
+    {"docs/cli.md", 8},  // roll_gap, stability, amplitude, tension_cycle, map, evaluate,
+                         // calibrate, a CSV table
 };
 
-// Every fenced block whose command pipes an echo into `build/rollgap run -`.
-std::vector<Example> cli_examples(const std::string& readme) {
-    std::vector<Example> examples;
-    constexpr std::string_view fence = "```";
-    for (std::size_t open = readme.find(fence); open != std::string::npos;) {
-        const std::size_t start = readme.find('\n', open) + 1;
-        const std::size_t close = readme.find("\n```", start);
-        if (close == std::string::npos) break;
-        const std::string block = readme.substr(start, close - start + 1);
-        open = readme.find(fence, close + 4);
-        const std::size_t run = block.find("| build/rollgap run -");
-        const std::size_t echo = block.find("echo '");
-        if (run == std::string::npos || echo == std::string::npos || echo > run) continue;
-        const std::size_t request_end = block.find('\'', echo + 6);
-        REQUIRE(request_end != std::string::npos);
-        const std::size_t command_end = block.find('\n', run);
-        examples.push_back(
-            {block.substr(echo + 6, request_end - echo - 6),
-             command_end == std::string::npos ? std::string() : block.substr(command_end + 1)});
+std::string_view trim(std::string_view text) {
+    while (!text.empty() && std::isspace(static_cast<unsigned char>(text.front())))
+        text.remove_prefix(1);
+    while (!text.empty() && std::isspace(static_cast<unsigned char>(text.back())))
+        text.remove_suffix(1);
+    return text;
+}
+
+struct Block {
+    std::size_t line = 0;            // of the opening fence, from 1
+    std::vector<std::string> lines;  // between the fences
+};
+
+// The fenced blocks of a Markdown text: from a line that starts with ``` (after indentation) to
+// the next such line.
+std::vector<Block> fenced_blocks(const std::string& text) {
+    std::vector<Block> blocks;
+    std::istringstream lines(text);
+    std::string line;
+    std::optional<Block> open;
+    for (std::size_t number = 1; std::getline(lines, line); ++number) {
+        if (trim(line).starts_with("```")) {
+            if (open) {
+                blocks.push_back(std::move(*open));
+                open.reset();
+            } else {
+                open = Block{number, {}};
+            }
+        } else if (open) {
+            open->lines.push_back(line);
+        }
     }
-    return examples;
+    if (open) FAIL("a fenced block opened at line " << open->line << " is not closed");
+    return blocks;
+}
+
+struct Example {
+    std::string where;                   // file:line, for messages
+    std::vector<std::string> arguments;  // after build/rollgap
+    std::optional<std::string> input;    // what echo pipes into the program
+    std::string shown;                   // what the block shows under the command (may be empty)
+};
+
+// The example a block holds, if it holds one.
+std::optional<Example> example_in(const Block& block, const std::string& where) {
+    if (block.lines.empty()) return std::nullopt;
+    std::string command(trim(block.lines[0]));
+    std::size_t last = 0;  // the command's last line
+    while (!command.empty() && command.back() == '\\' && last + 1 < block.lines.size()) {
+        command.pop_back();
+        command += " ";
+        command += trim(block.lines[++last]);
+    }
+    Example example;
+    example.where = where;
+    std::string_view invocation = command;
+    if (invocation.starts_with("echo '")) {
+        const std::size_t end = invocation.find('\'', 6);
+        if (end == std::string_view::npos) return std::nullopt;
+        example.input = std::string(invocation.substr(6, end - 6));
+        invocation = trim(invocation.substr(end + 1));
+        if (!invocation.starts_with("|")) return std::nullopt;
+        invocation = trim(invocation.substr(1));
+    }
+    if (!invocation.starts_with("build/rollgap run ")) return std::nullopt;
+    std::istringstream words{std::string(invocation.substr(std::string_view("build/").size()))};
+    std::string word;
+    words >> word;  // rollgap
+    while (words >> word) example.arguments.push_back(word);
+    for (std::size_t i = last + 1; i < block.lines.size(); ++i)
+        example.shown += block.lines[i] + "\n";
+    return example;
+}
+
+struct DocumentExamples {
+    std::vector<Example> examples;
+    std::vector<std::string> unrunnable;  // file:line of blocks that mention the program
+};
+
+DocumentExamples cli_examples(const std::string& file) {
+    DocumentExamples found;
+    for (const Block& block : fenced_blocks(read_text(repository_root() / file))) {
+        const std::string where = file + ":" + std::to_string(block.line);
+        if (auto example = example_in(block, where)) {
+            found.examples.push_back(std::move(*example));
+            continue;
+        }
+        for (const std::string& line : block.lines) {
+            if (line.find("build/rollgap run") != std::string::npos) {
+                found.unrunnable.push_back(where);
+                break;
+            }
+        }
+    }
+    return found;
 }
 
 struct ShownValue {
@@ -134,7 +239,8 @@ std::vector<ShownValue> shown_values(std::string_view text) {
     return values;
 }
 
-// Half a unit of the last digit the README prints: 9242.88 → 0.005, 20.096652089608604 → 5e-15.
+// Half a unit of the last digit the documentation prints: 9242.88 → 0.005,
+// 20.096652089608604 → 5e-15.
 double printed_tolerance(const std::string& literal, double value) {
     const std::size_t point = literal.find('.');
     const std::size_t exponent_at = literal.find_first_of("eE");
@@ -147,44 +253,130 @@ double printed_tolerance(const std::string& literal, double value) {
     return 0.5 * std::pow(10.0, exponent - decimals) + 4.0 * std::abs(value) * 2.2e-16;
 }
 
-}  // namespace
+// Whether the arguments ask for CSV (`--format csv`).
+bool prints_csv(const std::vector<std::string>& arguments) {
+    for (std::size_t i = 0; i + 1 < arguments.size(); ++i) {
+        if (arguments[i] == "--format" && arguments[i + 1] == "csv") return true;
+    }
+    return false;
+}
 
-TEST_CASE("README: every command-line example runs and prints the figures the README shows") {
-    const std::vector<Example> examples = cli_examples(readme_text());
-    // The README's examples: roll_gap at 25 m/s, stability, amplitude, tension_cycle, sweep,
-    // evaluate.
-    REQUIRE(examples.size() >= 6);
-    std::size_t compared = 0;
-    for (const Example& example : examples) {
-        CAPTURE(example.request);
-        std::istringstream in(example.request);
-        std::ostringstream out, err;
-        const std::string_view arguments[] = {"run", "-"};
-        const int status = rollgap::service::run_cli(arguments, in, out, err);
-        REQUIRE(status == rollgap::service::exit_success);
-        const json printed = json::parse(out.str());
-        if (example.shown.find('{') == std::string::npos) continue;  // a command without its output
-        const std::vector<ShownValue> shown = shown_values(example.shown);
-        CHECK(!shown.empty());
-        for (const ShownValue& value : shown) {
-            CAPTURE(value.pointer);
-            const json::json_pointer pointer(value.pointer);
-            REQUIRE(printed.contains(pointer));
-            const json& actual = printed.at(pointer);
-            if (value.value.is_number()) {
-                REQUIRE(actual.is_number());
-                const double expected = value.value.get<double>();
-                CAPTURE(value.literal);
-                CAPTURE(actual.dump());
-                CHECK(std::abs(actual.get<double>() - expected) <=
-                      printed_tolerance(value.literal, expected));
-            } else {
-                CHECK(actual == value.value);
-            }
-            ++compared;
+// Runs the example; the request file, if it names one, is read from the repository root.
+// Returns the program's standard output.
+std::string run_example(const Example& example) {
+    std::vector<std::string> arguments = example.arguments;
+    REQUIRE_MESSAGE(!arguments.empty(), "no command");
+    REQUIRE(arguments.front() == "run");
+    std::optional<std::string> source;
+    for (std::size_t i = 1; i < arguments.size(); ++i) {
+        if (arguments[i] == "--format" || arguments[i] == "--table") {
+            ++i;  // the option's value
+        } else if (!arguments[i].starts_with("-")) {
+            arguments[i] = (repository_root() / arguments[i]).string();
+            source = arguments[i];
+        } else if (arguments[i] == "-") {
+            source = arguments[i];
         }
     }
-    MESSAGE(compared << " figures of " << examples.size() << " README examples compared");
+    REQUIRE_MESSAGE(source, "the command names no request file and no '-'");
+    REQUIRE_MESSAGE(example.input.has_value() == (*source == "-"),
+                    "a request is piped in exactly when the program reads standard input");
+    const std::vector<std::string_view> views(arguments.begin(), arguments.end());
+    std::istringstream in(example.input.value_or(""));
+    std::ostringstream out, err;
+    const int status = rollgap::service::run_cli(views, in, out, err);
+    CAPTURE(err.str());
+    REQUIRE(status == rollgap::service::exit_success);
+    return out.str();
+}
+
+// Compares the CSV the program printed with the lines shown: CRLF line ends, every line equal.
+void compare_csv(const std::string& printed, const std::string& shown) {
+    REQUIRE_MESSAGE(!shown.empty(), "a CSV example shows its output");
+    for (std::size_t at = printed.find('\n'); at != std::string::npos;
+         at = printed.find('\n', at + 1)) {
+        CHECK_MESSAGE((at > 0 && printed[at - 1] == '\r'), "a CSV line ends in CRLF");
+    }
+    std::string lines;
+    for (std::size_t from = 0; from < printed.size();) {
+        const std::size_t end = printed.find("\r\n", from);
+        if (end == std::string::npos) {
+            lines += printed.substr(from);
+            break;
+        }
+        lines += printed.substr(from, end - from) + "\n";
+        from = end + 2;
+    }
+    CHECK(lines == shown);
+}
+
+// Compares the JSON the program printed with the figures shown; returns how many were compared.
+std::size_t compare_json(const std::string& printed_text, const std::string& shown_text) {
+    const json printed = json::parse(printed_text);
+    if (shown_text.find('{') == std::string::npos) return 0;  // a command without its output
+    const std::vector<ShownValue> shown = shown_values(shown_text);
+    CHECK(!shown.empty());
+    std::size_t compared = 0;
+    for (const ShownValue& value : shown) {
+        CAPTURE(value.pointer);
+        const json::json_pointer pointer(value.pointer);
+        REQUIRE(printed.contains(pointer));
+        const json& actual = printed.at(pointer);
+        if (value.value.is_number()) {
+            REQUIRE(actual.is_number());
+            const double expected = value.value.get<double>();
+            CAPTURE(value.literal);
+            CAPTURE(actual.dump());
+            CHECK(std::abs(actual.get<double>() - expected) <=
+                  printed_tolerance(value.literal, expected));
+        } else {
+            CHECK(actual == value.value);
+        }
+        ++compared;
+    }
+    return compared;
+}
+
+}  // namespace
+
+TEST_CASE("README and docs: every command-line example runs and prints the figures it shows") {
+    std::map<std::string, std::size_t, std::less<>> per_file;
+    std::size_t examples = 0, compared = 0, csv_lines = 0;
+    for (const std::string& file : documentation_files()) {
+        const DocumentExamples found = cli_examples(file);
+        for (const std::string& where : found.unrunnable) {
+            CAPTURE(where);
+            FAIL_CHECK("a fenced block mentions build/rollgap run but is no runnable example");
+        }
+        per_file[file] = found.examples.size();
+        for (const Example& example : found.examples) {
+            CAPTURE(example.where);
+            CAPTURE(example.input.value_or(""));
+            const std::string printed = run_example(example);
+            if (prints_csv(example.arguments)) {
+                compare_csv(printed, example.shown);
+                csv_lines += static_cast<std::size_t>(
+                    std::count(example.shown.begin(), example.shown.end(), '\n'));
+            } else {
+                compared += compare_json(printed, example.shown);
+            }
+            ++examples;
+        }
+    }
+    for (const ExpectedExamples& expected : expected_examples) {
+        CAPTURE(expected.file);
+        const auto found = per_file.find(expected.file);
+        REQUIRE_MESSAGE(found != per_file.end(), "the file is not in README.md or docs/");
+        CHECK_MESSAGE(found->second >= expected.at_least,
+                      "the file holds " << found->second << " command-line examples, expected "
+                                        << expected.at_least);
+    }
+    std::ostringstream counts;
+    for (const auto& [file, count] : per_file) {
+        if (count > 0) counts << " " << file << ": " << count << ";";
+    }
+    MESSAGE(compared << " figures and " << csv_lines << " CSV lines of " << examples
+                     << " command-line examples compared (" << counts.str() << " )");
 }
 
 TEST_CASE("README examples: the reader of shown output follows the JSON structure") {
@@ -209,4 +401,26 @@ TEST_CASE("README examples: the reader of shown output follows the JSON structur
     CHECK(values[4].value == true);
     CHECK(printed_tolerance("9242.88", 9242.88) == doctest::Approx(0.005));
     CHECK(printed_tolerance("2.25e-3", 2.25e-3) == doctest::Approx(0.5e-5));
+}
+
+TEST_CASE("README examples: a block is an example when its command runs the program") {
+    const auto block = [](std::vector<std::string> lines) { return Block{1, std::move(lines)}; };
+    const auto piped = example_in(block({"echo '{\"analysis\": \"evaluate\"}' \\",
+                                         "  | build/rollgap run --format csv -", "a,b"}),
+                                  "x");
+    REQUIRE(piped);
+    CHECK(piped->input == "{\"analysis\": \"evaluate\"}");
+    CHECK(piped->arguments == std::vector<std::string>{"run", "--format", "csv", "-"});
+    CHECK(piped->shown == "a,b\n");
+    CHECK(prints_csv(piped->arguments));
+    const auto file = example_in(block({"build/rollgap run examples/calibrate.json", "{"}), "x");
+    REQUIRE(file);
+    CHECK_FALSE(file->input);
+    CHECK(file->arguments == std::vector<std::string>{"run", "examples/calibrate.json"});
+    CHECK_FALSE(example_in(block({"bash scripts/run-service.sh"}), "x"));
+    CHECK_FALSE(example_in(block({"build/rollgap scenario", "build/rollgap run -"}), "x"));
+    const std::vector<Block> blocks = fenced_blocks("text\n```\na\n```\n  ```sh\n  b\n  ```\n");
+    REQUIRE(blocks.size() == 2);
+    CHECK(blocks[0].line == 2);
+    CHECK(blocks[1].lines == std::vector<std::string>{"  b"});
 }

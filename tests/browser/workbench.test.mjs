@@ -379,15 +379,16 @@ try {
   });
 
   await test('calibration: observed vs fitted with error bars, the fitted values and standard errors are the API data', async () => {
-    // The README example (examples/calibrate.json) without its critical-speed observations and
-    // the span length only they determine: a critical-speed search per evaluation makes the
-    // full fit 4x dearer, and this suite runs under the sanitizers too.
+    // The calibration example of docs/cli.md (examples/calibrate.json) without its
+    // critical-speed observations and the span length only they determine: a critical-speed
+    // search per evaluation makes the full fit 4x dearer, and this suite runs under the
+    // sanitizers too.
     const example = JSON.parse(readFileSync(new URL('../../examples/calibrate.json', import.meta.url), 'utf8')).options;
     const options = {
       parameters: example.parameters.filter((p) => p.field !== '/tension/back/span_length_m'),
       observations: example.observations.filter((o) => !['critical_speed_m_per_s', 'chatter_frequency_Hz'].includes(o.quantity)),
     };
-    await page.click('#reset');  // the README example starts from the default scenario
+    await page.click('#reset');  // the calibration example starts from the default scenario
     await page.click('#tab-calibrate');
     await page.fill('#f-options-parameters', JSON.stringify(options.parameters));
     await page.fill('#f-options-observations', JSON.stringify(options.observations));
