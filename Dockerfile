@@ -48,7 +48,8 @@ ENV ROLLGAP_BIND=0.0.0.0 \
     ROLLGAP_DATA_DIR=/var/lib/rollgap
 VOLUME ["/var/lib/rollgap"]
 EXPOSE 8080
-# No curl in the image: the binary checks its own /readyz (127.0.0.1:$ROLLGAP_PORT).
+# No curl in the image: the binary checks its own /readyz on the admin port
+# (127.0.0.1:$ROLLGAP_ADMIN_PORT, default 8081).
 HEALTHCHECK --interval=10s --timeout=3s --start-period=5s --retries=3 \
   CMD ["/usr/local/bin/rollgap", "healthcheck"]
 ENTRYPOINT ["/usr/local/bin/rollgap"]

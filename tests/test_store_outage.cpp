@@ -127,8 +127,7 @@ std::map<std::string, int> connections_by_client(const PostgresServer& server,
     std::string row;
     while (std::getline(rows, row)) {
         const auto bar = row.find('|');
-        if (bar != std::string::npos)
-            counts[row.substr(0, bar)] = std::atoi(row.c_str() + bar + 1);
+        if (bar != std::string::npos) counts[row.substr(0, bar)] = std::atoi(row.c_str() + bar + 1);
     }
     return counts;
 }
@@ -200,10 +199,9 @@ TEST_CASE(
     }
     sampling = false;
     sampler.join();
-    MESSAGE("3 rounds of 40 polls on 2 replicas: " << describe(all) << "; connections per replica "
-                                                   << peak_a << " and " << peak_b << " ("
-                                                   << samples << " samples), in pg_stat_activity "
-                                                   << peak_total);
+    MESSAGE("3 rounds of 40 polls on 2 replicas: "
+            << describe(all) << "; connections per replica " << peak_a << " and " << peak_b << " ("
+            << samples << " samples), in pg_stat_activity " << peak_total);
     CHECK(all[200] == 120);
     CHECK(samples >= 1);
     CHECK(peak_a >= 1);  // the replicas' connections are named, so the sampler sees them

@@ -34,8 +34,7 @@ std::string with_connection_options(const std::string& dsn, const std::string& c
     const bool uri = dsn.rfind("postgresql://", 0) == 0 || dsn.rfind("postgres://", 0) == 0;
     // application_name: at most 63 bytes are kept by the server; printable ASCII only.
     std::string name;
-    for (const char c : client_name.substr(0, 63))
-        name += (c > ' ' && c < 0x7f) ? c : '_';
+    for (const char c : client_name.substr(0, 63)) name += (c > ' ' && c < 0x7f) ? c : '_';
     std::string text = dsn;
     for (const auto& [option, value] :
          std::map<std::string, std::string>{{"connect_timeout", "5"},
@@ -262,7 +261,8 @@ private:
 Result<std::unique_ptr<Backend>> open_postgresql(const std::string& dsn,
                                                  const std::string& client_name) {
     return {StoreStatus::ok,
-            std::unique_ptr<Backend>(std::make_unique<PostgresBackend>(dsn, client_name)), {}};
+            std::unique_ptr<Backend>(std::make_unique<PostgresBackend>(dsn, client_name)),
+            {}};
 }
 
 }  // namespace rollgap::service::store::detail
