@@ -13,7 +13,8 @@ WORKDIR /src
 COPY scripts/install-deps.sh scripts/install-deps.sh
 RUN bash scripts/install-deps.sh </dev/null && rm -rf /var/lib/apt/lists/*
 COPY . .
-RUN cmake -S . -B /build -DCMAKE_BUILD_TYPE=Release -DROLLGAP_WERROR=ON \
+# The release preset of CMakePresets.json (the build flags' one place).
+RUN cmake --preset release -B /build -DROLLGAP_WERROR=ON \
  && cmake --build /build -j"$(nproc)" --target rollgap \
  && strip /build/rollgap \
  && /build/rollgap --version

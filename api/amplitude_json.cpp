@@ -1,3 +1,4 @@
+#include "api/option_names.h"
 #include "api/amplitude_json.h"
 
 #include <array>
@@ -18,7 +19,6 @@ constexpr std::string_view speeds_name = "speeds_m_per_s";
 constexpr std::string_view window_name = "window_s";
 constexpr std::string_view excitation_amplitude_name = "excitation_amplitude_MPa";
 constexpr std::string_view excitation_frequency_name = "excitation_frequency_Hz";
-constexpr std::string_view tolerance_name = "relative_tolerance";
 constexpr std::string_view time_series_name = "time_series";
 constexpr std::string_view time_series_points_name = "time_series_points";
 

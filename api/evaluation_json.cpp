@@ -1,3 +1,4 @@
+#include "api/option_names.h"
 #include "api/evaluation_json.h"
 
 #include <array>
@@ -11,9 +12,8 @@
 namespace rollgap::api {
 namespace {
 
-constexpr std::string_view critical_speed_name = "critical_speed";
-constexpr std::string_view amplitude_name = "amplitude";
-constexpr std::array<std::string_view, 3> members{critical_speed_name, amplitude_name, "detail"};
+constexpr std::array<std::string_view, 3> evaluation_members{critical_speed_name, amplitude_name,
+                                                             "detail"};
 
 struct EvaluationView {
     const core::Evaluation& evaluation;
@@ -56,7 +56,7 @@ const ResultTable<EvaluationView>& evaluation_table() {
 EvaluationOptions evaluation_options_from_json(const nlohmann::json& options,
                                                const std::string& pointer, FieldErrors& errors) {
     EvaluationOptions parsed;
-    const OptionsReader reader(options, pointer, members, errors);
+    const OptionsReader reader(options, pointer, evaluation_members, errors);
     if (!reader.is_object()) return parsed;
     if (const nlohmann::json* search = reader.find(critical_speed_name)) {
         parsed.critical_speed =

@@ -1,3 +1,4 @@
+#include "api/option_names.h"
 #include "api/map_json.h"
 
 #include <string_view>
@@ -14,8 +15,7 @@ namespace rollgap::api {
 namespace {
 
 constexpr std::string_view parameters_name = "parameters";
-constexpr std::string_view critical_speed_name = "critical_speed";
-constexpr std::array<std::string_view, 2> members{parameters_name, critical_speed_name};
+constexpr std::array<std::string_view, 2> map_members{parameters_name, critical_speed_name};
 constexpr std::string_view speed_path = "/rolls/speed_m_per_s";
 
 // The two axes, or fewer with the violation recorded.
@@ -96,7 +96,7 @@ void build_cells(MapPlan& plan, const std::string& pointer, FieldErrors& errors)
 MapPlan map_plan_from_json(const nlohmann::json& options, const std::string& pointer,
                            const core::Scenario* valid_scenario, FieldErrors& errors) {
     MapPlan plan;
-    const OptionsReader reader(options, pointer, members, errors);
+    const OptionsReader reader(options, pointer, map_members, errors);
     if (!reader.is_object()) return plan;
     read_axes(reader, valid_scenario, plan);
     const nlohmann::json* search = reader.find(critical_speed_name);

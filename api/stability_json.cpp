@@ -1,3 +1,4 @@
+#include "api/option_names.h"
 #include "api/stability_json.h"
 
 #include <algorithm>
@@ -21,8 +22,6 @@ namespace {
 constexpr std::string_view speed_min_name = "speed_min_m_per_s";
 constexpr std::string_view speed_max_name = "speed_max_m_per_s";
 constexpr std::string_view speed_step_name = "speed_step_m_per_s";
-constexpr std::string_view tolerance_name = "relative_tolerance";
-constexpr std::string_view critical_speed_name = "critical_speed";
 constexpr std::string_view detail_name = "detail";
 constexpr std::array<std::string_view, 2> detail_choices{"full", "summary"};
 

@@ -1,3 +1,4 @@
+#include "api/option_names.h"
 #include "api/sweep_json.h"
 
 #include <array>
@@ -24,9 +25,7 @@ constexpr std::string_view parameter_name = "parameter";
 constexpr std::string_view values_name = "values";
 constexpr std::string_view range_name = "range";
 constexpr std::string_view quantity_name = "quantity";
-constexpr std::string_view critical_speed_name = "critical_speed";
-constexpr std::string_view amplitude_name = "amplitude";
-constexpr std::array<std::string_view, 6> members{
+constexpr std::array<std::string_view, 6> sweep_members{
     parameter_name, values_name, range_name, quantity_name, critical_speed_name, amplitude_name};
 constexpr std::array<std::string_view, 2> quantities{"critical_speed", "amplitude"};
 constexpr std::array<std::string_view, 3> range_members{"from", "to", "count"};
@@ -340,7 +339,7 @@ SweepAxis sweep_axis_from_json(const nlohmann::json& axis, const std::string& po
 SweepPlan sweep_plan_from_json(const nlohmann::json& options, const std::string& pointer,
                                const core::Scenario* valid_scenario, FieldErrors& errors) {
     SweepPlan plan;
-    const OptionsReader reader(options, pointer, members, errors);
+    const OptionsReader reader(options, pointer, sweep_members, errors);
     if (!reader.is_object()) return plan;
 
     plan.field = read_parameter(reader);

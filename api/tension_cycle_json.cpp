@@ -1,3 +1,4 @@
+#include "api/option_names.h"
 #include "api/tension_cycle_json.h"
 
 #include <algorithm>
@@ -19,8 +20,8 @@ namespace {
 
 constexpr std::string_view cycles_name = "cycles";
 constexpr std::string_view phases_name = "phases";
-constexpr std::string_view tolerance_name = "relative_tolerance";
-constexpr std::array<std::string_view, 3> members{cycles_name, phases_name, tolerance_name};
+constexpr std::array<std::string_view, 3> tension_cycle_members{cycles_name, phases_name,
+                                                                tolerance_name};
 
 void read_phases(const OptionsReader& reader, std::vector<double>& phases) {
     const nlohmann::json* value = reader.find(phases_name);
@@ -74,7 +75,7 @@ core::TensionCycleOptions tension_cycle_options_from_json(const nlohmann::json& 
                                                           const core::Scenario* valid_scenario,
                                                           FieldErrors& errors) {
     core::TensionCycleOptions parsed;
-    const OptionsReader reader(options, pointer, members, errors);
+    const OptionsReader reader(options, pointer, tension_cycle_members, errors);
     reader.integer(cycles_name, closed(1.0, 20.0), parsed.cycles);
     read_phases(reader, parsed.phases);
     reader.number(tolerance_name, units::one, closed(1e-9, 1e-3), parsed.relative_tolerance);

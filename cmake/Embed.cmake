@@ -38,6 +38,14 @@ function(rollgap_embed target input symbol)
     VERBATIM)
   target_sources(${target} PRIVATE ${dir}/${name}.cpp ${dir}/${name}.h)
   target_include_directories(${target} PRIVATE ${CMAKE_CURRENT_BINARY_DIR})
+  # The generated files alone (clang-tidy parses the sources without building them).
+  if(NOT TARGET rollgap_generated)
+    add_custom_target(rollgap_generated)
+  endif()
+  # The library waits for this target, so the rule runs once, not in both in parallel.
+  add_custom_target(rollgap_embed_${name} DEPENDS ${dir}/${name}.cpp ${dir}/${name}.h)
+  add_dependencies(${target} rollgap_embed_${name})
+  add_dependencies(rollgap_generated rollgap_embed_${name})
 endfunction()
 
 # ---- script mode (cmake -P): write the header and the source --------------------------------

@@ -61,9 +61,9 @@ AmplitudeResult vibration_amplitude(const Scenario& s, const AmplitudeOptions& o
     // within a memory budget; a stack too fast to resolve in the window is refused, not run.
     double fastest = std::max(out.excitation_frequency_Hz, 400.0);
     for (const Eigenmode& mode : linear.oscillatory) fastest = std::max(fastest, mode.frequency_Hz);
-    constexpr double kMaxSamples = 400'000;
+    constexpr double max_samples = 400'000;
     const double per_period =
-        std::min(options.samples_per_period, kMaxSamples / (fastest * options.window));
+        std::min(options.samples_per_period, max_samples / (fastest * options.window));
     if (per_period < 8.0) {
         out.status = AmplitudeStatus::solver_failure;
         out.message =
@@ -76,8 +76,8 @@ AmplitudeResult vibration_amplitude(const Scenario& s, const AmplitudeOptions& o
     for (int i = 0; i < samples; ++i)
         times[static_cast<std::size_t>(i)] = options.window * (i + 1) / samples;
 
-    constexpr int kWindows = 10;
-    std::vector<Range> upper(kWindows), gap(kWindows), force(kWindows);
+    constexpr int window_count = 10;
+    std::vector<Range> upper(window_count), gap(window_count), force(window_count);
     const Matrix6& M = model.mill().mass;
     const Matrix6& C = model.mill().damping;
     const Matrix6& K = model.mill().structural_stiffness;
@@ -88,7 +88,7 @@ AmplitudeResult vibration_amplitude(const Scenario& s, const AmplitudeOptions& o
 
     auto on_output = [&](const Sample& sample) {
         const int w =
-            std::min(kWindows - 1, static_cast<int>(sample.t / options.window * kWindows));
+            std::min(window_count - 1, static_cast<int>(sample.t / options.window * window_count));
         const double x3 = sample.z(2), g = sample.z(2) - sample.z(3);
         // b dP = M q'' + C q' + K_s q (eq. 37 with k4 cancelled): the force on the upper work roll
         const Vector6 q = sample.z.head<6>(), qdot = sample.z.segment<6>(6),
@@ -117,19 +117,20 @@ AmplitudeResult vibration_amplitude(const Scenario& s, const AmplitudeOptions& o
     out.steps = run.steps;
     out.rhs_evaluations = run.rhs_evaluations;
 
-    for (int w = 0; w < kWindows; ++w) {
-        out.windows.push_back({options.window * w / kWindows, options.window * (w + 1) / kWindows,
+    for (int w = 0; w < window_count; ++w) {
+        out.windows.push_back({options.window * w / window_count,
+                               options.window * (w + 1) / window_count,
                                upper[static_cast<std::size_t>(w)].half_span()});
     }
 
     // Amplitudes from the last 10 % window that has samples: the last one of the window, or, when
     // a limit ended the run early, the (partial) one in which it ended. Settling and growth from
     // the last two complete windows.
-    const double window_length = options.window / kWindows;
+    const double window_length = options.window / window_count;
     const int complete =
-        std::min(kWindows, static_cast<int>(std::floor(run.end_time / window_length + 1e-9)));
-    const int with_data =
-        std::min(kWindows - 1, static_cast<int>(std::floor(run.end_time / window_length - 1e-9)));
+        std::min(window_count, static_cast<int>(std::floor(run.end_time / window_length + 1e-9)));
+    const int with_data = std::min(
+        window_count - 1, static_cast<int>(std::floor(run.end_time / window_length - 1e-9)));
     if (with_data >= 0) {
         const std::size_t last = static_cast<std::size_t>(with_data);
         out.upper_roll = upper[last].half_span();

@@ -46,9 +46,9 @@ ChatterClassification classify_chatter(const Vector6c& displacement, double freq
     out.band = chatter_band(frequency_Hz, bands);
     out.shape = chatter_shape(displacement);
     const ChatterShape& s = out.shape;
-    if (s.gap_opening < kGapOpeningMin || s.work_roll_motion < kWorkRollMotionMin) {
+    if (s.gap_opening < gap_opening_min || s.work_roll_motion < work_roll_motion_min) {
         out.type = ChatterType::other;
-    } else if (s.backup_follow < kBackupFollowMin) {
+    } else if (s.backup_follow < backup_follow_min) {
         out.type = ChatterType::fifth_octave;
     } else {
         out.type = ChatterType::third_octave;

@@ -50,10 +50,10 @@ struct ChatterClassification {
 };
 
 // Thresholds of the shape criterion.
-inline constexpr double kGapOpeningMin =
+inline constexpr double gap_opening_min =
     0.5;  // the work rolls move more against than with each other
-inline constexpr double kWorkRollMotionMin = 0.1;  // the work rolls take part in the mode
-inline constexpr double kBackupFollowMin = 0.5;    // the back-up roll carries its work roll along
+inline constexpr double work_roll_motion_min = 0.1;  // the work rolls take part in the mode
+inline constexpr double backup_follow_min = 0.5;     // the back-up roll carries its work roll along
 
 ChatterShape chatter_shape(const Vector6c& displacement);
 

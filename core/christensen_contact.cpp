@@ -42,21 +42,21 @@ double one_minus_contact(double Z) { return christensen_contact_ratio_of_separat
 // dZ/du = 1 / (1 - A): a cubic Hermite table starts Newton within ~1e-12, and one step makes it
 // exact. Below, Z(u) ~ -1 + c u^(1/5) (1 - A ~ (1 + Z)^4): there the table is uniform in
 // t = u^(1/5), where Z is smooth too, and Newton runs to convergence (the boundary regime).
-constexpr double kSmoothStart = 1.0 / 64.0;
-constexpr int kSmoothCells = 1024;
-constexpr int kRootCells = 256;
+constexpr double smooth_start = 1.0 / 64.0;
+constexpr int smooth_cells = 1024;
+constexpr int root_cells = 256;
 
 struct InverseTables {
-    std::array<double, kSmoothCells + 1> Z{}, slope{};
-    std::array<double, kRootCells + 1> Z_root{};
+    std::array<double, smooth_cells + 1> Z{}, slope{};
+    std::array<double, root_cells + 1> Z_root{};
     InverseTables() {
-        for (int i = 0; i <= kSmoothCells; ++i) {
-            const double u = kSmoothStart + (1.0 - kSmoothStart) * i / kSmoothCells;
+        for (int i = 0; i <= smooth_cells; ++i) {
+            const double u = smooth_start + (1.0 - smooth_start) * i / smooth_cells;
             Z[i] = bisect_separation(3.0 * u);
             slope[i] = 1.0 / one_minus_contact(Z[i]);
         }
-        for (int i = 0; i <= kRootCells; ++i) {
-            const double t = std::pow(kSmoothStart, 0.2) * i / kRootCells;
+        for (int i = 0; i <= root_cells; ++i) {
+            const double t = std::pow(smooth_start, 0.2) * i / root_cells;
             Z_root[i] = bisect_separation(3.0 * std::pow(t, 5.0));
         }
     }
@@ -72,8 +72,8 @@ double newton_step(double Z, double film_ratio) {
 }
 
 double boundary_separation(double film_ratio, const InverseTables& tables) {
-    const double t = std::pow(film_ratio / 3.0, 0.2) / std::pow(kSmoothStart, 0.2) * kRootCells;
-    const int i = std::min(static_cast<int>(t), kRootCells - 1);
+    const double t = std::pow(film_ratio / 3.0, 0.2) / std::pow(smooth_start, 0.2) * root_cells;
+    const int i = std::min(static_cast<int>(t), root_cells - 1);
     double Z = tables.Z_root[i] + (t - i) * (tables.Z_root[i + 1] - tables.Z_root[i]);
     // Newton kept inside a shrinking bracket; bisect whenever a step would leave it.
     double lo = -1.0, hi = 1.0;
@@ -98,11 +98,11 @@ double christensen_separation(double film_ratio) {
     if (film_ratio >= 3.0) return film_ratio / 3.0;
     const auto& tables = inverse_tables();
     const double u = film_ratio / 3.0;
-    if (u < kSmoothStart) return boundary_separation(film_ratio, tables);
+    if (u < smooth_start) return boundary_separation(film_ratio, tables);
 
-    const double width = (1.0 - kSmoothStart) / kSmoothCells;
-    const double cell = (u - kSmoothStart) / width;
-    const int i = std::min(static_cast<int>(cell), kSmoothCells - 1);
+    const double width = (1.0 - smooth_start) / smooth_cells;
+    const double cell = (u - smooth_start) / width;
+    const int i = std::min(static_cast<int>(cell), smooth_cells - 1);
     const double f = cell - i, f2 = f * f, f3 = f2 * f;
     const double Z = (2 * f3 - 3 * f2 + 1) * tables.Z[i] +
                      (f3 - 2 * f2 + f) * width * tables.slope[i] +

@@ -91,7 +91,7 @@ CoupledModel::CoupledModel(const Scenario& s, const ReferenceState& reference,
 
 Eigen::VectorXd CoupledModel::equilibrium() const {
     Eigen::VectorXd z = Eigen::VectorXd::Zero(size_);
-    z(kFilm) = ref_.bite.inlet_film;
+    z(film_index) = ref_.bite.inlet_film;
     if (back_index_ >= 0) z(back_index_) = s_.tensions.back.stress;
     if (front_index_ >= 0) z(front_index_) = s_.tensions.front.stress;
     return z;
@@ -109,7 +109,7 @@ BiteState CoupledModel::bite_state(double t, const double* z) const {
     BiteState state;
     state.exit_thickness = ref_.exit_thickness + (z[2] - z[3]);
     state.gap_rate = z[8] - z[9];
-    state.inlet_film = z[kFilm];
+    state.inlet_film = z[film_index];
     state.back_tension = back_tension(t, z);
     if (excitation_.back_tension_amplitude != 0.0) {
         state.back_tension += excitation_.back_tension_amplitude *
@@ -120,7 +120,7 @@ BiteState CoupledModel::bite_state(double t, const double* z) const {
     return state;
 }
 
-void CoupledModel::limit_margins(double t, const double* z, double margins[kLimitCount]) const {
+void CoupledModel::limit_margins(double t, const double* z, double margins[limit_count]) const {
     const BiteState state = bite_state(t, z);
     // A side whose tension is a constant input cannot go slack (a constant zero is legitimate).
     const bool back_varies = back_index_ >= 0 || s_.tensions.back.mode == TensionMode::sinusoid ||
@@ -167,7 +167,7 @@ DynamicsStatus CoupledModel::rhs(double t, const double* z, double* zdot,
     film.pressure_viscosity = s_.lubricant.pressure_viscosity;
     film.flow_stress = s_.strip.flow_stress;
     film.back_tension = state.back_tension;
-    zdot[kFilm] = inlet_film_rate(s_.inlet_film, film);
+    zdot[film_index] = inlet_film_rate(s_.inlet_film, film);
 
     if (back_index_ >= 0) {
         zdot[back_index_] = s_.strip.youngs_modulus / s_.tensions.back.span_length *
@@ -197,8 +197,8 @@ const BiteResult& CoupledModel::solve_bite(const BiteState& state) const {
         if (same(memo_[i].state, state)) return memo_[i].bite;
     }
     Memo& slot = memo_[memo_next_];
-    memo_next_ = (memo_next_ + 1) % kMemoSize;
-    memo_count_ = std::min(memo_count_ + 1, kMemoSize);
+    memo_next_ = (memo_next_ + 1) % memo_size;
+    memo_count_ = std::min(memo_count_ + 1, memo_size);
     slot.state = state;
     slot.bite = solve_roll_bite(s_, state, {false, last_neutral_point_});
     if (slot.bite.status == BiteStatus::ok) last_neutral_point_ = slot.bite.neutral_point;

@@ -45,7 +45,7 @@ class CoupledModel {
 public:
     CoupledModel(const Scenario& s, const ReferenceState& reference, Excitation excitation = {});
 
-    static constexpr int kFilm = 12;
+    static constexpr int film_index = 12;
     int size() const { return size_; }
     int back_tension_index() const { return back_index_; }    // -1 unless span mode
     int front_tension_index() const { return front_index_; }  // -1 unless span mode
@@ -65,8 +65,8 @@ public:
     // Signed distances to the physical limits that have a cheap test, positive inside: the
     // back and front tensions (slack at 0) and y1 - y2 (contact lost at 0). Time integration
     // stops where one crosses zero. Skidding needs the bite and has no margin here.
-    static constexpr int kLimitCount = 3;
-    void limit_margins(double t, const double* z, double margins[kLimitCount]) const;
+    static constexpr int limit_count = 3;
+    void limit_margins(double t, const double* z, double margins[limit_count]) const;
     static DynamicsStatus limit_status(int index) {
         return index < 2 ? DynamicsStatus::slack_strip : DynamicsStatus::contact_lost;
     }
@@ -90,8 +90,8 @@ private:
         BiteState state;
         BiteResult bite;
     };
-    static constexpr int kMemoSize = 8;
-    mutable Memo memo_[kMemoSize];
+    static constexpr int memo_size = 8;
+    mutable Memo memo_[memo_size];
     mutable int memo_count_ = 0, memo_next_ = 0;
     const BiteResult& solve_bite(const BiteState& state) const;
 };

@@ -31,7 +31,7 @@ Linearisation linearise(const CoupledModel& model, const Eigen::VectorXd& z, dou
         double delta;
         if (j < 6) delta = 1e-7;
         else if (j < 12) delta = 1e-3;
-        else if (j == CoupledModel::kFilm) delta = 1e-5 * z(CoupledModel::kFilm);
+        else if (j == CoupledModel::film_index) delta = 1e-5 * z(CoupledModel::film_index);
         else delta = 1e3;
         plus = z;
         minus = z;

@@ -38,8 +38,8 @@ TensionCycleResult tension_cycle(Scenario s, const TensionCycleOptions& options,
     std::vector<double> phase_times;
     for (double phase : phases) phase_times.push_back((cycles - 1 + phase) * period);
     const double end = phase_times.empty() ? 0.0 : phase_times.back();
-    constexpr double kMaxPolls = 1e5;  // bounds the output list whatever the cycle's length
-    const double poll = std::max(std::min(period / 8.0, 0.05), end / kMaxPolls);
+    constexpr double max_polls = 1e5;  // bounds the output list whatever the cycle's length
+    const double poll = std::max(std::min(period / 8.0, 0.05), end / max_polls);
     std::vector<double> times;
     std::vector<bool> is_phase;
     std::size_t next_phase = 0;
@@ -82,7 +82,7 @@ TensionCycleResult tension_cycle(Scenario s, const TensionCycleOptions& options,
         const BiteState state = model.bite_state(p.time, states[i].data());
         p.back_tension = state.back_tension;
         p.gap = states[i](2) - states[i](3);
-        p.inlet_film = states[i](CoupledModel::kFilm);
+        p.inlet_film = states[i](CoupledModel::film_index);
         p.bite = solve_roll_bite(s, state);  // the distributions at the scenario's own resolution
         out.phases.push_back(std::move(p));
     }

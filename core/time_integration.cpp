@@ -21,7 +21,7 @@ struct RhsData {
 // Trial steps that overshoot into a limit are few in a healthy run; many mean the trajectory is
 // pressing against one (skidding has no root function), and CVODE would creep towards it in
 // ever smaller steps. Past this budget the run ends there.
-constexpr int kLimitFailureBudget = 100;
+constexpr int limit_failure_budget = 100;
 
 // A state without a valid right-hand side (the bite skids, the rolls lose contact, the strip goes
 // slack) is reported to CVODE as recoverable: a trial step may overshoot into it, and CVODE then
@@ -33,7 +33,7 @@ int right_hand_side(sunrealtype t, N_Vector y, N_Vector ydot, void* user_data) {
         data->model->rhs(t, N_VGetArrayPointer(y), N_VGetArrayPointer(ydot));
     if (status == DynamicsStatus::ok) return 0;
     data->last_failure = status;
-    return ++data->limit_failures > kLimitFailureBudget ? -1 : 1;
+    return ++data->limit_failures > limit_failure_budget ? -1 : 1;
 }
 
 int limit_margins(sunrealtype t, N_Vector y, sunrealtype* margins, void* user_data) {
@@ -108,7 +108,7 @@ IntegrationResult integrate(const CoupledModel& model, Eigen::VectorXd& z, doubl
     for (int i = 0; i < n; ++i) {
         y[i] = z(i);
         // docs/model.md §6: q 1e-10 m, q' 1e-7 m/s, h0 1e-12 m, tensions 1 Pa
-        tol[i] = i < 6 ? 1e-10 : i < 12 ? 1e-7 : i == CoupledModel::kFilm ? 1e-12 : 1.0;
+        tol[i] = i < 6 ? 1e-10 : i < 12 ? 1e-7 : i == CoupledModel::film_index ? 1e-12 : 1.0;
     }
     CVodeSetErrHandlerFn(cv.memory, silent_errors, nullptr);
     if (CVodeInit(cv.memory, right_hand_side, t0, cv.y) != CV_SUCCESS ||
@@ -125,7 +125,7 @@ IntegrationResult integrate(const CoupledModel& model, Eigen::VectorXd& z, doubl
     }
     CVodeSetUserData(cv.memory, &data);
     CVodeSetMaxNumSteps(cv.memory, options.max_steps);
-    if (CVodeRootInit(cv.memory, CoupledModel::kLimitCount, limit_margins) != CV_SUCCESS) {
+    if (CVodeRootInit(cv.memory, CoupledModel::limit_count, limit_margins) != CV_SUCCESS) {
         result.message = "CVODE root finding setup failed";
         return result;
     }
@@ -143,9 +143,9 @@ IntegrationResult integrate(const CoupledModel& model, Eigen::VectorXd& z, doubl
         sunrealtype t = t0;
         int flag = CVode(cv.memory, tout, cv.y, &t, CV_NORMAL);
         if (flag == CV_ROOT_RETURN) {
-            int crossed[CoupledModel::kLimitCount] = {};
+            int crossed[CoupledModel::limit_count] = {};
             CVodeGetRootInfo(cv.memory, crossed);
-            for (int i = 0; i < CoupledModel::kLimitCount; ++i) {
+            for (int i = 0; i < CoupledModel::limit_count; ++i) {
                 if (crossed[i] < 0)
                     result.status = CoupledModel::limit_status(i);  // crossed downwards
             }

@@ -46,7 +46,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         Eigen::VectorXd state = z;
         for (int i = 0; i < 6; ++i) state[i] += input.between(-0.1, 0.1) * y2;
         for (int i = 6; i < 12; ++i) state[i] += input.between(-1.0, 1.0);
-        state[core::CoupledModel::kFilm] *= input.between(0.1, 10.0);
+        state[core::CoupledModel::film_index] *= input.between(0.1, 10.0);
         if (model.back_tension_index() >= 0) {
             state[model.back_tension_index()] = input.unit() * 0.999 * s.strip.flow_stress;
         }
@@ -54,7 +54,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
             state[model.front_tension_index()] = input.unit() * 0.999 * s.strip.flow_stress;
         }
 
-        double margins[core::CoupledModel::kLimitCount];
+        double margins[core::CoupledModel::limit_count];
         model.limit_margins(t, state.data(), margins);
         for (double margin : margins) require(std::isfinite(margin), "finite limit margins");
 

@@ -32,7 +32,7 @@
 #include "api/problem.h"
 #include "fuzz/fuzz_input.h"
 #include "service/http/listener.h"
-#include "service/http_server.h"
+#include "service/http/http_server.h"
 
 using namespace rollgap;
 using fuzz::require;

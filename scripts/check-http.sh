@@ -26,6 +26,7 @@ rollgap_build rollgap >&2
 
 work=$(mktemp -d)
 server_pid=""
+# shellcheck disable=SC2317  # run by the EXIT trap
 cleanup() {
     if [[ -n "$server_pid" ]]; then kill -TERM "$server_pid" 2>/dev/null || true; wait "$server_pid" 2>/dev/null || true; fi
     rm -rf "$work"

@@ -21,9 +21,10 @@ SANITIZER_PACKAGES=(clang libclang-rt-14-dev llvm)
 # curl: the test that runs the documentation's HTTP examples; nginx: the test that runs two
 # service instances behind a load balancer. (wrk and prometheus/promtool are installed by the
 # scripts that use them, bench-http.sh and check-http.sh, not in CI.)
-# clang-format: the format check of scripts/test.sh (scripts/check-format.sh).
+# clang-format: the format check of scripts/test.sh (scripts/check-format.sh); clang-tidy
+# (run-clang-tidy) and shellcheck: its static checks (scripts/lint.sh).
 # python3-yaml: deploy/check.py, the static check of the Kubernetes files (ctest deploy_check).
-TOOL_PACKAGES=(curl nginx clang-format python3-yaml)
+TOOL_PACKAGES=(curl nginx clang-format clang-tidy shellcheck python3-yaml)
 # The browser workbench: Chart.js embedded at build time; chromium runs its browser tests.
 WEB_PACKAGES=(libjs-chart.js chromium)
 

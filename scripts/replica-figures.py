@@ -127,7 +127,7 @@ class Replica:
 
 
 def sweep_request(points):
-    # The test's sweep (tests/test_replicas.cpp): critical speed over lubricant viscosity.
+    # The test's sweep (tests/system/test_replicas.cpp): critical speed over lubricant viscosity.
     return {"analysis": "sweep",
             "options": {"parameter": "/lubricant/viscosity_Pa_s",
                         "range": {"from": 0.00045, "to": 0.0007, "count": points},

@@ -9,7 +9,7 @@
 # Options: --listen ADDRESS:PORT (default 127.0.0.1:8000; the port clients use),
 #          --service PORT (default 8080; the service's port on 127.0.0.1).
 # The configuration is used as it is; only its two marked addresses are set (as the test
-# tests/test_http_front_proxy.cpp does). nginx's files (pid, temporary bodies) go to a
+# tests/system/test_http_front_proxy.cpp does). nginx's files (pid, temporary bodies) go to a
 # temporary directory removed on exit; its access log goes to stdout, its errors to stderr.
 # Ctrl-C or SIGTERM stops it. Installs nginx if it is missing (scripts/install-deps.sh).
 set -euo pipefail

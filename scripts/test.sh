@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The README's test command and exactly what CI runs (.ci/run). In order:
-#   0. check that every tracked C++ file is formatted as .clang-format says (check-format.sh);
+#   0. check that every tracked C++ file is formatted as .clang-format says (check-format.sh),
+#      and the static checks (lint.sh: shellcheck on the scripts, clang-tidy on core/api/service);
 #   1. build (Release, GCC, warnings as errors) in build/ and run the whole suite with ctest;
 #   2. build the same sources with clang under ASan + LeakSanitizer + UBSan (every report
 #      fatal) in build-asan/ and run the whole suite again, plus the fuzz seed corpora;
@@ -74,6 +75,13 @@ else
     failed=$((failed + 1))
 fi
 
+stage "0/3 static checks (shellcheck, clang-tidy: scripts/lint.sh)"
+if bash scripts/lint.sh; then
+    passed=$((passed + 1))
+else
+    failed=$((failed + 1))
+fi
+
 stage "1/3 Release build ($ROLLGAP_BUILD_DIR)"
 # shellcheck disable=SC2119  # no targets: build everything
 if rollgap_configure && rollgap_build; then
@@ -86,7 +94,7 @@ fi
 
 stage "2/3 ASan + UBSan build ($ROLLGAP_ASAN_BUILD_DIR, clang)"
 asan_built=0
-if rollgap_configure_asan && rollgap_build_in "$ROLLGAP_ASAN_BUILD_DIR"; then
+if rollgap_configure_asan && rollgap_build_in "$ROLLGAP_ASAN_BUILD_DIR" "${ROLLGAP_ASAN_TARGETS[@]}"; then
     asan_built=1
     stage "2/3 ASan + UBSan suite"
     suite_start=$(date +%s)

@@ -8,7 +8,7 @@
 #include "api/problem.h"
 #include "api/result_table.h"
 #include "api/text.h"
-#include "service/analyses.h"
+#include "service/analyses/table.h"
 
 namespace rollgap::service {
 namespace {

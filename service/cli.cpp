@@ -18,7 +18,7 @@
 #include "api/name_suggestion.h"
 #include "api/scenario_json.h"
 #include "api/text.h"
-#include "service/analyses.h"
+#include "service/analyses/table.h"
 #include "service/client_keys.h"
 #include "service/config.h"
 #include "service/csv_answer.h"

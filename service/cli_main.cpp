@@ -8,7 +8,7 @@
 #include <spdlog/spdlog.h>
 
 #include "service/cli.h"
-#include "service/serve_main.h"
+#include "service/http/serve_main.h"
 
 int main(int argc, char** argv) {
     // stdout carries the JSON document; diagnostics go to stderr.

@@ -14,7 +14,7 @@
 #include "api/request_json.h"
 #include "api/scenario_json.h"
 #include "api/text.h"
-#include "service/analyses.h"
+#include "service/analyses/table.h"
 
 namespace rollgap::service {
 namespace {

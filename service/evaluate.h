@@ -14,7 +14,7 @@
 #include "api/problem.h"
 #include "api/request_json.h"
 #include "core/control.h"
-#include "service/analysis.h"
+#include "service/analyses/analysis.h"
 
 namespace rollgap::service {
 

@@ -21,8 +21,8 @@
 #include "api/text.h"
 #include "api/units.h"
 #include "core/scenario.h"
-#include "service/analyses.h"
-#include "service/analysis.h"
+#include "service/analyses/table.h"
+#include "service/analyses/analysis.h"
 #include "service/chunked.h"
 #include "embedded/openapi_json.h"  // generated from service/openapi.json: openapi_json()
 #include "service/version.h"

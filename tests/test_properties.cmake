@@ -16,11 +16,15 @@ set(rollgap_serial_patterns
     "^shutdown:" "^drain:" "^deadline:" "^overload" "^replicas:" "^scale-out" "^store outage"
     "^front proxy" "^connection:" "^edge:")
 
-foreach(rollgap_test IN LISTS rollgap_tests_TESTS)
-  foreach(rollgap_pattern IN LISTS rollgap_serial_patterns)
-    if(rollgap_test MATCHES "${rollgap_pattern}")
-      set_tests_properties("${rollgap_test}" PROPERTIES RUN_SERIAL TRUE)
-      break()
-    endif()
+# rollgap_test_runners: from runners.cmake (tests/CMakeLists.txt); each runner's discovered
+# names are in <runner>_TESTS.
+foreach(rollgap_runner IN LISTS rollgap_test_runners)
+  foreach(rollgap_test IN LISTS ${rollgap_runner}_TESTS)
+    foreach(rollgap_pattern IN LISTS rollgap_serial_patterns)
+      if(rollgap_test MATCHES "${rollgap_pattern}")
+        set_tests_properties("${rollgap_test}" PROPERTIES RUN_SERIAL TRUE)
+        break()
+      endif()
+    endforeach()
   endforeach()
 endforeach()

@@ -92,7 +92,7 @@ ModeDiagnostics diagnose(const core::Scenario& s, double mode_frequency_Hz) {
     }
     const Eigen::MatrixXd& J = lin.jacobian;
     const MillMatrices& mill = model.mill();
-    const int film = CoupledModel::kFilm;
+    const int film = CoupledModel::film_index;
     const int back = model.back_tension_index();
 
     // Row 8 is q3'' = (dP - C q' - K_s q)_3 / m3 (b = e3 - e4, M diagonal).

@@ -6,7 +6,7 @@
 #include <spdlog/spdlog.h>
 
 #include "api/text.h"
-#include "service/analyses.h"
+#include "service/analyses/table.h"
 
 namespace rollgap::service::http {
 namespace {

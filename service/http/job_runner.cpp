@@ -184,20 +184,20 @@ void JobRunner::run(const std::shared_ptr<Item>& item) {
         finish(item, "released");
         return;
     }
-    store::Outcome stored = store::Outcome::succeeded;
+    store::FinalState stored = store::FinalState::succeeded;
     std::string text;
     const char* label = "succeeded";
     if (cancelled()) {
-        stored = store::Outcome::cancelled;
+        stored = store::FinalState::cancelled;
         label = "cancelled";
     } else if (late()) {
-        stored = store::Outcome::failed;
+        stored = store::FinalState::failed;
         text = problem_outcome(deadline_problem(state_.config.job_deadline)).body.dump();
         label = "failed";
     } else {
         text = outcome.body.dump();
         if (!outcome.ok()) {
-            stored = store::Outcome::failed;
+            stored = store::FinalState::failed;
             label = "failed";
         }
     }

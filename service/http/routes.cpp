@@ -25,7 +25,8 @@ constexpr std::array routes{
     Route{RouteId::livez, "/livez", get, false, "", true},
     Route{RouteId::readyz, "/readyz", get, false, "", true},
     Route{RouteId::metrics, "/metrics", get, false, "", true},
-    // The browser workbench: the page at / and its files under /static/ (service/static_files.h).
+    // The browser workbench: the page at / and its files under /static/
+    // (service/http/static_files.h).
     Route{RouteId::page, "/", get, false, "", false},
     Route{RouteId::static_file, "/static/{file}", get, false, "", false},
 };

@@ -193,7 +193,7 @@ void ScenarioEndpoints::list(const httplib::Request& request, httplib::Response&
     }
     if (!listed.ok()) return state_.store_unavailable(response, std::string(store_down));
     json scenarios = json::array();
-    for (const store::Scenario& scenario : listed.value->scenarios) {
+    for (const store::StoredScenario& scenario : listed.value->scenarios) {
         scenarios.push_back({{"name", scenario.name},
                              {"version", scenario.version},
                              {"updated_at", rfc3339(scenario.updated_ms)},

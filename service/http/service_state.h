@@ -10,8 +10,8 @@
 
 #include "service/client_keys.h"
 #include "service/config.h"
+#include "service/http/evaluator.h"
 #include "service/http/store_handle.h"
-#include "service/http_server.h"
 #include "service/metrics.h"
 #include "service/worker_pool.h"
 

@@ -130,7 +130,7 @@ struct Renewed {
     bool cancel_requested = false;  // the worker stops and completes with `cancelled`
 };
 
-enum class Outcome { succeeded, failed, cancelled };
+enum class FinalState { succeeded, failed, cancelled };
 
 enum class CancelResult { cancelled, cancel_requested, deleted };
 
@@ -142,7 +142,7 @@ struct ChunkResult {
 
 // One version of a stored scenario (table scenario_versions): versions of a name count up
 // for ever, across deletes, so an ETag never names two different scenarios.
-struct Scenario {
+struct StoredScenario {
     std::string name;
     std::string body;  // JSON text
     std::int64_t version = 0;
@@ -157,7 +157,7 @@ struct ScenarioQuery {
 };
 
 struct ScenarioPage {
-    std::vector<Scenario> scenarios;  // by name, bodies omitted
+    std::vector<StoredScenario> scenarios;  // by name, bodies omitted
     std::optional<std::string> next_cursor;
 };
 
@@ -205,7 +205,7 @@ public:
     virtual StoreStatus progress(const Lease& lease, double fraction) = 0;
     // Writes the item's result (or the job's problem) in one transaction, only while `lease`
     // is held (conflict otherwise). Returns the job's state afterwards.
-    virtual Result<JobState> complete(const Lease& lease, Outcome outcome,
+    virtual Result<JobState> complete(const Lease& lease, FinalState outcome,
                                       const std::string& text) = 0;
     // Gives the item back (draining replica): it is queued again for any replica.
     virtual StoreStatus release(const Lease& lease) = 0;
@@ -218,14 +218,14 @@ public:
     // caller last saw; a mismatch (or a missing scenario) is a conflict. A new name beyond
     // StoreLimits::max_scenarios is `full`. `author` is recorded on the version written (a
     // delete is a version too: who removed the stand).
-    virtual Result<Scenario> put_scenario(const std::string& name, const std::string& body,
-                                          std::optional<std::int64_t> if_match,
-                                          const std::string& author = "anonymous") = 0;
-    virtual Result<Scenario> get_scenario(const std::string& name) = 0;
+    virtual Result<StoredScenario> put_scenario(const std::string& name, const std::string& body,
+                                                std::optional<std::int64_t> if_match,
+                                                const std::string& author = "anonymous") = 0;
+    virtual Result<StoredScenario> get_scenario(const std::string& name) = 0;
     virtual StoreStatus delete_scenario(const std::string& name,
                                         std::optional<std::int64_t> if_match,
                                         const std::string& author = "anonymous") = 0;
-    virtual Result<std::vector<Scenario>> list_scenarios() = 0;  // by name, bodies omitted
+    virtual Result<std::vector<StoredScenario>> list_scenarios() = 0;  // by name, bodies omitted
     // A page of list_scenarios(); a cursor that is no scenario name is `invalid`.
     virtual Result<ScenarioPage> list_scenario_page(const ScenarioQuery& query) = 0;
 };
@@ -236,8 +236,6 @@ public:
 // opened or migrated now.
 Result<std::shared_ptr<JobStore>> open_store(const std::string& setting, StoreLimits limits = {},
                                              Clock clock = system_millis);
-
-inline constexpr std::string_view reserved_scenario_name = "default";
 
 // The details of `unavailable` that the store gives itself (the rest come from the database).
 inline constexpr std::string_view deadline_detail = "the store did not answer within the deadline";

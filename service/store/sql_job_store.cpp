@@ -400,7 +400,7 @@ public:
             .status;
     }
 
-    Result<JobState> complete(const Lease& lease, Outcome outcome,
+    Result<JobState> complete(const Lease& lease, FinalState outcome,
                               const std::string& text) override {
         JobState after = JobState::running;
         auto status = write(
@@ -417,7 +417,7 @@ public:
                     // This lease's result is stored already: an earlier attempt committed
                     // although its caller did not hear so (deadline, lost answer). Completing
                     // again is that same completion.
-                    if (outcome == Outcome::succeeded &&
+                    if (outcome == FinalState::succeeded &&
                         !s.exec("SELECT 1 FROM chunks WHERE job_id = $1 AND idx = $2 AND "
                                 "lease_token = $3 AND state = 'done'",
                                 {lease.job_id, lease.chunk, lease.token})
@@ -429,13 +429,14 @@ public:
                     throw Abort{StoreStatus::conflict, "lease lost"};
                 }
                 const bool chunked = to_int(job.at(0).at(1)) > 0;
-                if (outcome != Outcome::succeeded) {
-                    const std::string state = outcome == Outcome::failed ? "failed" : "cancelled";
-                    if (outcome == Outcome::failed) {
+                if (outcome != FinalState::succeeded) {
+                    const std::string state =
+                        outcome == FinalState::failed ? "failed" : "cancelled";
+                    if (outcome == FinalState::failed) {
                         s.exec("UPDATE jobs SET problem = $2 WHERE id = $1", {lease.job_id, text});
                     }
                     finish_job(s, lease.job_id, state, now);
-                    after = outcome == Outcome::failed ? JobState::failed : JobState::cancelled;
+                    after = outcome == FinalState::failed ? JobState::failed : JobState::cancelled;
                     return;
                 }
                 if (chunked) {
@@ -534,20 +535,22 @@ public:
     }
 
     // Stored scenarios: their own rules (sql_scenario_store.cpp).
-    Result<Scenario> put_scenario(const std::string& name, const std::string& body,
-                                  std::optional<std::int64_t> if_match,
-                                  const std::string& author) override {
+    Result<StoredScenario> put_scenario(const std::string& name, const std::string& body,
+                                        std::optional<std::int64_t> if_match,
+                                        const std::string& author) override {
         return scenarios_.put(name, body, if_match, author);
     }
-    Result<Scenario> get_scenario(const std::string& name) override { return scenarios_.get(name); }
+    Result<StoredScenario> get_scenario(const std::string& name) override {
+        return scenarios_.get(name);
+    }
     StoreStatus delete_scenario(const std::string& name, std::optional<std::int64_t> if_match,
                                 const std::string& author) override {
         return scenarios_.remove(name, if_match, author);
     }
-    Result<std::vector<Scenario>> list_scenarios() override {
+    Result<std::vector<StoredScenario>> list_scenarios() override {
         // Bounded by max_scenarios: one page holding them all.
         auto all = scenarios_.page({limits_.max_scenarios + 1, std::nullopt});
-        if (!all.ok()) return Result<std::vector<Scenario>>::failure(all.status, all.detail);
+        if (!all.ok()) return Result<std::vector<StoredScenario>>::failure(all.status, all.detail);
         return {StoreStatus::ok, std::move(all.value->scenarios), {}};
     }
     Result<ScenarioPage> list_scenario_page(const ScenarioQuery& query) override {

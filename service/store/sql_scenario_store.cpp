@@ -9,6 +9,8 @@
 
 #include "service/store/sql_scenario_store.h"
 
+#include "api/request_json.h"
+
 #include <algorithm>
 
 namespace rollgap::service::store::detail {
@@ -64,7 +66,8 @@ void bound_deleted_names(Session& s, std::size_t bound, std::int64_t now) {
 }
 
 std::optional<StoreStatus> refuse_name(const std::string& name) {
-    if (name == reserved_scenario_name || !valid_scenario_name(name)) return StoreStatus::invalid;
+    if (name == api::reserved_scenario_name || !valid_scenario_name(name))
+        return StoreStatus::invalid;
     return std::nullopt;
 }
 
@@ -75,20 +78,16 @@ StoreStatus run(Backend& backend, bool write, const std::function<void(Session&)
 
 }  // namespace
 
-bool valid_scenario_name(const std::string& name) {
-    if (name.empty() || name.size() > 64) return false;
-    return std::all_of(name.begin(), name.end(), [](char c) {
-        return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
-               c == '-' || c == '_' || c == '.';
-    });
-}
+// The API's rule for stored scenario names (api/request_json.h), kept here too: a name that
+// reaches the store any other way is refused as well.
+bool valid_scenario_name(const std::string& name) { return api::is_stored_scenario_name(name); }
 
-Result<Scenario> SqlScenarioStore::put(const std::string& name, const std::string& body,
-                                       std::optional<std::int64_t> if_match,
-                                       const std::string& author) {
-    if (auto refused = refuse_name(name)) return Result<Scenario>::failure(*refused, "name");
+Result<StoredScenario> SqlScenarioStore::put(const std::string& name, const std::string& body,
+                                             std::optional<std::int64_t> if_match,
+                                             const std::string& author) {
+    if (auto refused = refuse_name(name)) return Result<StoredScenario>::failure(*refused, "name");
     const bool postgresql = backend_.dialect() == Dialect::postgresql;
-    Scenario stored{name, body, 0, 0, author, false};
+    StoredScenario stored{name, body, 0, 0, author, false};
     std::string detail;
     const StoreStatus status = run(
         backend_, true,
@@ -130,13 +129,13 @@ Result<Scenario> SqlScenarioStore::put(const std::string& name, const std::strin
                    {name, stored.version - keep});
         },
         detail);
-    if (status != StoreStatus::ok) return Result<Scenario>::failure(status, detail);
+    if (status != StoreStatus::ok) return Result<StoredScenario>::failure(status, detail);
     return {StoreStatus::ok, std::move(stored), {}};
 }
 
-Result<Scenario> SqlScenarioStore::get(const std::string& name) {
-    if (auto refused = refuse_name(name)) return Result<Scenario>::failure(*refused, "name");
-    Scenario found;
+Result<StoredScenario> SqlScenarioStore::get(const std::string& name) {
+    if (auto refused = refuse_name(name)) return Result<StoredScenario>::failure(*refused, "name");
+    StoredScenario found;
     std::string detail;
     const StoreStatus status = run(
         backend_, false,
@@ -151,7 +150,7 @@ Result<Scenario> SqlScenarioStore::get(const std::string& name) {
                      false};
         },
         detail);
-    if (status != StoreStatus::ok) return Result<Scenario>::failure(status, detail);
+    if (status != StoreStatus::ok) return Result<StoredScenario>::failure(status, detail);
     return {StoreStatus::ok, std::move(found), {}};
 }
 

@@ -13,9 +13,9 @@ public:
     SqlScenarioStore(Backend& backend, const StoreLimits& limits, const Clock& clock)
         : backend_(backend), limits_(limits), clock_(clock) {}
 
-    Result<Scenario> put(const std::string& name, const std::string& body,
-                         std::optional<std::int64_t> if_match, const std::string& author);
-    Result<Scenario> get(const std::string& name);
+    Result<StoredScenario> put(const std::string& name, const std::string& body,
+                               std::optional<std::int64_t> if_match, const std::string& author);
+    Result<StoredScenario> get(const std::string& name);
     StoreStatus remove(const std::string& name, std::optional<std::int64_t> if_match,
                        const std::string& author);
     Result<ScenarioPage> page(const ScenarioQuery& query);

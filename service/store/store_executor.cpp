@@ -19,7 +19,9 @@
 #include <vector>
 
 namespace rollgap::service::store::detail {
-namespace {
+// Named, not anonymous: StoreExecutor::Shared (declared in the header) holds these, and a
+// unity build would make that a type with internal linkage inside one with external linkage.
+namespace executor_parts {
 
 using SteadyClock = std::chrono::steady_clock;
 constexpr std::string_view abandoned_detail = "the caller gave the call up";
@@ -66,7 +68,11 @@ private:
     std::unique_lock<std::mutex>& lock_;
 };
 
-}  // namespace
+}  // namespace executor_parts
+
+using executor_parts::abandoned_detail;
+using executor_parts::Call;
+using executor_parts::GuardedSession;
 
 struct StoreExecutor::Shared {
     std::unique_ptr<Backend> inner;
@@ -76,13 +82,13 @@ struct StoreExecutor::Shared {
     std::condition_variable exited;
     std::deque<std::shared_ptr<Call>> queue;
     // When each thread took its current call; nullopt while it waits for one.
-    std::vector<std::optional<SteadyClock::time_point>> busy_since;
+    std::vector<std::optional<std::chrono::steady_clock::time_point>> busy_since;
     std::size_t running = 0;
     bool stopping = false;
 
     // Every thread is on a call that started more than a deadline ago: the database or disk
     // is stuck, and a new call would only wait out its deadline.
-    bool stalled(SteadyClock::time_point now) const {
+    bool stalled(std::chrono::steady_clock::time_point now) const {
         return !busy_since.empty() &&
                std::all_of(busy_since.begin(), busy_since.end(), [&](const auto& since) {
                    return since && now - *since > options.deadline;
@@ -128,7 +134,7 @@ struct StoreExecutor::Shared {
                 std::lock_guard call_lock(call->mutex);
                 if (call->abandoned) continue;
             }
-            busy_since[index] = SteadyClock::now();
+            busy_since[index] = std::chrono::steady_clock::now();
             lock.unlock();
             run(*call);
             lock.lock();
@@ -197,10 +203,10 @@ StoreStatus StoreExecutor::transact(bool write, const std::function<void(Session
     call->write = write;
     call->body = &body;
     call->verify = verify ? &verify : nullptr;
-    SteadyClock::time_point until;
+    std::chrono::steady_clock::time_point until;
     {
         std::lock_guard lock(shared_->mutex);
-        const auto now = SteadyClock::now();
+        const auto now = std::chrono::steady_clock::now();
         until = now + shared_->options.deadline;
         if (shared_->stopping) {
             detail = "the store is closing";

@@ -4,7 +4,7 @@
 // bounded waiting. Only 127.0.0.1 is ever contacted.
 
 #include "service/config.h"
-#include "service/http_server.h"
+#include "service/http/http_server.h"
 #include "support/postgres.h"  // free_loopback_port, and PostgreSQL for the store tests
 
 #include <arpa/inet.h>

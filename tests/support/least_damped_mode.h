@@ -21,7 +21,7 @@ inline Eigenpair least_damped_mode(const core::CoupledModel& model) {
     const int n = model.size();
     Eigen::VectorXd scale(n);  // characteristic sizes: 1 um, 1 mm/s, the film, 1 MPa
     for (int j = 0; j < n; ++j)
-        scale(j) = j < 6 ? 1e-6 : j < 12 ? 1e-3 : j == core::CoupledModel::kFilm ? z0(j) : 1e6;
+        scale(j) = j < 6 ? 1e-6 : j < 12 ? 1e-3 : j == core::CoupledModel::film_index ? z0(j) : 1e6;
     Eigen::EigenSolver<Eigen::MatrixXd> solver(scale.cwiseInverse().asDiagonal() * J *
                                                scale.asDiagonal());
     int best = -1;

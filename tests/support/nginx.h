@@ -18,6 +18,8 @@
 
 #include <doctest/doctest.h>
 
+#include "support/repository.h"
+
 namespace rollgap::test {
 
 inline const char* const nginx_binary = "/usr/sbin/nginx";
@@ -37,15 +39,6 @@ inline std::string replace_once(std::string text, const std::string& from, const
     REQUIRE_MESSAGE(text.find(from, at + 1) == std::string::npos,
                     "more than once in the configuration: " << from);
     return text.replace(at, from.size(), to);
-}
-
-// The repository's root: this file is tests/support/nginx.h. With ccache's base directory
-// __FILE__ is relative to the compiler's directory, the test executable's (build/tests).
-inline std::filesystem::path repository_root() {
-    const std::filesystem::path root =
-        std::filesystem::path(__FILE__).parent_path().parent_path().parent_path();
-    if (root.is_absolute()) return root;
-    return std::filesystem::canonical("/proc/self/exe").parent_path() / root;
 }
 
 // deploy/nginx/rollgap.conf as the product ships it, listening on 127.0.0.1:listen_port in

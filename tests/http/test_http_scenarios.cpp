@@ -1,0 +1,377 @@
+// Stored stand scenarios over HTTP (PUT/GET/DELETE /v1/scenarios/{name}, GET /v1/scenarios) and
+// requests with "base": a real server in process on a fresh SQLite store of its own.
+
+#include <doctest/doctest.h>
+
+#include <stdlib.h>
+
+#include <filesystem>
+#include <sstream>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "api/request_json.h"
+#include "service/cli.h"
+#include "service/evaluate.h"
+#include "service/openapi.h"
+#include "service/http/serve_main.h"
+#include "support/http_test.h"
+
+using namespace rollgap;
+using namespace rollgap::test;
+
+namespace {
+
+// A directory of its own under /tmp, removed at the end.
+struct TempDir {
+    std::filesystem::path path;
+    TempDir() {
+        std::string pattern =
+            (std::filesystem::temp_directory_path() / "rollgap-scenarios-XXXXXX").string();
+        REQUIRE(::mkdtemp(pattern.data()) != nullptr);
+        path = pattern;
+    }
+    ~TempDir() {
+        std::error_code ignored;
+        std::filesystem::remove_all(path, ignored);
+    }
+    TempDir(const TempDir&) = delete;
+    TempDir& operator=(const TempDir&) = delete;
+};
+
+service::ServerConfig config_with_store(const std::string& store) {
+    service::ServerConfig config = test_config();
+    config.store = store;
+    return config;
+}
+
+httplib::Result put_scenario(httplib::Client& client, const std::string& name, const json& body,
+                             const httplib::Headers& headers = {}) {
+    return client.Put(("/v1/scenarios/" + name).c_str(), headers, body.dump(), "application/json");
+}
+
+// A stand that differs from the default where it changes the roll bite.
+const json stand_patch = {{"strip", {{"reduction", 0.25}, {"entry_thickness_mm", 2.0}}},
+                          {"rolls", {{"speed_m_per_s", 12.0}}}};
+
+}  // namespace
+
+TEST_CASE("scenarios over http: create, read, list, replace with If-Match, delete") {
+    TempDir dir;
+    TestServer server(config_with_store("sqlite:" + (dir.path / "jobs.db").string()));
+    auto client = server.client();
+
+    // Nothing stored yet.
+    CHECK(body_json(client.Get("/v1/scenarios")) == json{{"scenarios", json::array()}});
+    CHECK(client.Get("/v1/scenarios/stand-3")->status == 404);
+
+    auto created = put_scenario(client, "stand-3", stand_patch);
+    REQUIRE(created);
+    CHECK(created->status == 201);
+    CHECK(created->get_header_value("ETag") == "\"1\"");
+    CHECK(created->get_header_value("Location") == "/v1/scenarios/stand-3");
+    // The resolved full scenario is stored: the default with the patch applied, every field.
+    json expected = body_json(client.Get("/v1/scenarios/default"));
+    expected.merge_patch(stand_patch);
+    CHECK(body_json(created) == expected);
+
+    auto read = client.Get("/v1/scenarios/stand-3");
+    REQUIRE(read);
+    CHECK(read->status == 200);
+    CHECK(read->get_header_value("ETag") == "\"1\"");
+    CHECK(body_json(read) == expected);
+
+    // Replacing without If-Match: 428, and nothing changes.
+    const json faster = {{"rolls", {{"speed_m_per_s", 14.0}}}};
+    auto unconditional = put_scenario(client, "stand-3", faster);
+    REQUIRE(unconditional);
+    CHECK(unconditional->status == 428);
+    CHECK(body_json(unconditional)["code"] == "precondition_required");
+    // Create-only on an existing name: 412.
+    CHECK(put_scenario(client, "stand-3", faster, {{"If-None-Match", "*"}})->status == 412);
+    // A stale version: 412.
+    CHECK(put_scenario(client, "stand-3", faster, {{"If-Match", "\"7\""}})->status == 412);
+    CHECK(body_json(client.Get("/v1/scenarios/stand-3")) == expected);
+
+    // The version the editor read: replaced, new ETag. The body is again a patch onto the
+    // default (not onto the stored version): a full replacement.
+    auto replaced = put_scenario(client, "stand-3", faster, {{"If-Match", "\"1\""}});
+    REQUIRE(replaced);
+    CHECK(replaced->status == 200);
+    CHECK(replaced->get_header_value("ETag") == "\"2\"");
+    json expected_replaced = body_json(client.Get("/v1/scenarios/default"));
+    expected_replaced.merge_patch(faster);
+    CHECK(body_json(client.Get("/v1/scenarios/stand-3")) == expected_replaced);
+    // The editor who still holds version 1 cannot overwrite that.
+    CHECK(put_scenario(client, "stand-3", stand_patch, {{"If-Match", "\"1\""}})->status == 412);
+    // If-Match: * replaces whatever version is current; on a missing name it fails.
+    CHECK(put_scenario(client, "stand-3", faster, {{"If-Match", "*"}})->status == 200);
+    CHECK(put_scenario(client, "nowhere", faster, {{"If-Match", "*"}})->status == 412);
+    CHECK(client.Get("/v1/scenarios/nowhere")->status == 404);
+
+    // If-None-Match: * creates.
+    CHECK(put_scenario(client, "A.line_2", json::object(), {{"If-None-Match", "*"}})->status ==
+          201);
+    const json listed = body_json(client.Get("/v1/scenarios"));
+    REQUIRE(listed["scenarios"].size() == 2);
+    CHECK(listed["scenarios"][0]["name"] == "A.line_2");  // by name (ASCII order)
+    CHECK(listed["scenarios"][0]["version"] == 1);
+    CHECK(listed["scenarios"][1]["name"] == "stand-3");
+    CHECK(listed["scenarios"][1]["version"] == 3);
+    const std::string updated = listed["scenarios"][1]["updated_at"];
+    CHECK(updated.size() == 24);  // 2026-12-01T05:12:57.123Z
+    CHECK(updated.back() == 'Z');
+
+    // DELETE: a stale If-Match is refused, the current one (or none) deletes.
+    CHECK(client.Delete("/v1/scenarios/stand-3", {{"If-Match", "\"2\""}})->status == 412);
+    CHECK(client.Delete("/v1/scenarios/stand-3", {{"If-Match", "\"3\""}})->status == 204);
+    CHECK(client.Get("/v1/scenarios/stand-3")->status == 404);
+    CHECK(client.Delete("/v1/scenarios/stand-3")->status == 404);
+    // A list of tags and "*" are compared with the current version.
+    CHECK(put_scenario(client, "A.line_2", faster, {{"If-None-Match", "W/\"1\", \"5\""}})->status ==
+          412);
+    CHECK(
+        put_scenario(client, "A.line_2", json::object(), {{"If-Match", "\"5\", \"1\""}})->status ==
+        200);
+    CHECK(client.Delete("/v1/scenarios/A.line_2", {{"If-Match", "\"1\""}})->status == 412);
+    CHECK(client.Delete("/v1/scenarios/A.line_2", {{"If-Match", "*"}})->status == 204);
+    CHECK(body_json(client.Get("/v1/scenarios")) == json{{"scenarios", json::array()}});
+
+    // One log line per request, with the route template as its label.
+    CHECK(server.log_text().find("route=/v1/scenarios/{name}") != std::string::npos);
+    CHECK(server.log_text().find("route=/v1/scenarios ") != std::string::npos);
+}
+
+TEST_CASE("scenarios over http: validated on write, names checked, default reserved") {
+    TempDir dir;
+    TestServer server(config_with_store("sqlite:" + (dir.path / "jobs.db").string()));
+    auto client = server.client();
+
+    SUBCASE("a scenario outside its bounds: 422 naming the field, its bound and unit") {
+        auto refused =
+            put_scenario(client, "stand-3",
+                         {{"strip", {{"reduction", 25}}}, {"rolls", {{"speed_m_per_sec", 12}}}});
+        REQUIRE(refused);
+        CHECK(refused->status == 422);
+        CHECK(refused->get_header_value("Content-Type") == "application/problem+json");
+        const json problem = body_json(refused);
+        CHECK(problem["code"] == "invalid_scenario");
+        std::vector<std::string> pointers;
+        for (const json& error : problem["errors"]) pointers.push_back(error["pointer"]);
+        CHECK(pointers == std::vector<std::string>{"/strip/reduction", "/rolls/speed_m_per_sec"});
+        CHECK(problem["errors"][0]["bound"] == "(0, 0.7]");
+        CHECK(problem["errors"][0]["unit"] == "1");
+        // Nothing was stored.
+        CHECK(client.Get("/v1/scenarios/stand-3")->status == 404);
+    }
+    SUBCASE("a cross-field rule on the merged scenario: the same check as the analyses") {
+        const json tension = {{"tension", {{"back", {{"stress_MPa", 400}}}}}};
+        const json analysis = body_json(post_json(client, "/v1/roll-gap", {{"scenario", tension}}));
+        const json stored = body_json(put_scenario(client, "stand-3", tension));
+        REQUIRE(analysis["status"] == 422);
+        CHECK(stored["status"] == 422);
+        CHECK(stored["errors"][0]["pointer"] == "/tension/back/stress_MPa");
+        CHECK(analysis["errors"][0]["pointer"] == "/scenario/tension/back/stress_MPa");
+        CHECK(stored["errors"][0]["bound"] == analysis["errors"][0]["bound"]);
+    }
+    SUBCASE("a body that is not an object, not JSON, not application/json") {
+        CHECK(client.Put("/v1/scenarios/stand-3", "[1]", "application/json")->status == 422);
+        CHECK(client.Put("/v1/scenarios/stand-3", "{", "application/json")->status == 400);
+        CHECK(client.Put("/v1/scenarios/stand-3", "{}", "text/plain")->status == 415);
+        CHECK(client.Get("/v1/scenarios/stand-3")->status == 404);
+    }
+    SUBCASE("names: the pattern is the bound; default is reserved") {
+        for (const std::string& name : std::vector<std::string>{
+                 "-leading-dash", ".hidden", "has%20space", std::string(65, 'a')}) {
+            CAPTURE(name);
+            auto refused = put_scenario(client, name, json::object());
+            REQUIRE(refused);
+            CHECK(refused->status == 422);
+            CHECK(body_json(refused)["errors"][0]["bound"] == "^[A-Za-z0-9][A-Za-z0-9._-]{0,63}$");
+            CHECK(client.Get(("/v1/scenarios/" + name).c_str())->status == 422);
+        }
+        CHECK(put_scenario(client, std::string(64, 'a'), json::object())->status == 201);
+        auto put_default = put_scenario(client, "default", json::object());
+        REQUIRE(put_default);
+        CHECK(put_default->status == 422);
+        CHECK(body_json(put_default)["detail"].get<std::string>().find("'default'") !=
+              std::string::npos);
+        CHECK(client.Delete("/v1/scenarios/default")->status == 422);
+        // The built-in default is still served from code.
+        CHECK(client.Get("/v1/scenarios/default")->status == 200);
+        CHECK(client.Options("/v1/scenarios/stand-3")->get_header_value("Allow") ==
+              "GET, HEAD, PUT, DELETE, OPTIONS");
+    }
+    SUBCASE("a body over the size limit is refused before it is read") {
+        const std::string answer = raw_exchange(
+            server.port(),
+            "PUT /v1/scenarios/stand-3 HTTP/1.1\r\nHost: t\r\nContent-Type: application/json\r\n"
+            "Content-Length: 2000000\r\n\r\n{");
+        CHECK(answer.starts_with("HTTP/1.1 413"));
+        CHECK(client.Get("/v1/scenarios/stand-3")->status == 404);
+    }
+}
+
+TEST_CASE("scenarios over http: the bearer token rule of the job endpoints") {
+    TempDir dir;
+    service::ServerConfig config = config_with_store("sqlite:" + (dir.path / "jobs.db").string());
+    config.token = "s3cret";
+    TestServer server(config);
+    auto client = server.client();
+    CHECK(put_scenario(client, "stand-3", json::object())->status == 401);
+    CHECK(client.Get("/v1/scenarios")->status == 401);
+    CHECK(client.Get("/v1/scenarios/stand-3")->status == 401);
+    CHECK(client.Get("/v1/scenarios/default")->status == 200);  // never needs it
+    const httplib::Headers bearer = {{"Authorization", "Bearer s3cret"}};
+    CHECK(put_scenario(client, "stand-3", json::object(), bearer)->status == 201);
+    CHECK(client.Get("/v1/scenarios/stand-3", bearer)->status == 200);
+}
+
+TEST_CASE("scenarios over http: a request with base computes its patch on the stored stand") {
+    TempDir dir;
+    TestServer server(config_with_store("sqlite:" + (dir.path / "jobs.db").string()));
+    auto client = server.client();
+    REQUIRE(put_scenario(client, "stand-3", stand_patch)->status == 201);
+    REQUIRE(put_scenario(client, "stand-3", stand_patch, {{"If-Match", "\"1\""}})->status == 200);
+
+    // On top of the stored stand: a lubricant change, and null restoring the built-in
+    // default speed (null means the default, not the stored value).
+    const json patch = {{"lubricant", {{"viscosity_Pa_s", 0.0008}}},
+                        {"rolls", {{"speed_m_per_s", nullptr}}}};
+    const json options = {{"distributions", false}};
+    const json with_base = body_json(post_json(
+        client, "/v1/roll-gap", {{"base", "stand-3"}, {"scenario", patch}, {"options", options}}));
+    // The same stand written out by hand as a patch onto the default.
+    const json by_hand = {{"strip", {{"reduction", 0.25}, {"entry_thickness_mm", 2.0}}},
+                          {"lubricant", {{"viscosity_Pa_s", 0.0008}}}};
+    const json without_base =
+        body_json(post_json(client, "/v1/roll-gap", {{"scenario", by_hand}, {"options", options}}));
+    REQUIRE(with_base.contains("result"));
+    CHECK(with_base["result"] == without_base["result"]);
+    CHECK(with_base["scenario"] == without_base["scenario"]);
+    CHECK(with_base["base"] == json{{"name", "stand-3"}, {"version", 2}});
+    CHECK_FALSE(without_base.contains("base"));
+    // The base mattered: the default stand gives another force.
+    const json plain =
+        body_json(post_json(client, "/v1/roll-gap", {{"scenario", patch}, {"options", options}}));
+    CHECK(plain["result"]["force_kN"] != with_base["result"]["force_kN"]);
+
+    SUBCASE("validation points into the request, also for the stored fields") {
+        const json refused = body_json(
+            post_json(client, "/v1/roll-gap",
+                      {{"base", "stand-3"}, {"scenario", {{"strip", {{"reduction", 0.9}}}}}}));
+        CHECK(refused["status"] == 422);
+        CHECK(refused["errors"][0]["pointer"] == "/scenario/strip/reduction");
+    }
+    SUBCASE("an unknown or malformed base: 422 at /base") {
+        for (const json& base : {json("stand-9"), json("default"), json("no/slash"), json(7),
+                                 json{{"name", "stand-3"}, {"version", 2}}}) {
+            CAPTURE(base.dump());
+            const auto answer = post_json(client, "/v1/stability", {{"base", base}});
+            REQUIRE(answer);
+            CHECK(answer->status == 422);
+            CHECK(body_json(answer)["errors"][0]["pointer"] == "/base");
+        }
+    }
+    SUBCASE("base: null is no base") {
+        const json answer =
+            body_json(post_json(client, "/v1/roll-gap", {{"base", nullptr}, {"options", options}}));
+        CHECK(answer["analysis"] == "roll_gap");
+        CHECK_FALSE(answer.contains("base"));
+    }
+}
+
+TEST_CASE("scenarios over http: the store unavailable is 503 for scenarios and base only") {
+    TempDir dir;
+    // A directory where the database file should be: SQLite cannot open it.
+    const std::filesystem::path database = dir.path / "jobs.db";
+    std::filesystem::create_directory(database);
+    TestServer server(config_with_store("sqlite:" + database.string()));
+    auto client = server.client();
+
+    const auto unavailable = [](const httplib::Result& answer) {
+        REQUIRE(answer);
+        CHECK(answer->status == 503);
+        CHECK(answer->get_header_value("Retry-After") == "1");
+        CHECK(body_json(answer)["code"] == "store_unavailable");
+    };
+    unavailable(client.Get("/v1/scenarios"));
+    unavailable(client.Get("/v1/scenarios/stand-3"));
+    unavailable(put_scenario(client, "stand-3", json::object()));
+    unavailable(client.Delete("/v1/scenarios/stand-3"));
+    unavailable(post_json(client, "/v1/roll-gap", {{"base", "stand-3"}}));
+    // Without base the store is never asked: analyses and the default scenario answer.
+    CHECK(post_json(client, "/v1/roll-gap", {{"options", {{"distributions", false}}}})->status ==
+          200);
+    CHECK(post_json(client, "/v1/stability", {{"options", {{"critical_speed", false}}}})->status ==
+          200);
+    CHECK(client.Get("/v1/scenarios/default")->status == 200);
+    // Validation before the store: a bad name or an invalid scenario is still a 422.
+    CHECK(put_scenario(client, "default", json::object())->status == 422);
+    CHECK(put_scenario(client, "stand-3", {{"strip", {{"reduction", 9}}}})->status == 422);
+
+    // The database comes back: the service resumes without a restart.
+    std::filesystem::remove(database);
+    CHECK(eventually([&] { return put_scenario(client, "stand-3", json::object())->status == 201; },
+                     std::chrono::milliseconds(5000)));
+    CHECK(body_json(post_json(client, "/v1/roll-gap",
+                              {{"base", "stand-3"},
+                               {"options", {{"distributions", false}}}}))["base"]["version"] == 1);
+}
+
+TEST_CASE("scenarios: the command line has no store and answers base with 422 at /base") {
+    std::istringstream in(R"({"analysis": "roll_gap", "base": "stand-3"})");
+    std::ostringstream out, err;
+    const std::vector<std::string_view> arguments{"run", "-"};
+    const int status =
+        service::run_cli(arguments, in, out, err, {service::serve, service::healthcheck});
+    CHECK(status == service::exit_bad_input);
+    const json problem = json::parse(out.str());
+    CHECK(problem["status"] == 422);
+    CHECK(problem["errors"][0]["pointer"] == "/base");
+    CHECK(problem["detail"].get<std::string>().find("stored scenarios need the service") !=
+          std::string::npos);
+
+    // The resolved form (a job's stored request) is self-contained: it runs anywhere, echoing
+    // the base it was resolved against.
+    const service::Outcome resolved =
+        service::evaluate({{"analysis", "roll_gap"},
+                           {"base", {{"name", "stand-3"}, {"version", 4}}},
+                           {"scenario", stand_patch},
+                           {"options", {{"distributions", false}}}});
+    REQUIRE(resolved.ok());
+    CHECK(resolved.body["base"] == json{{"name", "stand-3"}, {"version", 4}});
+}
+
+TEST_CASE("scenarios: the OpenAPI document types the routes, the headers and base") {
+    const json document = service::openapi_document();
+    const json& paths = document["paths"];
+    REQUIRE(paths.contains("/v1/scenarios"));
+    REQUIRE(paths.contains("/v1/scenarios/{name}"));
+    const json& named = paths["/v1/scenarios/{name}"];
+    for (const char* status :
+         {"200", "201", "400", "401", "412", "413", "415", "422", "428", "503"}) {
+        CAPTURE(status);
+        CHECK(named["put"]["responses"].contains(status));
+    }
+    for (const char* status : {"204", "404", "412", "422", "503"}) {
+        CAPTURE(status);
+        CHECK(named["delete"]["responses"].contains(status));
+    }
+    CHECK(named["get"]["responses"]["200"]["headers"].contains("ETag"));
+    CHECK(named["put"]["requestBody"]["content"]["application/json"]["schema"]["$ref"] ==
+          "#/components/schemas/ScenarioPatch");
+    const json& schemas = document["components"]["schemas"];
+    CHECK(schemas["ScenarioName"]["pattern"] == std::string(api::stored_scenario_name_pattern));
+    // Every request that carries a scenario patch may name a base; every answer may echo it.
+    for (const char* request : {"AnalysisRequest", "RollGapRequest", "StabilityRequest",
+                                "SweepRequest", "MapRequest", "CalibrateRequest"}) {
+        CAPTURE(request);
+        CHECK(schemas[request]["properties"].contains("base"));
+    }
+    CHECK(schemas["RollGapResponse"]["properties"]["base"]["$ref"] ==
+          "#/components/schemas/ScenarioBase");
+    CHECK_FALSE(json(schemas["RollGapResponse"]["required"]).dump().find("base") !=
+                std::string::npos);
+}
