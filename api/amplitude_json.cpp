@@ -241,7 +241,7 @@ const ResultTable<core::AmplitudeResult>& time_series_table() {
                 "Change of the gap between the work rolls (x3 − x4) from its steady value.",
                 &AmplitudeResult::g, units::micrometre),
             series_member("roll_force_change_kN", "Change of the roll force from its steady value.",
-                          &AmplitudeResult::dP, units::kilonewton),
+                          &AmplitudeResult::force_change, units::kilonewton),
         }};
     return table;
 }

@@ -93,15 +93,15 @@ AmplitudeResult vibration_amplitude(const Scenario& s, const AmplitudeOptions& o
         // b dP = M q'' + C q' + K_s q (eq. 37 with k4 cancelled): the force on the upper work roll
         const Vector6 q = sample.z.head<6>(), qdot = sample.z.segment<6>(6),
                       qddot = sample.zdot.segment<6>(6);
-        const double dP = (M * qddot + C * qdot + K * q)(2);
+        const double force_change = (M * qddot + C * qdot + K * q)(2);
         upper[static_cast<std::size_t>(w)].add(x3);
         gap[static_cast<std::size_t>(w)].add(g);
-        force[static_cast<std::size_t>(w)].add(dP);
+        force[static_cast<std::size_t>(w)].add(force_change);
         if (stride > 0 && index % stride == 0) {
             out.t.push_back(sample.t);
             out.x3.push_back(x3);
             out.g.push_back(g);
-            out.dP.push_back(dP);
+            out.force_change.push_back(force_change);
         }
         ++index;
         if (index % 256 == 0) control.report(sample.t / options.window);

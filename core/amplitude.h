@@ -56,7 +56,7 @@ struct AmplitudeResult {
     std::vector<AmplitudeWindow> windows;  // the ten 10 % windows
 
     // decimated, when asked for
-    std::vector<double> t, x3, g, dP;
+    std::vector<double> t, x3, g, force_change;  // force_change: b dP, N
 
     long steps = 0;
     long rhs_evaluations = 0;

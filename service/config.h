@@ -15,7 +15,7 @@
 #include "service/store/dsn_redaction.h"
 #include <vector>
 
-namespace CLI {
+namespace CLI {  // NOLINT(readability-identifier-naming): CLI11's namespace
 class App;
 }
 
