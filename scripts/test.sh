@@ -23,7 +23,21 @@ cd "$ROLLGAP_ROOT"
 passed=0
 failed=0
 start=$(date +%s)
-stage() { printf '\n==== rollgap test: %s (%d s)\n' "$*" "$(( $(date +%s) - start ))"; }
+# Each stage's start; the summary at the end lists how long each took (CI shows only the tail).
+stage_names=()
+stage_starts=()
+stage() {
+    stage_names+=("$*")
+    stage_starts+=("$(date +%s)")
+    printf '\n==== rollgap test: %s (%d s)\n' "$*" "$(( $(date +%s) - start ))"
+}
+stage_times() {
+    local i next
+    for ((i = 0; i + 1 < ${#stage_names[@]}; i++)); do
+        next=${stage_starts[i + 1]}
+        printf 'rollgap test: %5d s  %s\n' "$((next - stage_starts[i]))" "${stage_names[i]}"
+    done
+}
 
 # run_suite <build dir> <label>: ctest over the whole suite; adds its counts to the summary.
 run_suite() {
@@ -123,5 +137,6 @@ else
 fi
 
 stage "done"
+stage_times
 echo "rollgap: $passed passed, $failed failed"
 [[ $failed -eq 0 ]]
