@@ -422,12 +422,21 @@ BiteResult solve_roll_bite(const Scenario& s, const BiteState& state, const Bite
     if (!exit.finite || !entry.finite)
         return failure(result, "the bite equations gave non-finite values");
 
+    // Mass flow through a gap that closes fast enough can put the strip's entry (or exit) speed
+    // at or below zero: the strip would have to enter (or leave) the bite backwards, which is no
+    // rolling state the model describes (docs/model.md §1, kinematics), so it is not an answer.
+    const double exit_speed = (t.entry_speed * b.y1 - b.contact_length * b.gap_rate) / b.y2;
+    if (!(t.entry_speed > 0.0) || !(exit_speed > 0.0))
+        return failure(result,
+                       "the strip would move backwards through the bite (entry or exit "
+                       "speed <= 0): the gap closes faster than the strip feeds it");
+
     result.status = BiteStatus::ok;
     result.message = "ok";
     result.inlet_film = t.inlet_film;
     result.neutral_point = t.neutral_point;
     result.entry_speed = t.entry_speed;
-    result.exit_speed = (t.entry_speed * b.y1 - b.contact_length * b.gap_rate) / b.y2;
+    result.exit_speed = exit_speed;
     result.forward_slip = (result.exit_speed - b.v) / b.v;
     // The entry side was integrated from x_w down to x_n: its integrals carry the sign of dx < 0.
     const double integral_p = exit.integral_p - entry.integral_p;
