@@ -18,9 +18,22 @@ rollgap_install_deps() {
     bash "$ROLLGAP_ROOT/scripts/install-deps.sh"
 }
 
+# The presets build with Ninja (every object of every target compiles in parallel; with Make a
+# target's objects wait for the libraries it links). A build directory an older checkout
+# configured for another generator is re-configured from scratch: cmake refuses to switch.
+rollgap_forget_other_generator() {
+    local dir="$1"
+    [[ "$dir" == /* ]] || dir="$ROLLGAP_ROOT/$dir"
+    local cache="$dir/CMakeCache.txt"
+    if [[ -f "$cache" ]] && ! grep -q '^CMAKE_GENERATOR:INTERNAL=Ninja$' "$cache"; then
+        rm -rf "$cache" "$dir/CMakeFiles"
+    fi
+}
+
 # The build flags live in CMakePresets.json (presets release and asan); these only choose the
 # directory and the warnings policy.
 rollgap_configure() {
+    rollgap_forget_other_generator "$ROLLGAP_BUILD_DIR"
     (cd "$ROLLGAP_ROOT" && cmake --preset release -B "$ROLLGAP_BUILD_DIR" -DROLLGAP_WERROR="$ROLLGAP_WERROR")
 }
 
@@ -28,6 +41,7 @@ rollgap_configure() {
 # fatal, plus the libFuzzer harnesses of fuzz/ (preset asan: ROLLGAP_SANITIZE, ROLLGAP_FUZZ). Its
 # ctest runs the whole suite and replays the fuzz seed corpora.
 rollgap_configure_asan() {
+    rollgap_forget_other_generator "$ROLLGAP_ASAN_BUILD_DIR"
     (cd "$ROLLGAP_ROOT" && cmake --preset asan -B "$ROLLGAP_ASAN_BUILD_DIR" -DROLLGAP_WERROR="$ROLLGAP_WERROR")
 }
 

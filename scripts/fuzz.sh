@@ -36,20 +36,38 @@ mkdir -p "$artifacts"
 scratch=$(mktemp -d)
 trap 'rm -rf "$scratch"' EXIT
 
+# run_harness <harness>: one bounded run; its exit status goes to $scratch/<harness>.rc.
+run_harness() {
+    local h="$1"
+    local bin="$ROLLGAP_ASAN_BUILD_DIR/fuzz/$h" seeds="fuzz/corpus/$h" result=0
+    mkdir -p "$scratch/$h"
+    local args=(-max_total_time="$seconds" -timeout="$timeout" -rss_limit_mb=2560 -print_final_stats=1
+                -artifact_prefix="$artifacts/$h-")
+    [[ -f "fuzz/$h.dict" ]] && args+=(-dict="fuzz/$h.dict")
+    "$bin" "${args[@]}" "$scratch/$h" "$seeds" >"$scratch/$h.log" 2>&1 || result=$?
+    echo "$result" >"$scratch/$h.rc"
+}
+
+# The harnesses run ROLLGAP_JOBS at a time: each is one single-threaded process, so on two
+# cores two of them get the same time each as one alone would, in half the wall time.
+running=0
+for h in "${harnesses[@]}"; do
+    if [[ $running -ge $ROLLGAP_JOBS ]]; then
+        wait -n || true
+        running=$((running - 1))
+    fi
+    run_harness "$h" &
+    running=$((running + 1))
+done
+wait || true
+
 status=0
 for h in "${harnesses[@]}"; do
-    bin="$ROLLGAP_ASAN_BUILD_DIR/fuzz/$h"
-    seeds="fuzz/corpus/$h"
     log="$scratch/$h.log"
-    mkdir -p "$scratch/$h"
-    args=(-max_total_time="$seconds" -timeout="$timeout" -rss_limit_mb=2560 -print_final_stats=1
-          -artifact_prefix="$artifacts/$h-")
-    [[ -f "fuzz/$h.dict" ]] && args+=(-dict="fuzz/$h.dict")
-    result=0
-    "$bin" "${args[@]}" "$scratch/$h" "$seeds" >"$log" 2>&1 || result=$?
+    result=$(cat "$scratch/$h.rc" 2>/dev/null || echo "no exit status")
     execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
     corpus=$(grep -Eo 'corp: [0-9]+/[0-9]+[a-zA-Z]*' "$log" | tail -1 | cut -d' ' -f2 || true)
-    if [[ $result -eq 0 ]]; then
+    if [[ $result == 0 ]]; then
         printf 'fuzz: %s: %s executions in %s s, corpus %s, no finding\n' "$h" "${execs:-?}" "$seconds" "${corpus:-?}"
     else
         status=1

@@ -8,7 +8,7 @@ set -euo pipefail
 
 # --- The packages -------------------------------------------------------------------------
 # Add new packages to one of these groups (or a new group) and to PACKAGES below.
-BUILD_PACKAGES=(build-essential cmake pkg-config)
+BUILD_PACKAGES=(build-essential cmake ninja-build pkg-config)
 LIBRARY_PACKAGES=(libeigen3-dev libsundials-dev libcpp-httplib-dev nlohmann-json3-dev libspdlog-dev libcli11-dev libsqlite3-dev libpqxx-dev libssl-dev)
 # postgresql: the job store tests start a PostgreSQL 15 server of their own (initdb, pg_ctl).
 # sqlite3: the migration test makes a store of the previous schema with the sqlite3 program.
