@@ -58,20 +58,16 @@ Outcome compute(ServiceState& state, const json& request, const core::Control& c
 Outcome compute(ServiceState& state, const json& request, const core::Control& control,
                 const std::function<bool()>& late, const std::function<bool()>& cancelled_by_client,
                 const Evaluator& evaluator) {
-    const std::string_view analysis = analysis_label(request);
+    return compute(
+        state, analysis_label(request), [&] { return evaluator(request, control); }, late,
+        cancelled_by_client);
+}
+
+Outcome compute(ServiceState& state, std::string_view analysis,
+                const std::function<Outcome()>& work, const std::function<bool()>& late,
+                const std::function<bool()>& cancelled_by_client) {
     const auto start = SteadyClock::now();
-    Outcome outcome;
-    try {
-        outcome = evaluator(request, control);
-    } catch (const std::exception& error) {
-        spdlog::error("analysis {} threw: {}", analysis, error.what());
-        outcome = problem_outcome(api::make_problem(
-            api::ProblemCode::internal, "the analysis failed unexpectedly; the log has the cause"));
-    } catch (...) {
-        spdlog::error("analysis {} threw a non-standard exception", analysis);
-        outcome = problem_outcome(api::make_problem(
-            api::ProblemCode::internal, "the analysis failed unexpectedly; the log has the cause"));
-    }
+    Outcome outcome = guarded(work, analysis);
     const double seconds = std::chrono::duration<double>(SteadyClock::now() - start).count();
 
     std::string_view label = "succeeded";

@@ -1,8 +1,11 @@
 #pragma once
-// Running the evaluator on a compute worker, for synchronous requests and jobs alike: an
-// escaping exception becomes the problem `internal`, and the metrics record how it ended.
+// Running an analysis on a compute worker, for synchronous requests and jobs alike: an
+// escaping exception becomes the problem `internal` (service::guarded), and the metrics record
+// how it ended.
 
+#include <chrono>
 #include <functional>
+#include <string_view>
 
 #include <nlohmann/json.hpp>
 
@@ -13,7 +16,13 @@
 
 namespace rollgap::service::http {
 
-// `late` and `cancelled_by_client` say, after it returned, why it may have been stopped.
+// Runs `work`, the computation of an analysis named `analysis` (the metrics label), on this
+// worker. `late` and `cancelled_by_client` say, after it returned, why it may have been stopped.
+Outcome compute(ServiceState& state, std::string_view analysis,
+                const std::function<Outcome()>& work, const std::function<bool()>& late,
+                const std::function<bool()>& cancelled_by_client);
+// A request as JSON by the service's evaluator: a job's stored request, prepared again on the
+// replica that runs it (jobs run from stored JSON on any replica, DECISIONS R).
 Outcome compute(ServiceState& state, const nlohmann::json& request, const core::Control& control,
                 const std::function<bool()>& late,
                 const std::function<bool()>& cancelled_by_client);

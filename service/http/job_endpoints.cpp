@@ -120,7 +120,8 @@ void JobEndpoints::create(json request, const std::string& idempotency_key,
              "application/json");
 }
 
-void JobEndpoints::get(const std::string& id, httplib::Response& response) {
+void JobEndpoints::get(const httplib::Request& request, const std::string& id,
+                       httplib::Response& response) {
     auto store = store_or_503(response);
     if (!store) return;
     const auto found = store->get(id);
@@ -133,7 +134,9 @@ void JobEndpoints::get(const std::string& id, httplib::Response& response) {
         not_found(id, response);
         return;
     }
-    set_json(response, 200, full_document(*store, *found.value), "application/json");
+    Outcome document;
+    document.body = full_document(*store, *found.value);
+    set_outcome(request, document, response);
 }
 
 json JobEndpoints::full_document(store::JobStore& store, const store::JobRecord& job) {

@@ -46,7 +46,8 @@ constexpr std::string_view stopped_detail =
 
 }  // namespace
 
-void SyncDispatch::run(json request, SteadyClock::time_point arrival, httplib::Response& response) {
+void SyncDispatch::run(const httplib::Request& http_request, json request, PreparedRequest ready,
+                       SteadyClock::time_point arrival, httplib::Response& response) {
     InFlight counted(state_.in_flight);
     auto call = std::make_shared<SyncCall>();
     call->deadline = arrival + state_.config.deadline;
@@ -64,8 +65,11 @@ void SyncDispatch::run(json request, SteadyClock::time_point arrival, httplib::R
     } unregister{*this, call};
 
     ServiceState& state = state_;
-    const bool queued =
-        state_.pool.try_submit(Lane::interactive, [&state, call, request = std::move(request)] {
+    // The facade computes the request prepared here; an injected evaluator gets its JSON.
+    if (is_facade(state_.evaluator)) request = nullptr;
+    const bool queued = state_.pool.try_submit(
+        Lane::interactive,
+        [&state, call, request = std::move(request), ready = std::move(ready)]() mutable {
             const auto late = [call] { return SteadyClock::now() >= call->deadline; };
             if (call->abandoned || late() || state.hard_cancel) {
                 // Taken too late: complete it now so that nobody waits for it.
@@ -81,7 +85,11 @@ void SyncDispatch::run(json request, SteadyClock::time_point arrival, httplib::R
                        SteadyClock::now() >= call->deadline ||
                        state.hard_cancel.load(std::memory_order_relaxed);
             });
-            call->complete(compute(state, request, control, late, [] { return false; }));
+            const auto work = [&]() -> Outcome {
+                if (!request.is_null()) return state.evaluator(request, control);
+                return service::run(std::move(ready), control);
+            };
+            call->complete(compute(state, ready.analysis->name, work, late, [] { return false; }));
         });
     if (!queued) {
         state_.overloaded(response, api::concat("every worker is busy and ",
@@ -112,7 +120,7 @@ void SyncDispatch::run(json request, SteadyClock::time_point arrival, httplib::R
         }
         return;
     }
-    set_json(response, outcome.http_status, outcome.body, outcome.media_type());
+    set_outcome(http_request, outcome, response);
 }
 
 void SyncDispatch::stop_all() {
