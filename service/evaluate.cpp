@@ -97,8 +97,28 @@ Outcome cancelled_outcome() {
         api::ProblemCode::cancelled, "the analysis was stopped by its caller before it finished"));
 }
 
+namespace {
+
+// The analyses write their status into the result document (api/*_json.cpp: "status" of the
+// result, or of one of its parts); it is read once, here where the result is made.
+ResultStatus status_of(const nlohmann::json& result) {
+    if (!result.is_object()) return ResultStatus::ok;
+    const auto failed = [](const nlohmann::json& object) {
+        const auto status = object.find("status");
+        return status != object.end() && status->is_string() && *status == "solver_failure";
+    };
+    if (failed(result)) return ResultStatus::solver_failure;
+    for (const nlohmann::json& member : result) {
+        if (member.is_object() && failed(member)) return ResultStatus::solver_failure;
+    }
+    return ResultStatus::ok;
+}
+
+}  // namespace
+
 Outcome result_outcome(PreparedRequest& ready, nlohmann::json result) {
     Outcome outcome;
+    outcome.status = status_of(result);
     outcome.body = {
         {"analysis", ready.analysis->name},
         {"scenario", api::resolved_scenario_json(ready.scenario)},

@@ -23,10 +23,16 @@ namespace rollgap::service {
 // thousands of values.
 inline constexpr std::size_t max_request_bytes = 1024 * 1024;
 
+// How a computed answer came out, typed, so that callers (the metrics) need not read its JSON.
+// `solver_failure`: the result, or one of its parts (a stability analysis's steady state),
+// reports that its solver did not converge; the answer is still a 200 with that status.
+enum class ResultStatus { ok, solver_failure };
+
 struct Outcome {
     int http_status = 200;
     nlohmann::json body;                      // the result document, or the problem details
     std::optional<api::ProblemCode> problem;  // set iff `body` is a problem
+    ResultStatus status = ResultStatus::ok;   // of a result; a problem leaves it ok
 
     bool ok() const { return !problem.has_value(); }
     std::string_view media_type() const;  // application/json or application/problem+json
@@ -98,7 +104,8 @@ Outcome run(std::variant<Outcome, PreparedRequest> prepared, const core::Control
 // Validation as evaluate() does it: the problem of an invalid request, or the prepared request.
 std::variant<Outcome, PreparedRequest> prepare_request(const nlohmann::json& request,
                                                        std::span<const Analysis> offered);
-// The answer with `result` as its "result" member (moves the resolved options out of `ready`).
+// The answer with `result` as its "result" member (moves the resolved options out of `ready`),
+// its ResultStatus read from `result` as the analysis wrote it.
 Outcome result_outcome(PreparedRequest& ready, nlohmann::json result);
 // The problem `cancelled`, as evaluate() reports a stopped analysis.
 Outcome cancelled_outcome();

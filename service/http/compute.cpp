@@ -1,6 +1,5 @@
 #include "service/http/compute.h"
 
-#include <algorithm>
 #include <string_view>
 
 #include <spdlog/spdlog.h>
@@ -18,18 +17,6 @@ std::string_view analysis_label(const json& request) {
     if (name == request.end() || !name->is_string()) return "unknown";
     const Analysis* analysis = find_analysis(analyses(), name->get_ref<const std::string&>());
     return analysis == nullptr ? std::string_view("unknown") : analysis->name;
-}
-
-bool reports_solver_failure(const json& body) {
-    const auto result = body.find("result");
-    if (result == body.end() || !result->is_object()) return false;
-    const auto failed = [](const json& object) {
-        const auto status = object.find("status");
-        return status != object.end() && status->is_string() && *status == "solver_failure";
-    };
-    if (failed(*result)) return true;
-    return std::any_of(result->begin(), result->end(),
-                       [&](const json& member) { return member.is_object() && failed(member); });
 }
 
 }  // namespace
@@ -76,7 +63,7 @@ Outcome compute(ServiceState& state, std::string_view analysis,
     } else if (late() || state.hard_cancel) {
         label = "deadline_exceeded";
     } else if (outcome.ok()) {
-        if (reports_solver_failure(outcome.body))
+        if (outcome.status == ResultStatus::solver_failure)
             state.metrics.count_solver_failure(analysis, "solver_failure");
     } else if (outcome.problem == api::ProblemCode::deadline_exceeded) {
         label = "deadline_exceeded";
