@@ -165,7 +165,7 @@ Outcome internal_outcome(std::string_view context, std::string_view what) {
     spdlog::error("internal error in {}: {}", context, what);
     return problem_outcome(
         api::make_problem(api::ProblemCode::internal,
-                          "the analysis failed unexpectedly; the service log has the cause"));
+                          "the request failed unexpectedly; the service log has the cause"));
 }
 
 Outcome evaluate(const nlohmann::json& request, std::span<const Analysis> offered,

@@ -36,31 +36,37 @@ api::Problem deadline_problem(std::chrono::milliseconds budget) {
                     " ms and was stopped; run it as a job (POST /v1/jobs) for a longer budget"));
 }
 
-Outcome compute(ServiceState& state, const json& request, const core::Control& control,
-                const std::function<bool()>& late,
-                const std::function<bool()>& cancelled_by_client) {
-    return compute(state, request, control, late, cancelled_by_client, state.evaluator);
+StopReason stop_reason(const StopSignals& signals) {
+    if (signals.lease_lost) return StopReason::lease_lost;
+    if (signals.cancelled) return StopReason::cancelled;
+    if (signals.shutdown) return StopReason::shutdown;
+    if (signals.late) return StopReason::deadline;
+    if (signals.abandoned) return StopReason::abandoned;
+    return StopReason::none;
 }
 
 Outcome compute(ServiceState& state, const json& request, const core::Control& control,
-                const std::function<bool()>& late, const std::function<bool()>& cancelled_by_client,
-                const Evaluator& evaluator) {
+                const std::function<StopReason()>& stopped) {
+    return compute(state, request, control, stopped, state.evaluator);
+}
+
+Outcome compute(ServiceState& state, const json& request, const core::Control& control,
+                const std::function<StopReason()>& stopped, const Evaluator& evaluator) {
     return compute(
-        state, analysis_label(request), [&] { return evaluator(request, control); }, late,
-        cancelled_by_client);
+        state, analysis_label(request), [&] { return evaluator(request, control); }, stopped);
 }
 
 Outcome compute(ServiceState& state, std::string_view analysis,
-                const std::function<Outcome()>& work, const std::function<bool()>& late,
-                const std::function<bool()>& cancelled_by_client) {
+                const std::function<Outcome()>& work, const std::function<StopReason()>& stopped) {
     const auto start = SteadyClock::now();
     Outcome outcome = guarded(work, analysis);
     const double seconds = std::chrono::duration<double>(SteadyClock::now() - start).count();
 
     std::string_view label = "succeeded";
-    if (cancelled_by_client()) {
+    const StopReason reason = stopped();
+    if (reason == StopReason::cancelled) {
         label = "cancelled";
-    } else if (late() || state.hard_cancel) {
+    } else if (reason == StopReason::shutdown || reason == StopReason::deadline) {
         label = "deadline_exceeded";
     } else if (outcome.ok()) {
         if (outcome.status == ResultStatus::solver_failure)

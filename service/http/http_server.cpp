@@ -164,19 +164,17 @@ struct HttpServer::Impl {
         return 100;
     }
 
+    // `handler` under the one exception guard (service::guarded): an exception is answered as
+    // the problem `internal`.
     template <class Handler>
-    void guarded(httplib::Response& response, Handler&& handler) {
-        try {
-            handler();
-        } catch (const std::exception& error) {
-            spdlog::error("request {} failed: {}", t_context.id, error.what());
-            set_problem(response, api::ProblemCode::internal,
-                        "the request failed unexpectedly; the log has the cause");
-        } catch (...) {
-            spdlog::error("request {} failed with a non-standard exception", t_context.id);
-            set_problem(response, api::ProblemCode::internal,
-                        "the request failed unexpectedly; the log has the cause");
-        }
+    static void guarded(httplib::Response& response, Handler&& handler) {
+        const std::optional<Outcome> failed = service::guarded(
+            [&]() -> std::optional<Outcome> {
+                handler();
+                return std::nullopt;
+            },
+            concat("request ", t_context.id));
+        if (failed) set_json(response, failed->http_status, failed->body, failed->media_type());
     }
 
     void handle_get_or_delete(const Route& route, const httplib::Request& request,
@@ -375,10 +373,10 @@ struct HttpServer::Impl {
             // connection ends here, as nginx does.
             if (response.status == 400) response.set_header("Connection", "close");
         });
-        listener.set_exception_handler([](const httplib::Request&, httplib::Response& response,
-                                          std::exception_ptr) {
-            set_problem(response, api::ProblemCode::internal, "the request failed unexpectedly");
-        });
+        listener.set_exception_handler(
+            [](const httplib::Request&, httplib::Response& response, std::exception_ptr error) {
+                guarded(response, [&] { std::rethrow_exception(error); });
+            });
         listener.set_request_logger(
             [this](const httplib::Request& request, const httplib::Response& response) {
                 end(request, response);
