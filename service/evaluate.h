@@ -68,8 +68,8 @@ Outcome evaluate(const nlohmann::json& request, std::span<const Analysis> offere
                  const core::Control& control = {});
 
 // Only the envelope: a JSON object of bounded depth with the envelope's fields, naming an
-// analysis that is offered. What a job needs at submission; its scenario and options are
-// checked when it runs and a violation fails the job.
+// analysis that is offered. What a job submission checks before it asks the store for a
+// "base"; prepare() checks the rest once "base" is resolved.
 std::optional<Outcome> check_envelope(const nlohmann::json& request);
 
 // The same from request text: size limit, then JSON syntax (invalid_json), then evaluate().
