@@ -28,7 +28,7 @@ namespace rollgap::service {
 // How many independent points a valid request's analysis splits into: a sweep its values, a map
 // rows × columns cells (row-major index). Nothing for every other analysis, and for a request
 // evaluate() would refuse (it runs whole and fails as evaluate() says). Validates the request,
-// so it costs what validate() costs (milliseconds for the largest map), never a computation.
+// so it costs what prepare() costs (milliseconds for the largest map), never a computation.
 std::optional<std::int64_t> chunkable_points(const nlohmann::json& request);
 
 // The documents of points [begin, end) of a chunkable request, computed: an Outcome whose body is

@@ -9,7 +9,7 @@
 #include <optional>
 #include <sstream>
 #include <string>
-
+#include <variant>
 #include <vector>
 
 #include <CLI/CLI.hpp>
@@ -156,11 +156,15 @@ int run_request(std::string_view source, std::istream& in, std::ostream& out, bo
                              problem_outcome(api::make_problem(api::ProblemCode::unreadable_input,
                                                                api::concat("cannot read ", name))));
     }
-    // The analysis runs on this thread; its inner loops also on a pool sized by the CPU quota.
+    // The facade's two steps, as the HTTP server takes them: prepare (a problem is printed before
+    // any pool is made), then run on this thread, its inner loops also on a pool sized by the
+    // CPU quota.
+    auto prepared = prepare_text(*text);
+    if (auto* problem = std::get_if<Outcome>(&prepared)) return print_outcome(out, *problem);
     const auto pool = local_pool();
     core::Control control;
     control.executor = pool.get();
-    const Outcome outcome = evaluate_text(*text, control);
+    const Outcome outcome = run(std::move(std::get<PreparedRequest>(prepared)), control);
     if (!csv || !outcome.ok()) return print_outcome(out, outcome);
     const CsvAnswer answer = csv_answer(outcome.body, table);
     if (answer.status != 200) {

@@ -19,13 +19,6 @@
 namespace rollgap::service {
 namespace {
 
-Outcome internal_error(std::string_view what) {
-    spdlog::error("internal error while evaluating a request: {}", what);
-    return problem_outcome(
-        api::make_problem(api::ProblemCode::internal,
-                          "the analysis failed unexpectedly; the service log has the cause"));
-}
-
 // The request's envelope is valid and names an offered analysis.
 struct Envelope {
     api::AnalysisRequest parsed;
@@ -104,8 +97,28 @@ Outcome cancelled_outcome() {
         api::ProblemCode::cancelled, "the analysis was stopped by its caller before it finished"));
 }
 
+namespace {
+
+// The analyses write their status into the result document (api/*_json.cpp: "status" of the
+// result, or of one of its parts); it is read once, here where the result is made.
+ResultStatus status_of(const nlohmann::json& result) {
+    if (!result.is_object()) return ResultStatus::ok;
+    const auto failed = [](const nlohmann::json& object) {
+        const auto status = object.find("status");
+        return status != object.end() && status->is_string() && *status == "solver_failure";
+    };
+    if (failed(result)) return ResultStatus::solver_failure;
+    for (const nlohmann::json& member : result) {
+        if (member.is_object() && failed(member)) return ResultStatus::solver_failure;
+    }
+    return ResultStatus::ok;
+}
+
+}  // namespace
+
 Outcome result_outcome(PreparedRequest& ready, nlohmann::json result) {
     Outcome outcome;
+    outcome.status = status_of(result);
     outcome.body = {
         {"analysis", ready.analysis->name},
         {"scenario", api::resolved_scenario_json(ready.scenario)},
@@ -118,12 +131,7 @@ Outcome result_outcome(PreparedRequest& ready, nlohmann::json result) {
 
 namespace {
 
-Outcome evaluate_unguarded(const nlohmann::json& request, std::span<const Analysis> offered,
-                           const core::Control& control) {
-    auto prepared = prepare_request(request, offered);
-    if (auto* problem = std::get_if<Outcome>(&prepared)) return std::move(*problem);
-    PreparedRequest& ready = std::get<PreparedRequest>(prepared);
-
+Outcome run_unguarded(PreparedRequest& ready, const core::Control& control) {
     if (control.should_stop()) return cancelled_outcome();  // e.g. the deadline passed while queued
     nlohmann::json result;
     try {
@@ -133,18 +141,6 @@ Outcome evaluate_unguarded(const nlohmann::json& request, std::span<const Analys
     }
     control.report(1.0);  // not every analysis reports its own end
     return result_outcome(ready, std::move(result));
-}
-
-// Runs `check` and turns an escaping exception into the problem `internal`.
-template <class Check>
-std::optional<Outcome> guarded_check(Check check) {
-    try {
-        return check();
-    } catch (const std::exception& error) {
-        return internal_error(error.what());
-    } catch (...) {
-        return internal_error("a non-standard exception");
-    }
 }
 
 }  // namespace
@@ -165,39 +161,24 @@ Outcome evaluate(const nlohmann::json& request, const core::Control& control) {
     return evaluate(request, analyses(), control);
 }
 
-Outcome guarded(const std::function<Outcome()>& compute) {
-    try {
-        return compute();
-    } catch (const std::exception& error) {
-        return internal_error(error.what());
-    } catch (...) {
-        return internal_error("a non-standard exception");
-    }
+Outcome internal_outcome(std::string_view context, std::string_view what) {
+    spdlog::error("internal error in {}: {}", context, what);
+    return problem_outcome(
+        api::make_problem(api::ProblemCode::internal,
+                          "the request failed unexpectedly; the service log has the cause"));
 }
 
 Outcome evaluate(const nlohmann::json& request, std::span<const Analysis> offered,
                  const core::Control& control) {
-    return guarded([&] { return evaluate_unguarded(request, offered, control); });
+    return run(guarded([&] { return prepare_request(request, offered); }), control);
 }
 
-std::optional<Outcome> check_envelope(const nlohmann::json& request) {
-    return guarded_check([&]() -> std::optional<Outcome> {
-        auto checked = check_envelope_of(request, analyses());
-        if (auto* problem = std::get_if<Outcome>(&checked)) return std::move(*problem);
-        return std::nullopt;
-    });
+std::variant<Outcome, PreparedRequest> prepare(const nlohmann::json& request) {
+    return guarded([&] { return prepare_request(request, analyses()); });
 }
 
-std::optional<Outcome> validate(const nlohmann::json& request) {
-    return guarded_check([&]() -> std::optional<Outcome> {
-        auto prepared = prepare_request(request, analyses());
-        if (auto* problem = std::get_if<Outcome>(&prepared)) return std::move(*problem);
-        return std::nullopt;
-    });
-}
-
-Outcome evaluate_text(std::string_view text, const core::Control& control) {
-    return guarded([&] {
+std::variant<Outcome, PreparedRequest> prepare_text(std::string_view text) {
+    return guarded([&]() -> std::variant<Outcome, PreparedRequest> {
         if (text.size() > max_request_bytes) {
             return problem_outcome(api::make_problem(
                 api::ProblemCode::payload_too_large,
@@ -206,8 +187,29 @@ Outcome evaluate_text(std::string_view text, const core::Control& control) {
         }
         auto parsed = api::parse_json_text(text);
         if (auto* problem = std::get_if<api::Problem>(&parsed)) return problem_outcome(*problem);
-        return evaluate(std::get<nlohmann::json>(parsed), control);
+        return prepare(std::get<nlohmann::json>(parsed));
     });
+}
+
+Outcome run(PreparedRequest ready, const core::Control& control) {
+    return guarded([&] { return run_unguarded(ready, control); });
+}
+
+Outcome run(std::variant<Outcome, PreparedRequest> prepared, const core::Control& control) {
+    if (auto* problem = std::get_if<Outcome>(&prepared)) return std::move(*problem);
+    return run(std::move(std::get<PreparedRequest>(prepared)), control);
+}
+
+std::optional<Outcome> check_envelope(const nlohmann::json& request) {
+    return guarded([&]() -> std::optional<Outcome> {
+        auto checked = check_envelope_of(request, analyses());
+        if (auto* problem = std::get_if<Outcome>(&checked)) return std::move(*problem);
+        return std::nullopt;
+    });
+}
+
+Outcome evaluate_text(std::string_view text, const core::Control& control) {
+    return run(prepare_text(text), control);
 }
 
 }  // namespace rollgap::service

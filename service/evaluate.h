@@ -7,6 +7,7 @@
 #include <optional>
 #include <span>
 #include <string_view>
+#include <utility>
 #include <variant>
 
 #include <nlohmann/json.hpp>
@@ -22,10 +23,16 @@ namespace rollgap::service {
 // thousands of values.
 inline constexpr std::size_t max_request_bytes = 1024 * 1024;
 
+// How a computed answer came out, typed, so that callers (the metrics) need not read its JSON.
+// `solver_failure`: the result, or one of its parts (a stability analysis's steady state),
+// reports that its solver did not converge; the answer is still a 200 with that status.
+enum class ResultStatus { ok, solver_failure };
+
 struct Outcome {
     int http_status = 200;
     nlohmann::json body;                      // the result document, or the problem details
     std::optional<api::ProblemCode> problem;  // set iff `body` is a problem
+    ResultStatus status = ResultStatus::ok;   // of a result; a problem leaves it ok
 
     bool ok() const { return !problem.has_value(); }
     std::string_view media_type() const;  // application/json or application/problem+json
@@ -60,21 +67,14 @@ Outcome evaluate(const nlohmann::json& request, const core::Control& control = {
 Outcome evaluate(const nlohmann::json& request, std::span<const Analysis> offered,
                  const core::Control& control = {});
 
-// What evaluate() checks before it computes, without computing: the problem of an invalid
-// request, or nothing when evaluate() would compute. The HTTP server validates on its
-// connection threads, so that a cheap 422 never waits behind computations for a worker.
-std::optional<Outcome> validate(const nlohmann::json& request);
-
 // Only the envelope: a JSON object of bounded depth with the envelope's fields, naming an
-// analysis that is offered. What a job needs at submission; its scenario and options are
-// checked when it runs and a violation fails the job.
+// analysis that is offered. What a job submission checks before it asks the store for a
+// "base"; prepare() checks the rest once "base" is resolved.
 std::optional<Outcome> check_envelope(const nlohmann::json& request);
 
 // The same from request text: size limit, then JSON syntax (invalid_json), then evaluate().
 Outcome evaluate_text(std::string_view text, const core::Control& control = {});
 
-// The steps of evaluate(), for facades that run a request in parts (service/chunked.h) and
-// must answer exactly as evaluate() does.
 // A valid request, ready to compute.
 struct PreparedRequest {
     const Analysis* analysis = nullptr;
@@ -82,14 +82,48 @@ struct PreparedRequest {
     core::Scenario scenario;
     PreparedAnalysis prepared;
 };
+
+// evaluate() in its two steps, for callers that check a request in one place and compute it in
+// another: the HTTP server prepares on its connection thread (a cheap 422 never waits behind
+// computations for a worker) and hands the prepared request to a worker, so the request is
+// prepared once; the CLI uses the same two steps. evaluate(request, control) is exactly
+// run(prepare(request), control). Neither throws: an exception becomes the problem `internal`.
+//
+// prepare: everything evaluate() checks before it computes (envelope, analysis, scenario,
+// options), never a computation; the problem of an invalid request, or the prepared request.
+std::variant<Outcome, PreparedRequest> prepare(const nlohmann::json& request);
+// The same from request text: size limit, then JSON syntax (invalid_json), then prepare().
+std::variant<Outcome, PreparedRequest> prepare_text(std::string_view text);
+// run: computes a prepared request under `control` (as evaluate() documents it).
+Outcome run(PreparedRequest ready, const core::Control& control = {});
+// Either step's result handed to run: the problem as it is, or the prepared request computed.
+Outcome run(std::variant<Outcome, PreparedRequest> prepared, const core::Control& control = {});
+
+// The parts of the steps, for facades that run a request in parts (service/chunked.h) and
+// must answer exactly as evaluate() does.
 // Validation as evaluate() does it: the problem of an invalid request, or the prepared request.
 std::variant<Outcome, PreparedRequest> prepare_request(const nlohmann::json& request,
                                                        std::span<const Analysis> offered);
-// The answer with `result` as its "result" member (moves the resolved options out of `ready`).
+// The answer with `result` as its "result" member (moves the resolved options out of `ready`),
+// its ResultStatus read from `result` as the analysis wrote it.
 Outcome result_outcome(PreparedRequest& ready, nlohmann::json result);
 // The problem `cancelled`, as evaluate() reports a stopped analysis.
 Outcome cancelled_outcome();
-// `compute()`, with an escaping exception turned into the problem `internal` (and logged).
-Outcome guarded(const std::function<Outcome()>& compute);
+
+// The one exception guard of the service: `work()`, or, when an exception escapes it, the problem
+// `internal` (the exception logged with `context`, e.g. "request 7f3a"). `work` returns an
+// Outcome or anything made from one (std::optional<Outcome>, the variant prepare() returns).
+// The facade, the HTTP handlers and the workers all answer an exception through it.
+Outcome internal_outcome(std::string_view context, std::string_view what);
+template <class Work>
+auto guarded(Work&& work, std::string_view context = "a request") -> decltype(work()) {
+    try {
+        return std::forward<Work>(work)();
+    } catch (const std::exception& error) {
+        return internal_outcome(context, error.what());
+    } catch (...) {
+        return internal_outcome(context, "a non-standard exception");
+    }
+}
 
 }  // namespace rollgap::service

@@ -1,6 +1,5 @@
 #include "service/http/compute.h"
 
-#include <algorithm>
 #include <string_view>
 
 #include <spdlog/spdlog.h>
@@ -20,18 +19,6 @@ std::string_view analysis_label(const json& request) {
     return analysis == nullptr ? std::string_view("unknown") : analysis->name;
 }
 
-bool reports_solver_failure(const json& body) {
-    const auto result = body.find("result");
-    if (result == body.end() || !result->is_object()) return false;
-    const auto failed = [](const json& object) {
-        const auto status = object.find("status");
-        return status != object.end() && status->is_string() && *status == "solver_failure";
-    };
-    if (failed(*result)) return true;
-    return std::any_of(result->begin(), result->end(),
-                       [&](const json& member) { return member.is_object() && failed(member); });
-}
-
 }  // namespace
 
 core::Control control_for(ServiceState& state, std::function<bool()> stop) {
@@ -49,38 +36,40 @@ api::Problem deadline_problem(std::chrono::milliseconds budget) {
                     " ms and was stopped; run it as a job (POST /v1/jobs) for a longer budget"));
 }
 
-Outcome compute(ServiceState& state, const json& request, const core::Control& control,
-                const std::function<bool()>& late,
-                const std::function<bool()>& cancelled_by_client) {
-    return compute(state, request, control, late, cancelled_by_client, state.evaluator);
+StopReason stop_reason(const StopSignals& signals) {
+    if (signals.lease_lost) return StopReason::lease_lost;
+    if (signals.cancelled) return StopReason::cancelled;
+    if (signals.shutdown) return StopReason::shutdown;
+    if (signals.late) return StopReason::deadline;
+    if (signals.abandoned) return StopReason::abandoned;
+    return StopReason::none;
 }
 
 Outcome compute(ServiceState& state, const json& request, const core::Control& control,
-                const std::function<bool()>& late, const std::function<bool()>& cancelled_by_client,
-                const Evaluator& evaluator) {
-    const std::string_view analysis = analysis_label(request);
+                const std::function<StopReason()>& stopped) {
+    return compute(state, request, control, stopped, state.evaluator);
+}
+
+Outcome compute(ServiceState& state, const json& request, const core::Control& control,
+                const std::function<StopReason()>& stopped, const Evaluator& evaluator) {
+    return compute(
+        state, analysis_label(request), [&] { return evaluator(request, control); }, stopped);
+}
+
+Outcome compute(ServiceState& state, std::string_view analysis,
+                const std::function<Outcome()>& work, const std::function<StopReason()>& stopped) {
     const auto start = SteadyClock::now();
-    Outcome outcome;
-    try {
-        outcome = evaluator(request, control);
-    } catch (const std::exception& error) {
-        spdlog::error("analysis {} threw: {}", analysis, error.what());
-        outcome = problem_outcome(api::make_problem(
-            api::ProblemCode::internal, "the analysis failed unexpectedly; the log has the cause"));
-    } catch (...) {
-        spdlog::error("analysis {} threw a non-standard exception", analysis);
-        outcome = problem_outcome(api::make_problem(
-            api::ProblemCode::internal, "the analysis failed unexpectedly; the log has the cause"));
-    }
+    Outcome outcome = guarded(work, analysis);
     const double seconds = std::chrono::duration<double>(SteadyClock::now() - start).count();
 
     std::string_view label = "succeeded";
-    if (cancelled_by_client()) {
+    const StopReason reason = stopped();
+    if (reason == StopReason::cancelled) {
         label = "cancelled";
-    } else if (late() || state.hard_cancel) {
+    } else if (reason == StopReason::shutdown || reason == StopReason::deadline) {
         label = "deadline_exceeded";
     } else if (outcome.ok()) {
-        if (reports_solver_failure(outcome.body))
+        if (outcome.status == ResultStatus::solver_failure)
             state.metrics.count_solver_failure(analysis, "solver_failure");
     } else if (outcome.problem == api::ProblemCode::deadline_exceeded) {
         label = "deadline_exceeded";

@@ -4,7 +4,6 @@
 #include "api/problem.h"
 #include "api/scenario_json.h"
 #include "api/text.h"
-#include "service/csv_answer.h"
 #include "service/http/admin_endpoints.h"
 #include "service/http/job_endpoints.h"
 #include "service/http/listener.h"
@@ -66,12 +65,6 @@ ListenerLimits limits_for(const ServerConfig& config) {
 }
 
 }  // namespace
-
-Evaluator facade_evaluator() {
-    return [](const json& request, const core::Control& control) {
-        return service::evaluate(request, control);
-    };
-}
 
 // ==============================================================================================
 
@@ -171,19 +164,17 @@ struct HttpServer::Impl {
         return 100;
     }
 
+    // `handler` under the one exception guard (service::guarded): an exception is answered as
+    // the problem `internal`.
     template <class Handler>
-    void guarded(httplib::Response& response, Handler&& handler) {
-        try {
-            handler();
-        } catch (const std::exception& error) {
-            spdlog::error("request {} failed: {}", t_context.id, error.what());
-            set_problem(response, api::ProblemCode::internal,
-                        "the request failed unexpectedly; the log has the cause");
-        } catch (...) {
-            spdlog::error("request {} failed with a non-standard exception", t_context.id);
-            set_problem(response, api::ProblemCode::internal,
-                        "the request failed unexpectedly; the log has the cause");
-        }
+    static void guarded(httplib::Response& response, Handler&& handler) {
+        const std::optional<Outcome> failed = service::guarded(
+            [&]() -> std::optional<Outcome> {
+                handler();
+                return std::nullopt;
+            },
+            concat("request ", t_context.id));
+        if (failed) set_json(response, failed->http_status, failed->body, failed->media_type());
     }
 
     void handle_get_or_delete(const Route& route, const httplib::Request& request,
@@ -223,9 +214,7 @@ struct HttpServer::Impl {
                 if (request.method == "DELETE") {
                     job_endpoints.cancel(id, response);
                 } else {
-                    job_endpoints.get(id, response);
-                    if (response.status == 200)
-                        offer_csv(request, json::parse(response.body), response);
+                    job_endpoints.get(request, id, response);
                 }
                 return;
             }
@@ -234,15 +223,6 @@ struct HttpServer::Impl {
                 set_problem(response, api::ProblemCode::internal, "no handler for this route");
                 return;
         }
-    }
-
-    // Accept: text/csv on a 200 answer that holds a result: its table, or 406 (csv_answer.h).
-    static void offer_csv(const httplib::Request& request, const json& answer,
-                          httplib::Response& response) {
-        if (response.status != 200 || !wants_csv(request.get_header_value("Accept"))) return;
-        const CsvAnswer csv = csv_answer(answer, request.get_param_value("table"));
-        response.status = csv.status;
-        response.set_content(csv.body, std::string(csv.media_type));
     }
 
     void handle_post(const httplib::Request& request, httplib::Response& response,
@@ -295,16 +275,16 @@ struct HttpServer::Impl {
             } else if (request.method == "PUT") {
                 scenario_endpoints.put(request, std::move(document), t_context.client, response);
             } else {
-                run_route(*route, std::move(document), response);
-                if (response.status == 200)
-                    offer_csv(request, json::parse(response.body), response);
+                run_route(*route, request, std::move(document), response);
             }
         });
     }
 
-    // {"scenario", "options"} → the facade's {"analysis", "scenario", "options"}, validated
-    // here, computed on a worker.
-    void run_route(const Route& route, json body, httplib::Response& response) {
+    // {"scenario", "options"} → the facade's {"analysis", "scenario", "options"}, prepared
+    // here (a cheap 422 never waits for a worker), computed on a worker, answered as JSON or
+    // CSV as `request` asks.
+    void run_route(const Route& route, const httplib::Request& request, json body,
+                   httplib::Response& response) {
         if (!body.is_object()) {
             set_problem(response, api::ProblemCode::invalid_request,
                         "the request body must be a JSON object",
@@ -330,11 +310,13 @@ struct HttpServer::Impl {
             answer_unresolved(state, *refused, response);
             return;
         }
-        if (auto problem = validate(body)) {
-            set_json(response, problem->http_status, problem->body, problem->media_type());
+        auto prepared = prepare(body);
+        if (auto* problem = std::get_if<Outcome>(&prepared)) {
+            set_outcome(request, *problem, response);
             return;
         }
-        sync.run(std::move(body), t_context.start, response);
+        sync.run(request, std::move(body), std::move(std::get<PreparedRequest>(prepared)),
+                 t_context.start, response);
     }
 
     // ---- lifecycle ---------------------------------------------------------------------------
@@ -391,10 +373,10 @@ struct HttpServer::Impl {
             // connection ends here, as nginx does.
             if (response.status == 400) response.set_header("Connection", "close");
         });
-        listener.set_exception_handler([](const httplib::Request&, httplib::Response& response,
-                                          std::exception_ptr) {
-            set_problem(response, api::ProblemCode::internal, "the request failed unexpectedly");
-        });
+        listener.set_exception_handler(
+            [](const httplib::Request&, httplib::Response& response, std::exception_ptr error) {
+                guarded(response, [&] { std::rethrow_exception(error); });
+            });
         listener.set_request_logger(
             [this](const httplib::Request& request, const httplib::Response& response) {
                 end(request, response);

@@ -74,6 +74,15 @@ void JobEndpoints::create(json request, const std::string& idempotency_key,
         answer_unresolved(state_, *refused, response);
         return;
     }
+    // The whole request is checked now, as a synchronous one is: an invalid scenario or options
+    // is a 422 at once and nothing is stored. The prepared request is not kept: the job runs
+    // from its stored JSON on any replica and is prepared again there (DECISIONS R).
+    auto prepared = prepare(request);
+    if (auto* problem = std::get_if<Outcome>(&prepared)) {
+        set_json(response, problem->http_status, problem->body, problem->media_type());
+        return;
+    }
+    const PreparedRequest& ready = std::get<PreparedRequest>(prepared);
     store::NewJob job;
     job.analysis = request["analysis"].get<std::string>();
     job.request = request.dump();
@@ -82,8 +91,8 @@ void JobEndpoints::create(json request, const std::string& idempotency_key,
     if (!idempotency_key.empty()) job.idempotency_key = idempotency_key;
     job.body_hash = body_hash(sent);
     // A sweep or map is stored as chunks of points that workers on any replica claim.
-    if (const auto points = chunkable_points(request); points && *points > 0) {
-        job.points = *points;
+    if (ready.prepared.points && ready.prepared.points->count > 0) {
+        job.points = ready.prepared.points->count;
         job.chunk_size =
             static_cast<std::int64_t>(std::max<std::size_t>(state_.config.chunk_points, 1));
     }
@@ -120,7 +129,8 @@ void JobEndpoints::create(json request, const std::string& idempotency_key,
              "application/json");
 }
 
-void JobEndpoints::get(const std::string& id, httplib::Response& response) {
+void JobEndpoints::get(const httplib::Request& request, const std::string& id,
+                       httplib::Response& response) {
     auto store = store_or_503(response);
     if (!store) return;
     const auto found = store->get(id);
@@ -133,7 +143,9 @@ void JobEndpoints::get(const std::string& id, httplib::Response& response) {
         not_found(id, response);
         return;
     }
-    set_json(response, 200, full_document(*store, *found.value), "application/json");
+    Outcome document;
+    document.body = full_document(*store, *found.value);
+    set_outcome(request, document, response);
 }
 
 json JobEndpoints::full_document(store::JobStore& store, const store::JobRecord& job) {

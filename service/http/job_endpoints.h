@@ -20,7 +20,9 @@ public:
     // `idempotency_key`: the Idempotency-Key header ("" when absent).
     void create(nlohmann::json request, const std::string& idempotency_key,
                 httplib::Response& response);
-    void get(const std::string& id, httplib::Response& response);
+    // The job document, as JSON or, for a finished job, its result's CSV table as `request`
+    // asks (set_outcome).
+    void get(const httplib::Request& request, const std::string& id, httplib::Response& response);
     void list(const httplib::Request& request, httplib::Response& response);
     void cancel(const std::string& id, httplib::Response& response);
 

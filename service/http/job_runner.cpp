@@ -149,10 +149,15 @@ void JobRunner::run(const std::shared_ptr<Item>& item) {
     store::JobStore& store = *item->store;
 
     const auto late = [&work] { return store::system_millis() >= work.deadline_ms; };
-    const auto cancelled = [&item] { return item->cancel.load(); };
-    core::Control control = control_for(state_, [this, &item, late, cancelled] {
-        return cancelled() || item->lost.load() || late() || state_.hard_cancel.load();
-    });
+    // Why the item stops; the metrics of the computation leave a lost lease out.
+    const auto stopped = [this, &item, late](bool with_lease) {
+        return stop_reason({.lease_lost = with_lease && item->lost.load(),
+                            .cancelled = item->cancel.load(),
+                            .shutdown = state_.hard_cancel.load(),
+                            .late = late()});
+    };
+    core::Control control =
+        control_for(state_, [stopped] { return stopped(true) != StopReason::none; });
     // A chunk of a sweep's or map's points: the job's progress is its share of finished
     // points, which the store counts itself.
     const bool chunk = work.end > work.begin;
@@ -168,17 +173,19 @@ void JobRunner::run(const std::shared_ptr<Item>& item) {
         };
 
     const json request = json::parse(work.request, nullptr, false);
-    Outcome outcome = chunk ? compute(state_, request, control, late, cancelled,
+    const auto for_metrics = [stopped] { return stopped(false); };
+    Outcome outcome = chunk ? compute(state_, request, control, for_metrics,
                                       [&work](const json& whole, const core::Control& stop) {
                                           return evaluate_points(whole, work.begin, work.end, stop);
                                       })
-                            : compute(state_, request, control, late, cancelled);
+                            : compute(state_, request, control, for_metrics);
 
-    if (item->lost) {
+    const StopReason reason = stopped(true);
+    if (reason == StopReason::lease_lost) {
         finish(item, "lost");
         return;
     }
-    if (state_.hard_cancel && !cancelled()) {
+    if (reason == StopReason::shutdown) {
         // The drain timeout passed: the work goes back to the store for another replica.
         state_.store.report(store.release(work.lease));
         finish(item, "released");
@@ -187,10 +194,10 @@ void JobRunner::run(const std::shared_ptr<Item>& item) {
     store::FinalState stored = store::FinalState::succeeded;
     std::string text;
     const char* label = "succeeded";
-    if (cancelled()) {
+    if (reason == StopReason::cancelled) {
         stored = store::FinalState::cancelled;
         label = "cancelled";
-    } else if (late()) {
+    } else if (reason == StopReason::deadline) {
         stored = store::FinalState::failed;
         text = problem_outcome(deadline_problem(state_.config.job_deadline)).body.dump();
         label = "failed";

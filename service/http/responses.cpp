@@ -6,6 +6,7 @@
 
 #include "api/field_errors.h"
 #include "api/text.h"
+#include "service/csv_answer.h"
 
 namespace rollgap::service::http {
 
@@ -25,6 +26,17 @@ void set_json(httplib::Response& response, int status, const json& body,
 
 void set_problem(httplib::Response& response, const api::Problem& problem) {
     set_json(response, problem.http_status(), api::problem_json(problem), api::problem_media_type);
+}
+
+void set_outcome(const httplib::Request& request, const Outcome& outcome,
+                 httplib::Response& response) {
+    if (outcome.ok() && wants_csv(request.get_header_value("Accept"))) {
+        const CsvAnswer csv = csv_answer(outcome.body, request.get_param_value("table"));
+        response.status = csv.status;
+        response.set_content(csv.body, std::string(csv.media_type));
+        return;
+    }
+    set_json(response, outcome.http_status, outcome.body, outcome.media_type());
 }
 
 void set_problem(httplib::Response& response, ProblemCode code, std::string detail,

@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "api/problem.h"
+#include "service/evaluate.h"
 #include "service/http/listener.h"
 
 namespace rollgap::service::http {
@@ -21,6 +22,12 @@ std::string dump(const nlohmann::json& document);
 void set_json(httplib::Response& response, int status, const nlohmann::json& body,
               std::string_view media_type);
 void set_problem(httplib::Response& response, const api::Problem& problem);
+// An outcome as `request` asks for it, chosen before anything is serialised: a success as its
+// CSV table when the Accept header prefers text/csv (the `table` parameter picks one; 406 when
+// there is none, service/csv_answer.h), otherwise the JSON body (a problem always as JSON).
+// The body is an analysis's answer or a job document.
+void set_outcome(const httplib::Request& request, const Outcome& outcome,
+                 httplib::Response& response);
 void set_problem(httplib::Response& response, api::ProblemCode code, std::string detail,
                  std::vector<api::FieldError> errors = {});
 

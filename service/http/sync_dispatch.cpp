@@ -44,9 +44,28 @@ private:
 constexpr std::string_view stopped_detail =
     "the service is shutting down; the analysis was stopped before it finished";
 
+// The answer of a request stopped for `reason`: 503 at the drain (retry on another replica),
+// 504 otherwise.
+Outcome stopped_outcome(const ServiceState& state, StopReason reason) {
+    if (reason == StopReason::shutdown) {
+        return problem_outcome(
+            api::make_problem(api::ProblemCode::overloaded, std::string(stopped_detail)));
+    }
+    return problem_outcome(deadline_problem(state.config.deadline));
+}
+
+void answer_stopped(ServiceState& state, StopReason reason, httplib::Response& response) {
+    if (reason == StopReason::shutdown) {
+        state.overloaded(response, std::string(stopped_detail));
+    } else {
+        set_problem(response, deadline_problem(state.config.deadline));
+    }
+}
+
 }  // namespace
 
-void SyncDispatch::run(json request, SteadyClock::time_point arrival, httplib::Response& response) {
+void SyncDispatch::run(const httplib::Request& http_request, json request, PreparedRequest ready,
+                       SteadyClock::time_point arrival, httplib::Response& response) {
     InFlight counted(state_.in_flight);
     auto call = std::make_shared<SyncCall>();
     call->deadline = arrival + state_.config.deadline;
@@ -64,24 +83,35 @@ void SyncDispatch::run(json request, SteadyClock::time_point arrival, httplib::R
     } unregister{*this, call};
 
     ServiceState& state = state_;
-    const bool queued =
-        state_.pool.try_submit(Lane::interactive, [&state, call, request = std::move(request)] {
-            const auto late = [call] { return SteadyClock::now() >= call->deadline; };
-            if (call->abandoned || late() || state.hard_cancel) {
+    // The facade computes the request prepared here; an injected evaluator gets its JSON.
+    if (is_facade(state_.evaluator)) request = nullptr;
+    const bool queued = state_.pool.try_submit(
+        Lane::interactive,
+        [&state, call, request = std::move(request), ready = std::move(ready)]() mutable {
+            const auto stopped = [&state, call] {
+                return stop_reason({.shutdown = state.hard_cancel.load(std::memory_order_relaxed),
+                                    .late = SteadyClock::now() >= call->deadline,
+                                    .abandoned = call->abandoned.load(std::memory_order_relaxed)});
+            };
+            if (const StopReason reason = stopped(); reason != StopReason::none) {
                 // Taken too late: complete it now so that nobody waits for it.
-                state.metrics.count_skipped(state.hard_cancel ? "cancelled" : "deadline_exceeded");
-                call->complete(problem_outcome(state.hard_cancel
-                                                   ? api::make_problem(api::ProblemCode::overloaded,
-                                                                       std::string(stopped_detail))
-                                                   : deadline_problem(state.config.deadline)));
+                state.metrics.count_skipped(reason == StopReason::shutdown ? "cancelled"
+                                                                           : "deadline_exceeded");
+                call->complete(stopped_outcome(state, reason));
                 return;
             }
-            const core::Control control = control_for(state, [&state, call] {
-                return call->abandoned.load(std::memory_order_relaxed) ||
-                       SteadyClock::now() >= call->deadline ||
-                       state.hard_cancel.load(std::memory_order_relaxed);
-            });
-            call->complete(compute(state, request, control, late, [] { return false; }));
+            const core::Control control =
+                control_for(state, [stopped] { return stopped() != StopReason::none; });
+            const auto work = [&]() -> Outcome {
+                if (!request.is_null()) return state.evaluator(request, control);
+                return service::run(std::move(ready), control);
+            };
+            call->complete(compute(state, ready.analysis->name, work, [&] {
+                // Abandoned alone is no reason for the metrics: the connection thread left
+                // because the deadline passed or the drain stopped it.
+                return stop_reason({.shutdown = state.hard_cancel.load(),
+                                    .late = SteadyClock::now() >= call->deadline});
+            }));
         });
     if (!queued) {
         state_.overloaded(response, api::concat("every worker is busy and ",
@@ -94,25 +124,21 @@ void SyncDispatch::run(json request, SteadyClock::time_point arrival, httplib::R
         lock, call->deadline, [&] { return call->outcome.has_value() || call->stopped; });
     if (!call->outcome) {
         call->abandoned = true;
-        if (answered) {
-            state_.overloaded(response, std::string(stopped_detail));
-        } else {
-            set_problem(response, deadline_problem(state_.config.deadline));
-        }
+        // Woken without an outcome: the drain stopped it; otherwise the deadline passed.
+        answer_stopped(state_, stop_reason({.shutdown = answered && call->stopped, .late = true}),
+                       response);
         return;
     }
     const Outcome& outcome = *call->outcome;
     if (outcome.problem == api::ProblemCode::cancelled ||
         outcome.problem == api::ProblemCode::overloaded) {
-        // The facade cannot say why it was stopped (evaluate.h); here it is known.
-        if (state_.hard_cancel) {
-            state_.overloaded(response, std::string(stopped_detail));
-        } else {
-            set_problem(response, deadline_problem(state_.config.deadline));
-        }
+        // The facade cannot say why it was stopped (evaluate.h): its Control stops only at
+        // the drain or the deadline.
+        answer_stopped(state_, stop_reason({.shutdown = state_.hard_cancel.load(), .late = true}),
+                       response);
         return;
     }
-    set_json(response, outcome.http_status, outcome.body, outcome.media_type());
+    set_outcome(http_request, outcome, response);
 }
 
 void SyncDispatch::stop_all() {

@@ -11,6 +11,7 @@
 #include <httplib.h>
 #include <nlohmann/json.hpp>
 
+#include "service/evaluate.h"
 #include "service/http/service_state.h"
 
 namespace rollgap::service::http {
@@ -21,8 +22,11 @@ class SyncDispatch {
 public:
     explicit SyncDispatch(ServiceState& state) : state_(state) {}
 
-    // Computes `request` (valid: the facade's validate() found nothing) and answers.
-    void run(nlohmann::json request, SteadyClock::time_point arrival, httplib::Response& response);
+    // Computes `ready`, what the facade's prepare() made of `request` on the connection thread,
+    // on a worker (the service's evaluator is handed `request` instead when it is not the
+    // facade: tests), and answers `http_request` as it asks (set_outcome: JSON or CSV).
+    void run(const httplib::Request& http_request, nlohmann::json request, PreparedRequest ready,
+             SteadyClock::time_point arrival, httplib::Response& response);
 
     // The drain timeout passed: every waiting request is answered 503 now, whatever its
     // computation does.
