@@ -11,7 +11,7 @@
 //    components (api/result_table.h), and its CSV tables in api/csv.cpp if it has any;
 //  - in service/openapi.json: its request body, its path and its options component (the row
 //    names them; the response, result and CSV parts of the document are generated from the row);
-//  - a seed request for fuzz/corpus/fuzz_evaluate/ (written by tools/fuzz_seeds).
+//  - `build/tools/fuzz_vocabulary fuzz` to regenerate the fuzz dictionary and seed requests.
 // tests/service/test_analysis_descriptor.cpp checks every row is reachable everywhere.
 
 #include <concepts>
