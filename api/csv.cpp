@@ -1,7 +1,6 @@
 #include "api/csv.h"
 
 #include <algorithm>
-#include <map>
 
 #include "api/amplitude_json.h"
 #include "api/calibration_json.h"
@@ -56,105 +55,6 @@ json map_rows(const json& result) {
     return rows;
 }
 
-const std::map<std::string_view, std::vector<CsvTable>>& tables() {
-    static const std::map<std::string_view, std::vector<CsvTable>> by_analysis{
-        {"roll_gap",
-         {{"distribution",
-           "Quantities along the bite, one row per integration point.",
-           "",
-           {},
-           "/distribution",
-           all_columns(&bite_distribution_table)}}},
-        {"tension_cycle",
-         {{"distributions",
-           "The bite's distributions at each phase, one row per phase and integration point.",
-           "/phases",
-           {{"phase", "phase"}, {"time_s", "time_s"}, {"back_tension_MPa", "back_tension_MPa"}},
-           "/roll_gap/distribution",
-           all_columns(&bite_distribution_table)},
-          {"phases",
-           "One row per phase.",
-           "",
-           {},
-           "/phases",
-           scalar_columns(&tension_phase_table)}}},
-        {"stability",
-         {{"scan",
-           "The critical-speed scan, one row per speed.",
-           "",
-           {},
-           "/critical_speed/scan",
-           scalar_columns(&scan_point_table)},
-          {"damping_branches",
-           "The damping ratio of each oscillatory mode over the scan, one row per mode and speed.",
-           "/critical_speed/damping_branches",
-           {{"branch", ""}},
-           "",
-           all_columns(&damping_branch_table)},
-          {"eigenvalues",
-           "The eigenvalues at the scenario's speed.",
-           "",
-           {},
-           "/eigenvalues",
-           all_columns(&eigenvalue_table)}}},
-        {"amplitude",
-         {{"points",
-           "One row per speed.",
-           "",
-           {},
-           "/points",
-           scalar_columns(&amplitude_point_table)},
-          {"time_series",
-           "The decimated time series of each speed (options.time_series), one row per sample.",
-           "/points",
-           {{"speed_m_per_s", "speed_m_per_s"}},
-           "/time_series",
-           all_columns(&time_series_table)},
-          {"windows",
-           "The ten 10 % windows of each speed.",
-           "/points",
-           {{"speed_m_per_s", "speed_m_per_s"}},
-           "/windows",
-           all_columns(&amplitude_window_table)}}},
-        {"sweep",
-         {{"points",
-           "One row per swept value, the value first.",
-           "",
-           {},
-           "/points",
-           [](const json& result) {
-               std::vector<std::string> columns{result.value("value_name", std::string("value"))};
-               for (std::string& name :
-                    sweep_point_columns(result.value("quantity", std::string()) == "amplitude")) {
-                   columns.push_back(std::move(name));
-               }
-               return columns;
-           }}}},
-        {"calibrate",
-         {{"parameters",
-           "One row per fitted field.",
-           "",
-           {},
-           "/parameters",
-           [](const json&) { return calibration_parameter_columns(); }},
-          {"observations",
-           "One row per observation.",
-           "",
-           {},
-           "/observations",
-           [](const json&) { return calibration_observation_columns(); }}}},
-        {"map",
-         {{"cells",
-           "One row per cell, the two fields' values first (columns named by their scenario pointers).",
-           "",
-           {},
-           "",
-           map_columns,
-           map_rows}}},
-    };
-    return by_analysis;
-}
-
 const json* at(const json& document, std::string_view pointer) {
     if (pointer.empty()) return &document;
     const json::json_pointer location{std::string(pointer)};
@@ -200,10 +100,112 @@ std::string table_names(std::span<const CsvTable> offered) {
 
 }  // namespace
 
-std::span<const CsvTable> csv_tables(std::string_view analysis) {
-    const auto found = tables().find(analysis);
-    if (found == tables().end()) return {};
-    return found->second;
+std::span<const CsvTable> roll_gap_csv_tables() {
+    static const std::vector<CsvTable> tables{
+        {"distribution",
+         "Quantities along the bite, one row per integration point.",
+         "",
+         {},
+         "/distribution",
+         all_columns(&bite_distribution_table)}};
+    return tables;
+}
+
+std::span<const CsvTable> tension_cycle_csv_tables() {
+    static const std::vector<CsvTable> tables{
+        {"distributions",
+         "The bite's distributions at each phase, one row per phase and integration point.",
+         "/phases",
+         {{"phase", "phase"}, {"time_s", "time_s"}, {"back_tension_MPa", "back_tension_MPa"}},
+         "/roll_gap/distribution",
+         all_columns(&bite_distribution_table)},
+        {"phases", "One row per phase.", "", {}, "/phases", scalar_columns(&tension_phase_table)}};
+    return tables;
+}
+
+std::span<const CsvTable> stability_csv_tables() {
+    static const std::vector<CsvTable> tables{
+        {"scan",
+         "The critical-speed scan, one row per speed.",
+         "",
+         {},
+         "/critical_speed/scan",
+         scalar_columns(&scan_point_table)},
+        {"damping_branches",
+         "The damping ratio of each oscillatory mode over the scan, one row per mode and speed.",
+         "/critical_speed/damping_branches",
+         {{"branch", ""}},
+         "",
+         all_columns(&damping_branch_table)},
+        {"eigenvalues",
+         "The eigenvalues at the scenario's speed.",
+         "",
+         {},
+         "/eigenvalues",
+         all_columns(&eigenvalue_table)}};
+    return tables;
+}
+
+std::span<const CsvTable> amplitude_csv_tables() {
+    static const std::vector<CsvTable> tables{
+        {"points", "One row per speed.", "", {}, "/points", scalar_columns(&amplitude_point_table)},
+        {"time_series",
+         "The decimated time series of each speed (options.time_series), one row per sample.",
+         "/points",
+         {{"speed_m_per_s", "speed_m_per_s"}},
+         "/time_series",
+         all_columns(&time_series_table)},
+        {"windows",
+         "The ten 10 % windows of each speed.",
+         "/points",
+         {{"speed_m_per_s", "speed_m_per_s"}},
+         "/windows",
+         all_columns(&amplitude_window_table)}};
+    return tables;
+}
+
+std::span<const CsvTable> sweep_csv_tables() {
+    static const std::vector<CsvTable> tables{
+        {"points",
+         "One row per swept value, the value first.",
+         "",
+         {},
+         "/points",
+         [](const json& result) {
+             std::vector<std::string> columns{result.value("value_name", std::string("value"))};
+             for (std::string& name :
+                  sweep_point_columns(result.value("quantity", std::string()) == "amplitude")) {
+                 columns.push_back(std::move(name));
+             }
+             return columns;
+         }}};
+    return tables;
+}
+
+std::span<const CsvTable> calibration_csv_tables() {
+    static const std::vector<CsvTable> tables{
+        {"parameters",
+         "One row per fitted field.",
+         "",
+         {},
+         "/parameters",
+         [](const json&) { return calibration_parameter_columns(); }},
+        {"observations", "One row per observation.", "", {}, "/observations", [](const json&) {
+             return calibration_observation_columns();
+         }}};
+    return tables;
+}
+
+std::span<const CsvTable> map_csv_tables() {
+    static const std::vector<CsvTable> tables{
+        {"cells",
+         "One row per cell, the two fields' values first (columns named by their scenario pointers).",
+         "",
+         {},
+         "",
+         map_columns,
+         map_rows}};
+    return tables;
 }
 
 std::string csv_field(const json& value) {
@@ -227,17 +229,8 @@ std::string csv_record(const std::vector<json>& fields) {
     return record + "\r\n";
 }
 
-CsvOutcome result_csv(std::string_view analysis, const json& result, std::string_view table) {
-    const std::span<const CsvTable> offered = csv_tables(analysis);
-    if (offered.empty()) {
-        return {
-            false,
-            {},
-            concat(
-                "the ", analysis,
-                " result has no table to give as CSV: ask for application/json, or run the "
-                "analysis whose table you want (roll_gap, stability, amplitude, tension_cycle, sweep, map, calibrate)")};
-    }
+CsvOutcome result_csv(std::span<const CsvTable> offered, std::string_view analysis,
+                      const json& result, std::string_view table) {
     const auto chosen = table.empty()
                             ? offered.begin()
                             : std::find_if(offered.begin(), offered.end(),

@@ -7,14 +7,16 @@
 // empty field; numbers are written as in the JSON (shortest form that reads back exactly);
 // booleans true / false.
 //
-// One CSV is one table. A result with several tables names them (csv_tables); the caller picks
+// One CSV is one table. A result with several tables names them (<analysis>_csv_tables, listed
+// in the analysis' row, service/analyses/analysis.h); the caller picks
 // one by name (HTTP ?table=, CLI --table), the first one listed is the default. A table whose rows
 // sit in the elements of an outer array (the distributions of each tension-cycle phase, the time
 // series of each amplitude speed, the damping branches) repeats the outer element's key members
 // as leading columns, so the whole is one flat sheet.
 //
-// Adding a table: one CsvTable row in csv.cpp, its columns from the ResultTable that writes the
-// JSON (names() for columnar objects, scalar_names() for arrays of objects).
+// Adding a table: one CsvTable row in its analysis' list in csv.cpp, its columns from the
+// ResultTable that writes the JSON (names() for columnar objects, scalar_names() for arrays of
+// objects).
 
 #include <functional>
 #include <span>
@@ -47,8 +49,14 @@ struct CsvTable {
     std::function<nlohmann::json(const nlohmann::json& result)> rows_of = {};
 };
 
-// The tables of an analysis' result; empty when it has none worth a sheet.
-std::span<const CsvTable> csv_tables(std::string_view analysis);
+// The tables of each analysis' result that has some worth a sheet (first: the default).
+std::span<const CsvTable> roll_gap_csv_tables();
+std::span<const CsvTable> tension_cycle_csv_tables();
+std::span<const CsvTable> stability_csv_tables();
+std::span<const CsvTable> amplitude_csv_tables();
+std::span<const CsvTable> sweep_csv_tables();
+std::span<const CsvTable> map_csv_tables();
+std::span<const CsvTable> calibration_csv_tables();
 
 struct CsvOutcome {
     bool ok = false;
@@ -56,9 +64,10 @@ struct CsvOutcome {
     std::string detail;  // why not, for a 406 problem
 };
 
-// The CSV of one table of an analysis' result; `table` "" is the first.
-CsvOutcome result_csv(std::string_view analysis, const nlohmann::json& result,
-                      std::string_view table);
+// The CSV of one of the tables `offered` (non-empty) of an `analysis` result; `table` "" is the
+// first.
+CsvOutcome result_csv(std::span<const CsvTable> offered, std::string_view analysis,
+                      const nlohmann::json& result, std::string_view table);
 
 // One RFC 4180 field / record (CRLF included), for the writers and their tests.
 std::string csv_field(const nlohmann::json& value);

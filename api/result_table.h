@@ -3,11 +3,9 @@
 // the JSON Schema of its value, a getter). The same rows write the JSON, give the OpenAPI
 // schema of the result (service/openapi.cpp) and name the CSV columns (api/csv.h), so the
 // three cannot drift apart.
-//
-// Adding a result (a new analysis): write a ResultTable of its members (nested objects are
-// tables of their own, referenced with ref_schema), list it in result_tables() (result_schemas.cpp)
-// so its component appears in the OpenAPI document, add a row for its route in
-// service/openapi.cpp and, if it has tables worth a spreadsheet, its rows in api/csv.cpp.
+// An analysis' result: a ResultTable of its members (nested objects are tables of their own,
+// referenced with ref_schema), whose components its <name>_result_schemas() lists for the
+// analysis' row (service/analyses/analysis.h says what adding an analysis takes).
 
 #include <functional>
 #include <initializer_list>

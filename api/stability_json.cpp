@@ -1,3 +1,5 @@
+// Writing the stability analysis' result (api/stability_json.h): eigenvalues and modes at a
+// speed, the critical-speed search, the scan; the options reader is in stability_options_json.cpp.
 #include "api/option_names.h"
 #include "api/stability_json.h"
 
@@ -18,70 +20,6 @@
 
 namespace rollgap::api {
 namespace {
-
-constexpr std::string_view speed_min_name = "speed_min_m_per_s";
-constexpr std::string_view speed_max_name = "speed_max_m_per_s";
-constexpr std::string_view speed_step_name = "speed_step_m_per_s";
-constexpr std::string_view detail_name = "detail";
-constexpr std::array<std::string_view, 2> detail_choices{"full", "summary"};
-
-constexpr std::array<std::string_view, 4> search_members{speed_min_name, speed_max_name,
-                                                         speed_step_name, tolerance_name};
-constexpr std::array<std::string_view, 6> stability_members{speed_min_name,      speed_max_name,
-                                                            speed_step_name,     tolerance_name,
-                                                            critical_speed_name, detail_name};
-
-// The speeds a search may scan are the speeds a scenario may have.
-Interval speed_range() { return find_scenario_field("/rolls/speed_m_per_s")->range; }
-
-void read_search(const OptionsReader& reader, core::CriticalSpeedOptions& search) {
-    reader.number(speed_min_name, units::metre_per_second, speed_range(), search.speed_min);
-    reader.number(speed_max_name, units::metre_per_second, speed_range(), search.speed_max);
-    reader.number(speed_step_name, units::metre_per_second, open_closed(0.0, 0.5),
-                  search.speed_step);
-    reader.number(tolerance_name, units::one, closed(1e-8, 1e-2), search.relative_tolerance);
-
-    // Cross-member rules, each only on members that passed their own checks.
-    if (reader.failed(speed_min_name) || reader.failed(speed_max_name)) return;
-    if (search.speed_min >= search.speed_max) {
-        const Interval allowed = open_closed(search.speed_min, speed_range().max);
-        reader.errors().add(
-            {reader.at(speed_max_name),
-             concat("the search range must not be empty: speed_max_m_per_s ",
-                    format_number(search.speed_max), " m/s must be above speed_min_m_per_s ",
-                    format_number(search.speed_min), " m/s"),
-             allowed.text(), std::string(units::metre_per_second.code)});
-        return;
-    }
-    if (reader.failed(speed_step_name)) return;
-    if (scan_point_count(search) > max_scan_points) {
-        // The smallest step that keeps the scan within the limit, rounded up to 3 digits.
-        const double smallest = (search.speed_max - search.speed_min) / (max_scan_points - 1);
-        const int exponent = static_cast<int>(std::floor(std::log10(smallest))) - 2;
-        const double digits = std::ceil(smallest / std::pow(10.0, exponent));
-        const double rounded =
-            to_si(digits, Unit{"", exponent});  // digits × 10^exponent, exactly rounded
-        const Interval allowed = closed(rounded, 0.5);
-        reader.errors().add(
-            {reader.at(speed_step_name),
-             concat("a step of ", format_number(search.speed_step), " m/s scans ",
-                    std::to_string(scan_point_count(search)), " speeds between ",
-                    format_number(search.speed_min), " and ", format_number(search.speed_max),
-                    " m/s; at most ", std::to_string(max_scan_points),
-                    " are allowed: use a larger step or a narrower range (the critical speed "
-                    "is refined to relative_tolerance whatever the step)"),
-             allowed.text(), std::string(units::metre_per_second.code)});
-    }
-}
-
-nlohmann::json search_json(const core::CriticalSpeedOptions& search) {
-    return {
-        {speed_min_name, echo(search.speed_min, units::metre_per_second)},
-        {speed_max_name, echo(search.speed_max, units::metre_per_second)},
-        {speed_step_name, echo(search.speed_step, units::metre_per_second)},
-        {tolerance_name, search.relative_tolerance},
-    };
-}
 
 nlohmann::json shape_json(const core::Vector6& shape) {
     nlohmann::json values = nlohmann::json::array();
@@ -108,55 +46,6 @@ std::string stability_status(const core::SpeedStability& stability) {
 }
 
 }  // namespace
-
-void read_detail(const OptionsReader& reader, Detail& detail) {
-    const nlohmann::json* value = reader.find(detail_name);
-    if (value == nullptr) return;
-    if (const auto choice =
-            read_choice(*value, reader.at(detail_name), detail_choices, reader.errors())) {
-        detail = *choice == "summary" ? Detail::summary : Detail::full;
-    }
-}
-
-nlohmann::json detail_json(Detail detail) { return detail == Detail::summary ? "summary" : "full"; }
-
-int scan_point_count(const core::CriticalSpeedOptions& options) {
-    // As core::critical_speed counts them.
-    const double step = std::min(options.speed_step, 0.5);
-    const double intervals = std::ceil((options.speed_max - options.speed_min) / step - 1e-9);
-    if (!(intervals < 1e9)) return std::numeric_limits<int>::max();
-    return std::max(2, static_cast<int>(intervals) + 1);
-}
-
-StabilityOptions stability_options_from_json(const nlohmann::json& options,
-                                             const std::string& pointer, FieldErrors& errors) {
-    StabilityOptions parsed;
-    const OptionsReader reader(options, pointer, stability_members, errors);
-    read_search(reader, parsed.search);
-    reader.boolean(critical_speed_name, parsed.critical_speed);
-    read_detail(reader, parsed.detail);
-    return parsed;
-}
-
-nlohmann::json stability_options_json(const StabilityOptions& options) {
-    nlohmann::json document = search_json(options.search);
-    document[critical_speed_name] = options.critical_speed;
-    document[detail_name] = detail_json(options.detail);
-    return document;
-}
-
-core::CriticalSpeedOptions critical_speed_options_from_json(const nlohmann::json& options,
-                                                            const std::string& pointer,
-                                                            FieldErrors& errors) {
-    core::CriticalSpeedOptions parsed;
-    const OptionsReader reader(options, pointer, search_members, errors);
-    read_search(reader, parsed);
-    return parsed;
-}
-
-nlohmann::json critical_speed_options_json(const core::CriticalSpeedOptions& options) {
-    return search_json(options);
-}
 
 namespace {
 

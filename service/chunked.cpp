@@ -112,7 +112,7 @@ nlohmann::json partial_result(
     };
 }
 
-nlohmann::json partial_result_schema() {
+nlohmann::json partial_result_schema(std::span<const Analysis> offered) {
     nlohmann::json partial = api::boolean_schema();
     partial["const"] = true;
     partial["description"] =
@@ -127,10 +127,13 @@ nlohmann::json partial_result_schema() {
     index["minimum"] = 0;
     index["description"] =
         "The point's index in the final result's points (sweep) or cells (map, row-major).";
+    nlohmann::json kinds = nlohmann::json::array();
+    for (const Analysis& analysis : offered) {
+        for (const std::string_view component : analysis.point_components)
+            kinds.push_back(api::ref_schema(component));
+    }
     nlohmann::json point = {
-        {"oneOf", nlohmann::json::array({api::ref_schema("SweepCriticalSpeedPoint"),
-                                         api::ref_schema("SweepAmplitudePoint"),
-                                         api::ref_schema("MapCell")})},
+        {"oneOf", std::move(kinds)},
         {"description", "The point's entry exactly as the final result will list it."},
     };
     nlohmann::json entry = api::object_schema(

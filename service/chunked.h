@@ -4,7 +4,7 @@
 // result assembled from all chunks, and the partial result a running job shows.
 //
 // The analyses run their own single-process evaluate() through the same two steps
-// (service/analysis.h, PointwiseRun): points written one document each, then the result
+// (service/analyses/analysis.h, PointwiseRun): points written one document each, then the result
 // assembled from the documents, with everything that depends on neighbours (chatter-type
 // changes) derived from them. So assemble_points of all chunks is evaluate()'s answer by
 // construction, not by a second writer kept in step with the first.
@@ -15,12 +15,15 @@
 
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "core/control.h"
+#include "service/analyses/analysis.h"
+#include "service/analyses/table.h"
 #include "service/evaluate.h"
 
 namespace rollgap::service {
@@ -57,8 +60,9 @@ nlohmann::json partial_result(
     const std::vector<std::pair<std::int64_t, nlohmann::json>>& finished_chunks);
 
 // The OpenAPI schema (JSON Schema 2020-12) of partial_result's document; "point" is one of the
-// components SweepCriticalSpeedPoint, SweepAmplitudePoint and MapCell that the result tables
-// already define, referenced as #/components/schemas/<name>.
-nlohmann::json partial_result_schema();
+// point components of the pointwise analyses of `offered` (Analysis::point_components: a
+// sweep's SweepCriticalSpeedPoint and SweepAmplitudePoint, a map's MapCell) that the result
+// tables already define, referenced as #/components/schemas/<name>.
+nlohmann::json partial_result_schema(std::span<const Analysis> offered = analyses());
 
 }  // namespace rollgap::service

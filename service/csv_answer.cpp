@@ -7,6 +7,7 @@
 #include "api/csv.h"
 #include "api/problem.h"
 #include "api/text.h"
+#include "service/analyses/table.h"
 
 namespace rollgap::service {
 namespace {
@@ -75,6 +76,19 @@ CsvAnswer not_acceptable(std::string detail) {
         api::problem_media_type};
 }
 
+// Why an analysis' result has no CSV, naming those that have (the rows with tables).
+std::string no_tables(std::string_view analysis) {
+    std::string with_tables;
+    for (const Analysis& row : analyses()) {
+        if (!row.tables().empty())
+            with_tables += api::concat(with_tables.empty() ? "" : ", ", row.name);
+    }
+    return api::concat("the ", analysis,
+                       " result has no table to give as CSV: ask for application/json, or run the "
+                       "analysis whose table you want (",
+                       with_tables, ")");
+}
+
 }  // namespace
 
 bool wants_csv(std::string_view accept) {
@@ -97,8 +111,10 @@ CsvAnswer csv_answer(const nlohmann::json& answer, std::string_view table) {
         response = &answer.at("result");
     }
     const std::string analysis = response->value("analysis", std::string());
-    const api::CsvOutcome csv =
-        api::result_csv(analysis, response->value("result", nlohmann::json()), table);
+    const Analysis* row = find_analysis(analyses(), analysis);
+    if (row == nullptr || row->tables().empty()) return not_acceptable(no_tables(analysis));
+    const api::CsvOutcome csv = api::result_csv(row->tables(), analysis,
+                                                response->value("result", nlohmann::json()), table);
     if (!csv.ok) return not_acceptable(csv.detail);
     return {200, csv.text, csv_content_type};
 }

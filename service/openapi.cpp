@@ -2,22 +2,15 @@
 
 #include <algorithm>
 #include <array>
-#include <vector>
+#include <span>
 #include <string_view>
+#include <vector>
 
-#include "api/amplitude_json.h"
-#include "api/calibration_json.h"
 #include "api/csv.h"
-#include "api/evaluation_json.h"
 #include "api/field_errors.h"
-#include "api/map_json.h"
 #include "api/problem.h"
-#include "api/result_json.h"
 #include "api/scenario_json.h"
 #include "api/scenario_schema.h"
-#include "api/stability_json.h"
-#include "api/sweep_json.h"
-#include "api/tension_cycle_json.h"
 #include "api/text.h"
 #include "api/units.h"
 #include "core/scenario.h"
@@ -120,100 +113,50 @@ json* referenced_schema(json& schemas, const json& property) {
     return found == schemas.end() ? nullptr : &*found;
 }
 
-// Sets "default" on the properties of `schema` from the options an analysis resolved from an
-// empty request: the defaults live in core, the document shows them.
-void add_defaults(json& schemas, json& schema, const json& resolved) {
+// Sets "default" on the properties of `schema` from the options an analysis resolved from a
+// minimal request: the defaults live in core, the document shows them. Those that depend on the
+// request (`request_dependent`) are described, not stated.
+void add_defaults(json& schemas, json& schema, const json& resolved,
+                  std::span<const std::string_view> request_dependent) {
     if (!resolved.is_object() || !schema.contains("properties")) return;
     json& properties = schema["properties"];
     for (const auto& [name, value] : resolved.items()) {
-        // Defaults that depend on the request are described, not stated.
-        if (name == "speeds_m_per_s" || name == "parameter" || name == "values" ||
-            name == "range" || name == "parameters" || name == "observations") {
+        if (std::find(request_dependent.begin(), request_dependent.end(), name) !=
+            request_dependent.end()) {
             continue;
         }
         const auto property = properties.find(name);
         if (property == properties.end()) continue;
         if (json* target = referenced_schema(schemas, *property)) {
-            add_defaults(schemas, *target, value);
+            add_defaults(schemas, *target, value, request_dependent);
         } else if (!value.is_object()) {
             (*property)["default"] = value;
         }
     }
 }
 
-// Options schema of each analysis, and an options object that is valid for it.
-struct OptionsSchema {
-    std::string_view analysis;
-    std::string_view schema;
-    const char* minimal_options;
-    const char* member = "";  // the defaults are this member of the resolved options ("": all)
-};
-constexpr std::array<OptionsSchema, 9> options_schemas{{
-    {"roll_gap", "RollGapOptions", "{}"},
-    {"tension_cycle", "TensionCycleOptions", "{}"},
-    {"stability", "StabilityOptions", "{}"},
-    {"amplitude", "AmplitudeOptions", "{}"},
-    {"sweep", "SweepOptions", R"({"parameter": "/rolls/speed_m_per_s", "values": [19]})"},
-    {"sweep", "SweepAmplitudeOptions",
-     R"({"parameter": "/rolls/speed_m_per_s", "values": [19], "quantity": "amplitude"})",
-     "amplitude"},
-    {"map", "MapOptions",
-     R"({"parameters": [{"parameter": "/strip/reduction", "values": [0.15]},
-                        {"parameter": "/strip/entry_thickness_mm", "values": [1.6]}]})"},
-    {"evaluate", "EvaluateOptions", "{}"},
-    {"calibrate", "CalibrateOptions",
-     R"({"parameters": [{"field": "/strip/flow_stress_MPa"}],
-         "observations": [{"quantity": "roll_force_kN", "value": 9000, "standard_uncertainty": 50}]})"},
-}};
-
 void add_option_defaults(json& schemas) {
     const core::Scenario scenario{};
-    for (const OptionsSchema& entry : options_schemas) {
-        const Analysis* analysis = find_analysis(analyses(), entry.analysis);
-        const auto schema = schemas.find(std::string(entry.schema));
-        if (analysis == nullptr || schema == schemas.end()) continue;
-        api::FieldErrors errors;
-        // prepare() reads and resolves the options; it does not compute (analysis.h).
-        const PreparedAnalysis prepared =
-            analysis->prepare(scenario, json::parse(entry.minimal_options), "/options", errors);
-        if (!errors.empty()) continue;
-        const std::string member = entry.member;
-        if (member.empty()) {
-            add_defaults(schemas, *schema, prepared.resolved_options);
-        } else if (prepared.resolved_options.contains(member)) {
-            add_defaults(schemas, *schema, prepared.resolved_options.at(member));
+    for (const Analysis& analysis : analyses()) {
+        for (const OptionsDefaults& entry : analysis.options_defaults) {
+            const auto schema = schemas.find(std::string(entry.schema));
+            if (schema == schemas.end()) continue;
+            api::FieldErrors errors;
+            // prepare() reads and resolves the options; it does not compute (analysis.h).
+            const PreparedAnalysis prepared =
+                analysis.prepare(scenario, json::parse(entry.minimal_options), "/options", errors);
+            if (!errors.empty()) continue;
+            const std::string member(entry.member);
+            if (member.empty()) {
+                add_defaults(schemas, *schema, prepared.resolved_options,
+                             analysis.request_dependent_options);
+            } else if (prepared.resolved_options.contains(member)) {
+                add_defaults(schemas, *schema, prepared.resolved_options.at(member),
+                             analysis.request_dependent_options);
+            }
         }
     }
 }
-
-// The synchronous route of each analysis and the components of its answer. The result schemas
-// come from the tables that write the results (api/result_table.h), so they cannot drift.
-// A new analysis: a row here (and its route, request and options in openapi.json).
-struct AnalysisRoute {
-    std::string_view analysis;
-    std::string_view path;
-    std::string_view response;  // the component this adds: {analysis, scenario, options, result}
-    std::string_view options;   // components in openapi.json or generated here
-    std::string_view result;
-    std::vector<api::ResultSchema> (*schemas)();  // the components the result uses
-};
-const std::array<AnalysisRoute, 8> analysis_routes{{
-    {"roll_gap", "/v1/roll-gap", "RollGapResponse", "RollGapOptions", "RollGapResult",
-     &api::bite_result_schemas},
-    {"tension_cycle", "/v1/tension-cycle", "TensionCycleResponse", "TensionCycleOptions",
-     "TensionCycleResult", &api::tension_cycle_result_schemas},
-    {"stability", "/v1/stability", "StabilityResponse", "StabilityOptions", "StabilityResult",
-     &api::stability_result_schemas},
-    {"amplitude", "/v1/amplitude", "AmplitudeResponse", "AmplitudeOptions", "AmplitudeResult",
-     &api::amplitude_result_schemas},
-    {"sweep", "/v1/sweeps", "SweepResponse", "SweepOptions", "SweepResult",
-     &api::sweep_result_schemas},
-    {"map", "/v1/maps", "MapResponse", "MapOptions", "MapResult", &api::map_result_schemas},
-    {"evaluate", "/v1/evaluate", "EvaluateResponse", "EvaluateOptions", "EvaluateResult",
-     &api::evaluation_result_schemas},
-    {"calibrate", "/v1/calibrate", "CalibrateResponse", "CalibrateOptions", "CalibrationResult",
-     &api::calibration_result_schemas},
-}};
 
 json component_ref(std::string_view component) {
     return {{"$ref", concat("#/components/schemas/", component)}};
@@ -242,14 +185,14 @@ void add_base(json& schemas) {
 
 // Accept: text/csv on a response that holds a result of these analyses: the tables, the
 // ?table= parameter and the 406 when there is none.
-void add_csv(json& operation, json& ok, const std::vector<std::string_view>& analyses_here) {
+void add_csv(json& operation, json& ok, std::span<const Analysis> analyses_here) {
     json names = json::array();
     std::string list;
-    for (const std::string_view analysis : analyses_here) {
-        for (const api::CsvTable& table : api::csv_tables(analysis)) {
+    for (const Analysis& analysis : analyses_here) {
+        for (const api::CsvTable& table : analysis.tables()) {
             if (std::find(names.begin(), names.end(), table.name) == names.end())
                 names.push_back(table.name);
-            list += concat(list.empty() ? "" : "; ", analysis, " `", table.name,
+            list += concat(list.empty() ? "" : "; ", analysis.name, " `", table.name,
                            "`: ", table.description);
         }
     }
@@ -278,33 +221,32 @@ void add_result_schemas(json& document) {
     json& schemas = document["components"]["schemas"];
     json responses = json::array();
     json mapping = json::object();
-    std::vector<std::string_view> names;
-    for (const AnalysisRoute& route : analysis_routes) {
-        for (api::ResultSchema& component : route.schemas()) {
+    for (const Analysis& analysis : analyses()) {
+        for (api::ResultSchema& component : analysis.result_schemas()) {
             schemas[std::string(component.component)] = std::move(component.schema);
         }
-        schemas[std::string(route.response)] = {
+        const std::string response(analysis.response_schema);
+        schemas[response] = {
             {"type", "object"},
-            {"description", concat("The ", route.analysis,
+            {"description", concat("The ", analysis.name,
                                    " analysis' answer: the complete scenario and the options "
                                    "it used (so it can be rerun) and the result.")},
             {"required", {"analysis", "scenario", "options", "result"}},
             {"additionalProperties", false},
             {"properties",
-             {{"analysis", {{"const", route.analysis}, {"description", "The analysis that ran."}}},
+             {{"analysis", {{"const", analysis.name}, {"description", "The analysis that ran."}}},
               {"scenario", component_ref("Scenario")},
-              {"options", component_ref(route.options)},
-              {"result", component_ref(route.result)}}},
+              {"options", component_ref(analysis.options_schema)},
+              {"result", component_ref(analysis.result_schema)}}},
         };
-        schemas[std::string(route.response)]["properties"]["base"] = component_ref("ScenarioBase");
-        responses.push_back(component_ref(route.response));
-        mapping[std::string(route.analysis)] = concat("#/components/schemas/", route.response);
-        names.push_back(route.analysis);
+        schemas[response]["properties"]["base"] = component_ref("ScenarioBase");
+        responses.push_back(component_ref(response));
+        mapping[std::string(analysis.name)] = concat("#/components/schemas/", response);
 
-        json& operation = document["paths"][std::string(route.path)]["post"];
+        json& operation = document["paths"][std::string(analysis.path)]["post"];
         json& ok = operation["responses"]["200"];
-        ok["content"]["application/json"]["schema"] = component_ref(route.response);
-        add_csv(operation, ok, {route.analysis});
+        ok["content"]["application/json"]["schema"] = component_ref(response);
+        add_csv(operation, ok, std::span(&analysis, 1));
     }
     schemas["AnalysisResponse"] = {
         {"description",
@@ -314,7 +256,7 @@ void add_result_schemas(json& document) {
         {"discriminator", {{"propertyName", "analysis"}, {"mapping", std::move(mapping)}}},
     };
     json& get_job = document["paths"]["/v1/jobs/{id}"]["get"];
-    add_csv(get_job, get_job["responses"]["200"], names);
+    add_csv(get_job, get_job["responses"]["200"], analyses());
 }
 
 }  // namespace
@@ -340,7 +282,7 @@ json openapi_document() {
     schemas["ScenarioPatch"] = scenario_json_schema(true);
     // A running chunked job's points so far, typed by the result tables' point components.
     json& partial = schemas["Job"]["properties"]["partial_result"];
-    json typed = partial_result_schema();
+    json typed = partial_result_schema(analyses());
     typed["description"] = partial.value("description", "");
     partial = std::move(typed);
 

@@ -1,20 +1,34 @@
 #pragma once
-// What an analysis is to the facade: a name and a function that reads its options and returns
-// the computation to run. Reading is separate from running so that every violation of the
-// scenario and of the options is reported together, before any physics runs, and so that a
-// server can queue the computation with a deadline.
+// What an analysis is: one row (Analysis, below) that the facade, the HTTP routes, the OpenAPI
+// document, CSV, chunked jobs, the fuzz dictionary and the workbench are all derived from, and
+// a function that reads its options and returns the computation to run. Reading is separate
+// from running so that every violation of the scenario and of the options is reported together,
+// before any physics runs, and so that a server can queue the computation with a deadline.
+//
+// Adding an analysis takes one row in service/analyses/table.cpp plus its own files:
+//  - service/analyses/<name>.{h,cpp}: its prepare function (options read, the run captured);
+//  - api/<name>_json.{h,cpp}: its options reader and result writer with the result's schema
+//    components (api/result_table.h), and its CSV tables in api/csv.cpp if it has any;
+//  - in service/openapi.json: its request body, its path and its options component (the row
+//    names them; the response, result and CSV parts of the document are generated from the row);
+//  - `build/tools/fuzz_vocabulary fuzz` to regenerate the fuzz dictionary and seed requests.
+// tests/service/test_analysis_descriptor.cpp checks every row is reachable everywhere.
 
 #include <concepts>
 #include <cstdint>
 #include <functional>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <utility>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "api/csv.h"
 #include "api/field_errors.h"
+#include "api/result_table.h"
 #include "core/control.h"
 #include "core/scenario.h"
 
@@ -102,10 +116,40 @@ using PrepareAnalysis = PreparedAnalysis (*)(const core::Scenario& scenario,
                                              const std::string& options_pointer,
                                              api::FieldErrors& errors);
 
+// An options component of the OpenAPI document whose "default"s are those an analysis resolves
+// from `minimal_options` (the defaults live in core; the document shows them).
+struct OptionsDefaults {
+    std::string_view schema;           // the component in openapi.json
+    std::string_view minimal_options;  // JSON: the least options object the analysis accepts
+    std::string_view member = "";      // the defaults are this member of the resolved options
+};
+
+// One analysis, everything the service says about it in one row.
 struct Analysis {
     std::string_view name;     // the request's "analysis"
     std::string_view summary;  // one line for --help and the documentation
     PrepareAnalysis prepare;
+    std::string_view path = "";  // its synchronous HTTP route (POST)
+    // OpenAPI components: the answer {analysis, scenario, options, result} (generated), the
+    // options (openapi.json) and the result (from the result tables, `result_schemas`).
+    std::string_view response_schema = "";
+    std::string_view options_schema = "";
+    std::string_view result_schema = "";
+    std::vector<api::ResultSchema> (*result_schemas)() = nullptr;  // the result's components
+    std::span<const OptionsDefaults> options_defaults = {};        // components given core defaults
+    // Option members whose default depends on the request: described, not stated, in OpenAPI.
+    std::span<const std::string_view> request_dependent_options = {};
+    // Its result's CSV tables (api/csv.h); nullptr: none, the result is not a sheet.
+    std::span<const api::CsvTable> (*csv_tables)() = nullptr;
+    // Pointwise (PointwiseRun: a job splits into chunks of points): the result components a
+    // point can be (a running job's partial result lists them). Empty: runs whole.
+    std::span<const std::string_view> point_components = {};
+    bool on_page = true;  // the workbench page has a view of it (web/js/views.js)
+
+    bool pointwise() const { return !point_components.empty(); }
+    std::span<const api::CsvTable> tables() const {
+        return csv_tables == nullptr ? std::span<const api::CsvTable>() : csv_tables();
+    }
 };
 
 }  // namespace rollgap::service

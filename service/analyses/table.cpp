@@ -2,9 +2,19 @@
 
 #include <algorithm>
 #include <array>
+#include <string_view>
 #include <vector>
 
+#include "api/amplitude_json.h"
+#include "api/calibration_json.h"
+#include "api/csv.h"
+#include "api/evaluation_json.h"
 #include "api/field_errors.h"
+#include "api/map_json.h"
+#include "api/result_json.h"
+#include "api/stability_json.h"
+#include "api/sweep_json.h"
+#include "api/tension_cycle_json.h"
 #include "api/name_suggestion.h"
 #include "api/text.h"
 
@@ -20,35 +30,95 @@
 namespace rollgap::service {
 namespace {
 
-constexpr std::array table{
+using std::string_view_literals::operator""sv;
+
+// The options schemas given defaults from core, and the option members whose defaults depend on
+// the request, of each analysis.
+constexpr std::array<OptionsDefaults, 1> roll_gap_defaults{{{"RollGapOptions", "{}"}}};
+constexpr std::array<OptionsDefaults, 1> tension_cycle_defaults{{{"TensionCycleOptions", "{}"}}};
+constexpr std::array<OptionsDefaults, 1> stability_defaults{{{"StabilityOptions", "{}"}}};
+constexpr std::array<OptionsDefaults, 1> amplitude_defaults{{{"AmplitudeOptions", "{}"}}};
+constexpr std::array<OptionsDefaults, 2> sweep_defaults{{
+    {"SweepOptions", R"({"parameter": "/strip/reduction", "values": [0.3]})"},
+    {"SweepAmplitudeOptions",
+     R"({"parameter": "/rolls/speed_m_per_s", "values": [19], "quantity": "amplitude"})",
+     "amplitude"},
+}};
+constexpr std::array<OptionsDefaults, 1> map_defaults{{
+    {"MapOptions", R"({"parameters": [{"parameter": "/strip/reduction", "values": [0.15]},
+                        {"parameter": "/strip/entry_thickness_mm", "values": [1.6]}]})"},
+}};
+constexpr std::array<OptionsDefaults, 1> evaluation_defaults{{{"EvaluateOptions", "{}"}}};
+constexpr std::array<OptionsDefaults, 1> calibration_defaults{{
+    {"CalibrateOptions",
+     R"({"parameters": [{"field": "/strip/flow_stress_MPa"}],
+         "observations": [{"quantity": "roll_force_kN", "value": 9000, "standard_uncertainty": 50}]})"},
+}};
+
+constexpr std::array<std::string_view, 0> no_names{};
+constexpr std::array speeds_option{"speeds_m_per_s"sv};
+constexpr std::array sweep_request_options{"parameter"sv, "values"sv, "range"sv,
+                                           "speeds_m_per_s"sv};
+constexpr std::array map_request_options{"parameters"sv};
+constexpr std::array calibration_request_options{"parameters"sv, "observations"sv};
+
+// The result components a point of a pointwise analysis can be (api/sweep_json.h, map_json.h).
+constexpr std::array sweep_points{"SweepCriticalSpeedPoint"sv, "SweepAmplitudePoint"sv};
+constexpr std::array map_points{"MapCell"sv};
+
+const std::array table{
     Analysis{"roll_gap",
              "steady roll-bite pressure, friction and film distributions (docs/model.md §7.1)",
-             &prepare_roll_gap},
+             &prepare_roll_gap, "/v1/roll-gap", "RollGapResponse", "RollGapOptions",
+             "RollGapResult", &api::bite_result_schemas, roll_gap_defaults, no_names,
+             &api::roll_gap_csv_tables},
     Analysis{"tension_cycle",
              "distributions at phases of a sinusoidal back-tension cycle (docs/model.md §7.2)",
-             &prepare_tension_cycle},
+             &prepare_tension_cycle, "/v1/tension-cycle", "TensionCycleResponse",
+             "TensionCycleOptions", "TensionCycleResult", &api::tension_cycle_result_schemas,
+             tension_cycle_defaults, no_names, &api::tension_cycle_csv_tables},
     Analysis{
         "stability",
         "eigenvalues and modes at the scenario's speed, critical chatter speed (docs/model.md §7.3)",
-        &prepare_stability},
+        &prepare_stability, "/v1/stability", "StabilityResponse", "StabilityOptions",
+        "StabilityResult", &api::stability_result_schemas, stability_defaults, no_names,
+        &api::stability_csv_tables},
     Analysis{"amplitude",
              "vibration amplitude under a back-tension excitation, per speed (docs/model.md §7.4)",
-             &prepare_amplitude},
+             &prepare_amplitude, "/v1/amplitude", "AmplitudeResponse", "AmplitudeOptions",
+             "AmplitudeResult", &api::amplitude_result_schemas, amplitude_defaults, speeds_option,
+             &api::amplitude_csv_tables},
     Analysis{
         "sweep",
         "critical speed or amplitude over the values of one scenario field (docs/model.md §7.5)",
-        &prepare_sweep},
+        &prepare_sweep, "/v1/sweeps", "SweepResponse", "SweepOptions", "SweepResult",
+        &api::sweep_result_schemas, sweep_defaults, sweep_request_options, &api::sweep_csv_tables,
+        sweep_points},
     Analysis{"map",
              "critical speed, frequency and chatter type over a grid of two scenario fields "
              "(docs/model.md, \"Stability maps\")",
-             &prepare_map},
+             &prepare_map, "/v1/maps", "MapResponse", "MapOptions", "MapResult",
+             &api::map_result_schemas, map_defaults, map_request_options, &api::map_csv_tables,
+             map_points},
     Analysis{"evaluate",
              "roll gap, stability, critical speed and amplitude of the scenario at once",
-             &prepare_evaluation},
+             &prepare_evaluation,
+             "/v1/evaluate",
+             "EvaluateResponse",
+             "EvaluateOptions",
+             "EvaluateResult",
+             &api::evaluation_result_schemas,
+             evaluation_defaults,
+             speeds_option,
+             nullptr,
+             {},
+             false},
     Analysis{
         "calibrate",
         "fit scenario fields to plant observations, weighted least squares (docs/model.md §11)",
-        &prepare_calibration},
+        &prepare_calibration, "/v1/calibrate", "CalibrateResponse", "CalibrateOptions",
+        "CalibrationResult", &api::calibration_result_schemas, calibration_defaults,
+        calibration_request_options, &api::calibration_csv_tables},
 };
 
 }  // namespace

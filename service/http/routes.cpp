@@ -2,23 +2,22 @@
 
 #include <algorithm>
 #include <array>
+#include <vector>
+
+#include "service/analyses/table.h"
 
 namespace rollgap::service::http {
 namespace {
 
-constexpr std::array routes{
+// The routes before and after the analyses' (one POST route each, from their rows:
+// service/analyses/table.cpp).
+constexpr std::array scenario_routes{
     // `default` is served from code; PUT and DELETE on it are answered 422 (a reserved name).
     Route{RouteId::scenarios_default, "/v1/scenarios/default", get | put | del, false, "", false},
     Route{RouteId::scenarios, "/v1/scenarios", get, true, "", false},
     Route{RouteId::scenario, "/v1/scenarios/{name}", get | put | del, true, "", false},
-    Route{RouteId::roll_gap, "/v1/roll-gap", post, true, "roll_gap", false},
-    Route{RouteId::stability, "/v1/stability", post, true, "stability", false},
-    Route{RouteId::amplitude, "/v1/amplitude", post, true, "amplitude", false},
-    Route{RouteId::tension_cycle, "/v1/tension-cycle", post, true, "tension_cycle", false},
-    Route{RouteId::sweeps, "/v1/sweeps", post, true, "sweep", false},
-    Route{RouteId::maps, "/v1/maps", post, true, "map", false},
-    Route{RouteId::evaluate, "/v1/evaluate", post, true, "evaluate", false},
-    Route{RouteId::calibrate, "/v1/calibrate", post, true, "calibrate", false},
+};
+constexpr std::array other_routes{
     Route{RouteId::jobs, "/v1/jobs", get | post, true, "", false},
     Route{RouteId::job, "/v1/jobs/{id}", get | del, true, "", false},
     Route{RouteId::openapi, "/openapi.json", get, false, "", false},
@@ -31,14 +30,25 @@ constexpr std::array routes{
     Route{RouteId::static_file, "/static/{file}", get, false, "", false},
 };
 
+const std::vector<Route>& route_table() {
+    static const std::vector<Route> routes = [] {
+        std::vector<Route> all(scenario_routes.begin(), scenario_routes.end());
+        for (const Analysis& analysis : analyses())
+            all.push_back({RouteId::analysis, analysis.path, post, true, analysis.name, false});
+        all.insert(all.end(), other_routes.begin(), other_routes.end());
+        return all;
+    }();
+    return routes;
+}
+
 }  // namespace
 
 constexpr std::string_view static_prefix = "/static/";
 
-std::span<const Route> all_routes() { return routes; }
+std::span<const Route> all_routes() { return route_table(); }
 
 const Route* match_route(std::string_view path) {
-    for (const Route& route : routes) {
+    for (const Route& route : route_table()) {
         if (route.id == RouteId::static_file) {
             if (path.starts_with(static_prefix)) return &route;
         } else if (route.id == RouteId::job || route.id == RouteId::scenario) {

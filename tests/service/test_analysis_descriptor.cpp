@@ -1,0 +1,156 @@
+// The analysis descriptor (service/analyses/analysis.h) walked row by row: every analysis is
+// reachable everywhere the service names analyses — its HTTP route, the OpenAPI document (its
+// path, its answer, options and result components, the job answer's discriminator), CSV (if it
+// has tables), chunked jobs (if it is pointwise) and the workbench page's list. A row added
+// without its files fails here, by name.
+
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <initializer_list>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <variant>
+
+#include <nlohmann/json.hpp>
+
+#include "api/field_errors.h"
+#include "service/analyses/table.h"
+#include "service/chunked.h"
+#include "service/evaluate.h"
+#include "service/http/routes.h"
+#include "service/openapi.h"
+#include "support/repository.h"
+
+using nlohmann::json;
+using namespace rollgap;
+
+namespace {
+
+std::string read_text(const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::ostringstream text;
+    text << in.rdbuf();
+    return text.str();
+}
+
+// Text pieces joined (GCC 12 warns falsely on "literal" + std::string at -O3).
+std::string join(std::initializer_list<std::string_view> pieces) {
+    std::string text;
+    for (const std::string_view piece : pieces) text.append(piece);
+    return text;
+}
+
+bool has_component(const json& document, std::string_view name) {
+    return document["components"]["schemas"].contains(std::string(name));
+}
+
+// The request of the analysis' row prepared with the first minimal options of its row.
+service::PreparedAnalysis prepare_minimal(const service::Analysis& analysis) {
+    api::FieldErrors errors;
+    REQUIRE(!analysis.options_defaults.empty());
+    service::PreparedAnalysis prepared = analysis.prepare(
+        core::Scenario{}, json::parse(analysis.options_defaults.front().minimal_options),
+        "/options", errors);
+    CHECK_MESSAGE(errors.empty(), analysis.name, ": its minimal options are refused");
+    return prepared;
+}
+
+}  // namespace
+
+TEST_CASE("every analysis of the descriptor has its route, and each analysis route a row") {
+    for (const service::Analysis& analysis : service::analyses()) {
+        CAPTURE(analysis.name);
+        const service::http::Route* route = service::http::match_route(analysis.path);
+        REQUIRE(route != nullptr);
+        CHECK(route->id == service::http::RouteId::analysis);
+        CHECK(route->analysis == analysis.name);
+        CHECK(service::http::method_allowed(*route, "POST"));
+        CHECK(route->compute);
+    }
+    for (const service::http::Route& route : service::http::all_routes()) {
+        if (route.id != service::http::RouteId::analysis) continue;
+        CAPTURE(route.pattern);
+        CHECK(service::find_analysis(service::analyses(), route.analysis) != nullptr);
+    }
+}
+
+TEST_CASE("every analysis is in the OpenAPI document: path, answer, options, result") {
+    const json document = service::openapi_document();
+    const json& schemas = document["components"]["schemas"];
+    const json& enum_names = schemas["AnalysisRequest"]["properties"]["analysis"]["enum"];
+    const json& mapping = schemas["AnalysisResponse"]["discriminator"]["mapping"];
+    for (const service::Analysis& analysis : service::analyses()) {
+        CAPTURE(analysis.name);
+        const std::string path(analysis.path);
+        REQUIRE(document["paths"].contains(path));
+        const json& post = document["paths"][path]["post"];
+        CHECK(post.contains("requestBody"));
+        CHECK(post["responses"]["200"]["content"]["application/json"]["schema"]["$ref"] ==
+              join({"#/components/schemas/", analysis.response_schema}));
+        CHECK(has_component(document, analysis.response_schema));
+        CHECK(has_component(document, analysis.options_schema));
+        CHECK(has_component(document, analysis.result_schema));
+        for (const service::OptionsDefaults& entry : analysis.options_defaults)
+            CHECK(has_component(document, entry.schema));
+        CHECK(std::find(enum_names.begin(), enum_names.end(), json(analysis.name)) !=
+              enum_names.end());
+        CHECK(mapping.contains(std::string(analysis.name)));
+        // The request a job takes names the analysis' options component too.
+        CHECK(document.dump().find(join({"\"#/components/schemas/", analysis.options_schema,
+                                         "\""})) != std::string::npos);
+    }
+}
+
+TEST_CASE("an analysis with CSV tables offers them in OpenAPI and answers them") {
+    const json document = service::openapi_document();
+    for (const service::Analysis& analysis : service::analyses()) {
+        CAPTURE(analysis.name);
+        const json& operation = document["paths"][std::string(analysis.path)]["post"];
+        const bool offers_csv = operation["responses"]["200"]["content"].contains("text/csv");
+        CHECK(offers_csv == !analysis.tables().empty());
+        for (const api::CsvTable& table : analysis.tables()) {
+            CAPTURE(table.name);
+            bool listed = false;
+            for (const json& parameter : operation["parameters"]) {
+                if (parameter.value("name", "") != "table") continue;
+                const json& names = parameter["schema"]["enum"];
+                listed = std::find(names.begin(), names.end(), json(table.name)) != names.end();
+            }
+            CHECK(listed);
+        }
+    }
+}
+
+TEST_CASE("a pointwise analysis splits into points and its points are in the partial schema") {
+    const json partial = service::partial_result_schema();
+    const std::string points = partial.dump();
+    const json document = service::openapi_document();
+    for (const service::Analysis& analysis : service::analyses()) {
+        CAPTURE(analysis.name);
+        const service::PreparedAnalysis prepared = prepare_minimal(analysis);
+        CHECK(prepared.points.has_value() == analysis.pointwise());
+        for (const std::string_view component : analysis.point_components) {
+            CAPTURE(component);
+            CHECK(has_component(document, component));
+            CHECK(points.find(join({"\"#/components/schemas/", component, "\""})) !=
+                  std::string::npos);
+        }
+    }
+}
+
+TEST_CASE("every analysis the page shows is a row, by name and route") {
+    const std::string views = read_text(test::repository_root() / "web/js/views.js");
+    for (const service::Analysis& analysis : service::analyses()) {
+        CAPTURE(analysis.name);
+        const std::string entry = join({"key: '", analysis.name, "'"});
+        const auto at = views.find(entry);
+        CHECK((at != std::string::npos) == analysis.on_page);
+        if (at == std::string::npos) continue;
+        const auto line_end = views.find('\n', at);
+        CHECK(views.substr(at, line_end - at).find(join({"path: '", analysis.path, "'"})) !=
+              std::string::npos);
+    }
+}
