@@ -22,31 +22,8 @@ const char* to_string(CriticalSpeedStatus status) {
     return "unknown";
 }
 
-Linearisation linearise(const CoupledModel& model, const Eigen::VectorXd& z, double t) {
-    Linearisation out;
-    const int n = model.size();
-    out.jacobian = Eigen::MatrixXd::Zero(n, n);
-    Eigen::VectorXd plus(n), minus(n), f_plus(n), f_minus(n);
-    for (int j = 0; j < n; ++j) {
-        double delta;
-        if (j < 6) delta = 1e-7;
-        else if (j < 12) delta = 1e-3;
-        else if (j == CoupledModel::film_index) delta = 1e-5 * z(CoupledModel::film_index);
-        else delta = 1e3;
-        plus = z;
-        minus = z;
-        plus(j) += delta;
-        minus(j) -= delta;
-        const DynamicsStatus a = model.rhs(t, plus.data(), f_plus.data());
-        const DynamicsStatus b = model.rhs(t, minus.data(), f_minus.data());
-        if (a != DynamicsStatus::ok || b != DynamicsStatus::ok) {
-            out.status = a != DynamicsStatus::ok ? a : b;
-            return out;
-        }
-        out.jacobian.col(j) = (f_plus - f_minus) / (plus(j) - minus(j));
-    }
-    out.status = DynamicsStatus::ok;
-    return out;
+Linearisation linearise(const DynamicModel& model, const Eigen::VectorXd& z, double t) {
+    return model.jacobian(z, t);
 }
 
 namespace {
@@ -110,6 +87,7 @@ Eigensystem eigensystem(const Eigen::MatrixXd& jacobian) {
     return out;
 }
 
+// `vector` is the eigenvector's part at the stand's six displacements (the output map).
 Eigenmode make_mode(std::complex<double> lambda, const Eigen::VectorXcd& vector) {
     Eigenmode mode;
     mode.eigenvalue = lambda;
@@ -128,6 +106,7 @@ Eigenmode make_mode(std::complex<double> lambda, const Eigen::VectorXcd& vector)
     return mode;
 }
 
+// The speed, steady status, force and k4 of `s`; the eigenvalues of its coupled model.
 SpeedStability analyse(const Scenario& scenario, bool with_strip_stiffness) {
     SpeedStability out;
     const Scenario s = dynamics_scenario(scenario);
@@ -138,39 +117,12 @@ SpeedStability analyse(const Scenario& scenario, bool with_strip_stiffness) {
         out.status = DynamicsStatus::solver_failure;
         return out;
     }
-    out.strip_stiffness = ref.strip_stiffness;
-    out.force = ref.bite.force;
-
-    const CoupledModel model(s, ref);
-    const Linearisation lin = linearise(model, model.equilibrium());
-    out.status = lin.status;
-    if (lin.status != DynamicsStatus::ok) return out;
-
-    const Eigensystem eig = eigensystem(lin.jacobian);
-    if (!eig.ok) {
-        out.status = DynamicsStatus::solver_failure;
-        return out;
-    }
-    out.max_real_part = -std::numeric_limits<double>::infinity();
-    double best_oscillatory = -std::numeric_limits<double>::infinity();
-    for (int i = 0; i < eig.values.size(); ++i) {
-        const std::complex<double> lambda = eig.values(i);
-        out.eigenvalues.push_back(lambda);
-        out.max_real_part = std::max(out.max_real_part, lambda.real());
-        if (lambda.imag() > 0.0) {
-            const Eigenmode mode = make_mode(lambda, eig.vectors.col(i));
-            out.oscillatory.push_back(mode);
-            if (lambda.real() > best_oscillatory) {
-                best_oscillatory = lambda.real();
-                out.least_damped = mode;
-            }
-        }
-    }
-    std::sort(
-        out.oscillatory.begin(), out.oscillatory.end(),
-        [](const Eigenmode& a, const Eigenmode& b) { return a.frequency_Hz < b.frequency_Hz; });
-    out.stable = out.max_real_part < 0.0;
-    return out;
+    SpeedStability linear = linear_stability(CoupledModel(s, ref));
+    linear.speed = out.speed;
+    linear.steady_status = out.steady_status;
+    linear.strip_stiffness = ref.strip_stiffness;
+    linear.force = ref.bite.force;
+    return linear;
 }
 
 Scenario at_speed(Scenario s, double speed) {
@@ -227,10 +179,53 @@ Eigen::VectorXcd balanced_eigenvalues(const Eigen::MatrixXd& jacobian) {
     return system.ok ? system.values : Eigen::VectorXcd();
 }
 
+SpeedStability linear_stability(const DynamicModel& model) {
+    SpeedStability out;
+    const int stand = model.displacement_index(0);
+    const Linearisation lin = linearise(model, model.equilibrium());
+    out.status = lin.status;
+    if (lin.status != DynamicsStatus::ok) return out;
+
+    const Eigensystem eig = eigensystem(lin.jacobian);
+    if (!eig.ok) {
+        out.status = DynamicsStatus::solver_failure;
+        return out;
+    }
+    out.max_real_part = -std::numeric_limits<double>::infinity();
+    double best_oscillatory = -std::numeric_limits<double>::infinity();
+    for (int i = 0; i < eig.values.size(); ++i) {
+        const std::complex<double> lambda = eig.values(i);
+        out.eigenvalues.push_back(lambda);
+        out.max_real_part = std::max(out.max_real_part, lambda.real());
+        if (lambda.imag() > 0.0) {
+            const Eigenmode mode = make_mode(lambda, eig.vectors.col(i).segment(stand, 6));
+            out.oscillatory.push_back(mode);
+            if (lambda.real() > best_oscillatory) {
+                best_oscillatory = lambda.real();
+                out.least_damped = mode;
+            }
+        }
+    }
+    std::sort(
+        out.oscillatory.begin(), out.oscillatory.end(),
+        [](const Eigenmode& a, const Eigenmode& b) { return a.frequency_Hz < b.frequency_Hz; });
+    out.stable = out.max_real_part < 0.0;
+    return out;
+}
+
 SpeedStability stability_at(const Scenario& s) { return analyse(s, true); }
 
 CriticalSpeedResult critical_speed(const Scenario& s, const CriticalSpeedOptions& options,
                                    const Control& control) {
+    const auto at = [&s](double speed, bool with_strip_stiffness) {
+        return analyse(at_speed(s, speed), with_strip_stiffness);
+    };
+    return critical_speed_search(at, options, control);
+}
+
+CriticalSpeedResult critical_speed_search(const StabilityAtSpeed& analyse_at,
+                                          const CriticalSpeedOptions& options,
+                                          const Control& control) {
     CriticalSpeedResult result;
     const double step = std::min(options.speed_step, 0.5);
     const int count = std::max(
@@ -245,7 +240,7 @@ CriticalSpeedResult critical_speed(const Scenario& s, const CriticalSpeedOptions
     std::atomic<int> done{0};
     parallel_for(count, control, [&](int i) {
         if (control.should_stop()) return;
-        SpeedStability point = analyse(at_speed(s, speeds[static_cast<std::size_t>(i)]), false);
+        SpeedStability point = analyse_at(speeds[static_cast<std::size_t>(i)], false);
         result.scan[static_cast<std::size_t>(i)] = std::move(point);
         control.report(0.9 * (++done) / count);
     });
@@ -289,7 +284,7 @@ CriticalSpeedResult critical_speed(const Scenario& s, const CriticalSpeedOptions
     const SpeedStability& lo = result.scan[static_cast<std::size_t>(crossing - 1)];
     const SpeedStability& hi = result.scan[static_cast<std::size_t>(crossing)];
     auto growth = [&](double v) {
-        const SpeedStability p = analyse(at_speed(s, v), false);
+        const SpeedStability p = analyse_at(v, false);
         return usable(p) ? p.max_real_part : std::nan("");
     };
     const RootResult root = brent_root(growth, lo.speed, hi.speed, lo.max_real_part,
@@ -301,7 +296,7 @@ CriticalSpeedResult critical_speed(const Scenario& s, const CriticalSpeedOptions
         result.unstable_mode = hi.least_damped;
     } else {
         result.critical_speed = root.x;
-        const SpeedStability at = analyse(at_speed(s, root.x), true);
+        const SpeedStability at = analyse_at(root.x, true);
         result.unstable_mode = at.least_damped;
         // the mode that crosses: the eigenvalue with the largest real part, oscillatory or not
         if (at.max_real_part > at.least_damped.eigenvalue.real()) {
