@@ -87,22 +87,35 @@ Eigensystem eigensystem(const Eigen::MatrixXd& jacobian) {
     return out;
 }
 
-// `vector` is the eigenvector's part at the stand's six displacements (the output map).
-Eigenmode make_mode(std::complex<double> lambda, const Eigen::VectorXcd& vector) {
+// `stands` holds the eigenvector's part at each stand's six displacements (the output map). The
+// shapes and displacements of all stands share one scale, so that they compare across stands; the
+// chatter type is read on the stand that moves most.
+Eigenmode make_mode(std::complex<double> lambda, const std::vector<Eigen::VectorXcd>& stands) {
     Eigenmode mode;
     mode.eigenvalue = lambda;
     mode.frequency_Hz = std::abs(lambda.imag()) / (2.0 * std::numbers::pi);
     const double magnitude = std::abs(lambda);
     mode.damping_ratio = magnitude > 0.0 ? -lambda.real() / magnitude : 1.0;
-    Vector6 shape = vector.head<6>().cwiseAbs();
-    const double largest = shape.maxCoeff();
-    mode.shape = largest > 0.0 ? Vector6(shape / largest) : shape;
-    if (largest > 0.0) {
-        Eigen::Index k;
-        shape.maxCoeff(&k);
-        mode.displacement = vector.head<6>() / vector(k);
+    std::size_t moving = 0;
+    Eigen::Index k = 0;
+    double largest = 0.0;
+    for (std::size_t i = 0; i < stands.size(); ++i) {
+        Eigen::Index at;
+        const double stand_largest = stands[i].head<6>().cwiseAbs().maxCoeff(&at);
+        if (i == 0 || stand_largest > largest) {
+            largest = stand_largest;
+            moving = i;
+            k = at;
+        }
     }
-    mode.chatter = classify_chatter(mode.displacement, mode.frequency_Hz);
+    mode.shapes.assign(stands.size(), Vector6::Zero());
+    mode.displacements.assign(stands.size(), Vector6c::Zero());
+    for (std::size_t i = 0; i < stands.size(); ++i) {
+        const Vector6 shape = stands[i].head<6>().cwiseAbs();
+        mode.shapes[i] = largest > 0.0 ? Vector6(shape / largest) : shape;
+        if (largest > 0.0) mode.displacements[i] = stands[i].head<6>() / stands[moving](k);
+    }
+    mode.chatter = classify_chatter(mode.displacements[moving], mode.frequency_Hz);
     return mode;
 }
 
@@ -181,7 +194,6 @@ Eigen::VectorXcd balanced_eigenvalues(const Eigen::MatrixXd& jacobian) {
 
 SpeedStability linear_stability(const DynamicModel& model) {
     SpeedStability out;
-    const int stand = model.displacement_index(0);
     const Linearisation lin = linearise(model, model.equilibrium());
     out.status = lin.status;
     if (lin.status != DynamicsStatus::ok) return out;
@@ -198,7 +210,10 @@ SpeedStability linear_stability(const DynamicModel& model) {
         out.eigenvalues.push_back(lambda);
         out.max_real_part = std::max(out.max_real_part, lambda.real());
         if (lambda.imag() > 0.0) {
-            const Eigenmode mode = make_mode(lambda, eig.vectors.col(i).segment(stand, 6));
+            std::vector<Eigen::VectorXcd> stands;
+            for (int j = 0; j < model.stand_count(); ++j)
+                stands.emplace_back(eig.vectors.col(i).segment(model.displacement_index(j), 6));
+            const Eigenmode mode = make_mode(lambda, stands);
             out.oscillatory.push_back(mode);
             if (lambda.real() > best_oscillatory) {
                 best_oscillatory = lambda.real();
@@ -302,7 +317,9 @@ CriticalSpeedResult critical_speed_search(const StabilityAtSpeed& analyse_at,
         if (at.max_real_part > at.least_damped.eigenvalue.real()) {
             for (const auto& lambda : at.eigenvalues) {
                 if (lambda.real() == at.max_real_part)
-                    result.unstable_mode = make_mode(lambda, Eigen::VectorXcd::Zero(6));
+                    result.unstable_mode = make_mode(
+                        lambda, std::vector<Eigen::VectorXcd>(at.least_damped.shapes.size(),
+                                                              Eigen::VectorXcd::Zero(6)));
             }
         }
     }

@@ -28,11 +28,14 @@ struct Eigenmode {
     std::complex<double> eigenvalue;  // 1/s
     double frequency_Hz = 0.0;        // Im / 2 pi
     double damping_ratio = 1.0;       // -Re / |lambda|
-    Vector6 shape = Vector6::Zero();  // |q| per mass (m1..m6), largest 1
-    // q per mass with its phase, scaled so that the largest component is 1 (real): which
+    // One entry per stand (the single stand has one), in the model's stand order:
+    // |q| per mass (m1..m6), scaled so that the largest component over all stands is 1
+    std::vector<Vector6> shapes = {Vector6::Zero()};
+    // q per mass with its phase, on the same scale (the largest component is 1, real): which
     // masses move with and against which, the basis of the chatter type
-    Vector6c displacement = Vector6c::Zero();
-    ChatterClassification chatter;  // from `displacement` and the frequency
+    std::vector<Vector6c> displacements = {Vector6c::Zero()};
+    // from the displacements of the stand that moves most, and the frequency
+    ChatterClassification chatter;
 };
 
 struct SpeedStability {
