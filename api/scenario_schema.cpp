@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "api/json_pointer.h"
 #include "api/text.h"
 
 namespace rollgap::api {
@@ -449,6 +450,49 @@ std::span<const std::string_view> scenario_group_members(std::string_view path) 
     const auto found = groups().find(path);
     if (found == groups().end()) return {};
     return found->second;
+}
+
+FieldLens FieldLens::member(std::string_view name) const {
+    return FieldLens(append_pointer(prefix_, name));
+}
+
+FieldLens FieldLens::element(std::size_t index) const {
+    return FieldLens(append_pointer(prefix_, std::to_string(index)));
+}
+
+std::string FieldLens::pointer(std::string_view schema_path) const {
+    std::string out = prefix_;
+    out += schema_path;
+    return out;
+}
+
+std::optional<std::string_view> FieldLens::schema_path(std::string_view full_pointer) const {
+    if (!full_pointer.starts_with(prefix_)) return std::nullopt;
+    const std::string_view rest = full_pointer.substr(prefix_.size());
+    // the prefix must end at a token boundary: "/stands/30" is not under "/stands/3"
+    if (!rest.empty() && rest.front() != '/') return std::nullopt;
+    return rest;
+}
+
+const ScenarioField* FieldLens::find_field(std::string_view full_pointer) const {
+    const auto path = schema_path(full_pointer);
+    return path ? find_scenario_field(*path) : nullptr;
+}
+
+bool FieldLens::is_group(std::string_view full_pointer) const {
+    const auto path = schema_path(full_pointer);
+    return path && is_scenario_group(*path);
+}
+
+std::span<const std::string_view> FieldLens::group_members(std::string_view full_pointer) const {
+    const auto path = schema_path(full_pointer);
+    return path ? scenario_group_members(*path) : std::span<const std::string_view>{};
+}
+
+std::vector<std::string> FieldLens::field_pointers() const {
+    std::vector<std::string> out;
+    for (const ScenarioField& field : scenario_fields()) out.push_back(pointer(field.path));
+    return out;
 }
 
 }  // namespace rollgap::api

@@ -5,10 +5,13 @@
 // glossary (`rollgap scenario --explain`) all come from this table, so a field cannot be
 // readable but not echoed, bounded in one place and not another, or undocumented.
 
+#include <cstddef>
 #include <functional>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "api/interval.h"
@@ -54,5 +57,41 @@ const ScenarioField* find_scenario_field(std::string_view path);
 // names of their members (fields and subgroups) in schema order. Empty for a non-group.
 bool is_scenario_group(std::string_view path);
 std::span<const std::string_view> scenario_group_members(std::string_view path);
+
+// The field table under a prefix (DECISIONS R, the field lens): the same fields and groups,
+// addressed by their full JSON pointer in a larger document, so that a plant document can read
+// and validate one stand where it sits, e.g. under "/tandem/stands/3". Every pointer a lens hands
+// out or takes carries the full path, array indices included, which is what problem details
+// must name. The empty prefix is the scenario document itself.
+class FieldLens {
+public:
+    FieldLens() = default;
+    // `prefix` is an RFC 6901 pointer ("" or "/a/b/3"), escaped, without a trailing '/'.
+    explicit FieldLens(std::string prefix) : prefix_(std::move(prefix)) {}
+
+    // The lens one level further down: a member of an object or an element of an array.
+    FieldLens member(std::string_view name) const;
+    FieldLens element(std::size_t index) const;
+
+    const std::string& prefix() const { return prefix_; }
+
+    // prefix + a schema path ("/strip/reduction", or "" for the scenario itself)
+    std::string pointer(std::string_view schema_path) const;
+
+    // The schema path of a full pointer under this lens ("" for the prefix itself); nullopt for
+    // a pointer outside it ("/tandem/stands/30/..." is not under "/tandem/stands/3").
+    std::optional<std::string_view> schema_path(std::string_view full_pointer) const;
+
+    // find_scenario_field, is_scenario_group and scenario_group_members by full pointer.
+    const ScenarioField* find_field(std::string_view full_pointer) const;
+    bool is_group(std::string_view full_pointer) const;
+    std::span<const std::string_view> group_members(std::string_view full_pointer) const;
+
+    // Every field of the table, by its full pointer, in schema order.
+    std::vector<std::string> field_pointers() const;
+
+private:
+    std::string prefix_;
+};
 
 }  // namespace rollgap::api

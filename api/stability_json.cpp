@@ -205,7 +205,7 @@ const ResultTable<Structure>& structure_table() {
                      as_eigenmode.eigenvalue = mode.eigenvalue;
                      as_eigenmode.frequency_Hz = mode.frequency_Hz;
                      as_eigenmode.damping_ratio = mode.damping_ratio;
-                     as_eigenmode.shape = normalised(mode.shape);
+                     as_eigenmode.shapes = {normalised(mode.shape)};
                      damped.push_back(eigenmode_table().write(as_eigenmode));
                  }
                  return damped;
@@ -275,7 +275,7 @@ std::vector<Member<core::Eigenmode>> eigenmode_members() {
              return quantity_json(m.eigenvalue.real(), units::per_second);
          }},
         {"shape", shape_text, shape_schema(),
-         [](const core::Eigenmode& m) { return shape_json(m.shape); }},
+         [](const core::Eigenmode& m) { return shape_json(m.shapes.front()); }},
     };
 }
 

@@ -6,7 +6,6 @@
 #include "core/brent.h"
 #include "core/christensen_contact.h"
 #include "core/inlet_film.h"
-#include "core/roll_flattening.h"
 
 namespace rollgap::core {
 
@@ -22,6 +21,15 @@ BiteState steady_bite_state(const Scenario& s) {
         if (flattening.status == BiteStatus::ok) state.roll_radius = flattening.radius;
     }
     return state;
+}
+
+FlatteningResult flattened_radius(const Scenario& s, const BiteState& state,
+                                  double relative_tolerance, int max_iterations) {
+    const auto force_of = [&s](const BiteState& at) {
+        const BiteResult bite = solve_roll_bite(s, at, {false});
+        return BiteForce{bite.status, bite.force};
+    };
+    return hitchcock_fixed_point(s, state, force_of, relative_tolerance, max_iterations);
 }
 
 const char* to_string(BiteStatus status) {

@@ -5,29 +5,11 @@
 
 #include <vector>
 
+#include "core/bite_state.h"
+#include "core/roll_flattening.h"
 #include "core/scenario.h"
 
 namespace rollgap::core {
-
-// The instantaneous state the bite is solved for. In steady state exit_thickness = y1 (1 - R),
-// gap_rate = 0 and inlet_film = the Wilson-Walowit film h00 (see steady_bite_state()).
-struct BiteState {
-    double exit_thickness = 0.0;  // y2, m
-    double gap_rate = 0.0;        // dyc/dt, m/s, opening positive
-    double inlet_film = 0.0;      // h0, m; <= 0 means "steady": h0 = h00(u1) inside the solve
-    double back_tension = 0.0;    // s_b, Pa
-    double front_tension = 0.0;   // s_f, Pa
-    // The radius of the bite's arc, m; <= 0: the scenario's rigid radius. steady_bite_state()
-    // sets the flattened one when the scenario asks for it (core/roll_flattening.h).
-    double roll_radius = 0.0;
-};
-
-enum class BiteStatus {
-    ok,
-    skidding,       // no neutral point inside the bite: the rolls cannot drive the strip
-    contact_lost,   // y1 <= y2: no reduction, no force
-    solver_failure  // non-finite values or an inconsistent state (e.g. v + u <= 0)
-};
 
 enum class Regime { boundary, mixed, full_film };
 
@@ -79,6 +61,11 @@ struct BiteOptions {
 // the scenario's mean tensions; with rolls.flattening = hitchcock, the flattened radius of this
 // steady state (rigid when the bite has none).
 BiteState steady_bite_state(const Scenario& s);
+
+// The flattened radius of the slab bite (docs/model.md §10.3): hitchcock_fixed_point() with the
+// roll force of solve_roll_bite() (no distributions) for the bite `state`.
+FlatteningResult flattened_radius(const Scenario& s, const BiteState& state,
+                                  double relative_tolerance = 1e-12, int max_iterations = 200);
 
 BiteResult solve_roll_bite(const Scenario& s, const BiteState& state,
                            const BiteOptions& options = {});

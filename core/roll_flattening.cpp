@@ -14,15 +14,16 @@ double hitchcock_radius(const Scenario& s, double force, double reduction_dh) {
     return s.rolls.radius * (1.0 + c * force / (s.strip.width * reduction_dh));
 }
 
-FlatteningResult flattened_radius(const Scenario& s, const BiteState& state,
-                                  double relative_tolerance, int max_iterations) {
+FlatteningResult hitchcock_fixed_point(const Scenario& s, const BiteState& state,
+                                       const BiteForceFunction& force_of, double relative_tolerance,
+                                       int max_iterations) {
     FlatteningResult out;
     const double dh = s.strip.entry_thickness - state.exit_thickness;
     BiteState at = state;
     at.roll_radius = s.rolls.radius;
     out.radius = s.rolls.radius;
     for (int i = 0; i < max_iterations; ++i) {
-        const BiteResult bite = solve_roll_bite(s, at, {false});
+        const BiteForce bite = force_of(at);
         out.status = bite.status;
         out.iterations = i + 1;
         // A bite without a steady solution has no force to flatten the rolls with.
@@ -39,7 +40,7 @@ FlatteningResult flattened_radius(const Scenario& s, const BiteState& state,
         if (done) {
             out.converged = true;
             // the force at the converged radius itself, so that R' = R (1 + c F / (w dh)) holds
-            const BiteResult final_bite = solve_roll_bite(s, at, {false});
+            const BiteForce final_bite = force_of(at);
             out.status = final_bite.status;
             out.force = final_bite.force;
             return out;

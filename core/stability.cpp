@@ -22,31 +22,8 @@ const char* to_string(CriticalSpeedStatus status) {
     return "unknown";
 }
 
-Linearisation linearise(const CoupledModel& model, const Eigen::VectorXd& z, double t) {
-    Linearisation out;
-    const int n = model.size();
-    out.jacobian = Eigen::MatrixXd::Zero(n, n);
-    Eigen::VectorXd plus(n), minus(n), f_plus(n), f_minus(n);
-    for (int j = 0; j < n; ++j) {
-        double delta;
-        if (j < 6) delta = 1e-7;
-        else if (j < 12) delta = 1e-3;
-        else if (j == CoupledModel::film_index) delta = 1e-5 * z(CoupledModel::film_index);
-        else delta = 1e3;
-        plus = z;
-        minus = z;
-        plus(j) += delta;
-        minus(j) -= delta;
-        const DynamicsStatus a = model.rhs(t, plus.data(), f_plus.data());
-        const DynamicsStatus b = model.rhs(t, minus.data(), f_minus.data());
-        if (a != DynamicsStatus::ok || b != DynamicsStatus::ok) {
-            out.status = a != DynamicsStatus::ok ? a : b;
-            return out;
-        }
-        out.jacobian.col(j) = (f_plus - f_minus) / (plus(j) - minus(j));
-    }
-    out.status = DynamicsStatus::ok;
-    return out;
+Linearisation linearise(const DynamicModel& model, const Eigen::VectorXd& z, double t) {
+    return model.jacobian(z, t);
 }
 
 namespace {
@@ -110,24 +87,39 @@ Eigensystem eigensystem(const Eigen::MatrixXd& jacobian) {
     return out;
 }
 
-Eigenmode make_mode(std::complex<double> lambda, const Eigen::VectorXcd& vector) {
+// `stands` holds the eigenvector's part at each stand's six displacements (the output map). The
+// shapes and displacements of all stands share one scale, so that they compare across stands; the
+// chatter type is read on the stand that moves most.
+Eigenmode make_mode(std::complex<double> lambda, const std::vector<Eigen::VectorXcd>& stands) {
     Eigenmode mode;
     mode.eigenvalue = lambda;
     mode.frequency_Hz = std::abs(lambda.imag()) / (2.0 * std::numbers::pi);
     const double magnitude = std::abs(lambda);
     mode.damping_ratio = magnitude > 0.0 ? -lambda.real() / magnitude : 1.0;
-    Vector6 shape = vector.head<6>().cwiseAbs();
-    const double largest = shape.maxCoeff();
-    mode.shape = largest > 0.0 ? Vector6(shape / largest) : shape;
-    if (largest > 0.0) {
-        Eigen::Index k;
-        shape.maxCoeff(&k);
-        mode.displacement = vector.head<6>() / vector(k);
+    std::size_t moving = 0;
+    Eigen::Index k = 0;
+    double largest = 0.0;
+    for (std::size_t i = 0; i < stands.size(); ++i) {
+        Eigen::Index at;
+        const double stand_largest = stands[i].head<6>().cwiseAbs().maxCoeff(&at);
+        if (i == 0 || stand_largest > largest) {
+            largest = stand_largest;
+            moving = i;
+            k = at;
+        }
     }
-    mode.chatter = classify_chatter(mode.displacement, mode.frequency_Hz);
+    mode.shapes.assign(stands.size(), Vector6::Zero());
+    mode.displacements.assign(stands.size(), Vector6c::Zero());
+    for (std::size_t i = 0; i < stands.size(); ++i) {
+        const Vector6 shape = stands[i].head<6>().cwiseAbs();
+        mode.shapes[i] = largest > 0.0 ? Vector6(shape / largest) : shape;
+        if (largest > 0.0) mode.displacements[i] = stands[i].head<6>() / stands[moving](k);
+    }
+    mode.chatter = classify_chatter(mode.displacements[moving], mode.frequency_Hz);
     return mode;
 }
 
+// The speed, steady status, force and k4 of `s`; the eigenvalues of its coupled model.
 SpeedStability analyse(const Scenario& scenario, bool with_strip_stiffness) {
     SpeedStability out;
     const Scenario s = dynamics_scenario(scenario);
@@ -138,39 +130,12 @@ SpeedStability analyse(const Scenario& scenario, bool with_strip_stiffness) {
         out.status = DynamicsStatus::solver_failure;
         return out;
     }
-    out.strip_stiffness = ref.strip_stiffness;
-    out.force = ref.bite.force;
-
-    const CoupledModel model(s, ref);
-    const Linearisation lin = linearise(model, model.equilibrium());
-    out.status = lin.status;
-    if (lin.status != DynamicsStatus::ok) return out;
-
-    const Eigensystem eig = eigensystem(lin.jacobian);
-    if (!eig.ok) {
-        out.status = DynamicsStatus::solver_failure;
-        return out;
-    }
-    out.max_real_part = -std::numeric_limits<double>::infinity();
-    double best_oscillatory = -std::numeric_limits<double>::infinity();
-    for (int i = 0; i < eig.values.size(); ++i) {
-        const std::complex<double> lambda = eig.values(i);
-        out.eigenvalues.push_back(lambda);
-        out.max_real_part = std::max(out.max_real_part, lambda.real());
-        if (lambda.imag() > 0.0) {
-            const Eigenmode mode = make_mode(lambda, eig.vectors.col(i));
-            out.oscillatory.push_back(mode);
-            if (lambda.real() > best_oscillatory) {
-                best_oscillatory = lambda.real();
-                out.least_damped = mode;
-            }
-        }
-    }
-    std::sort(
-        out.oscillatory.begin(), out.oscillatory.end(),
-        [](const Eigenmode& a, const Eigenmode& b) { return a.frequency_Hz < b.frequency_Hz; });
-    out.stable = out.max_real_part < 0.0;
-    return out;
+    SpeedStability linear = linear_stability(CoupledModel(s, ref));
+    linear.speed = out.speed;
+    linear.steady_status = out.steady_status;
+    linear.strip_stiffness = ref.strip_stiffness;
+    linear.force = ref.bite.force;
+    return linear;
 }
 
 Scenario at_speed(Scenario s, double speed) {
@@ -227,10 +192,55 @@ Eigen::VectorXcd balanced_eigenvalues(const Eigen::MatrixXd& jacobian) {
     return system.ok ? system.values : Eigen::VectorXcd();
 }
 
+SpeedStability linear_stability(const DynamicModel& model) {
+    SpeedStability out;
+    const Linearisation lin = linearise(model, model.equilibrium());
+    out.status = lin.status;
+    if (lin.status != DynamicsStatus::ok) return out;
+
+    const Eigensystem eig = eigensystem(lin.jacobian);
+    if (!eig.ok) {
+        out.status = DynamicsStatus::solver_failure;
+        return out;
+    }
+    out.max_real_part = -std::numeric_limits<double>::infinity();
+    double best_oscillatory = -std::numeric_limits<double>::infinity();
+    for (int i = 0; i < eig.values.size(); ++i) {
+        const std::complex<double> lambda = eig.values(i);
+        out.eigenvalues.push_back(lambda);
+        out.max_real_part = std::max(out.max_real_part, lambda.real());
+        if (lambda.imag() > 0.0) {
+            std::vector<Eigen::VectorXcd> stands;
+            for (int j = 0; j < model.stand_count(); ++j)
+                stands.emplace_back(eig.vectors.col(i).segment(model.displacement_index(j), 6));
+            const Eigenmode mode = make_mode(lambda, stands);
+            out.oscillatory.push_back(mode);
+            if (lambda.real() > best_oscillatory) {
+                best_oscillatory = lambda.real();
+                out.least_damped = mode;
+            }
+        }
+    }
+    std::sort(
+        out.oscillatory.begin(), out.oscillatory.end(),
+        [](const Eigenmode& a, const Eigenmode& b) { return a.frequency_Hz < b.frequency_Hz; });
+    out.stable = out.max_real_part < 0.0;
+    return out;
+}
+
 SpeedStability stability_at(const Scenario& s) { return analyse(s, true); }
 
 CriticalSpeedResult critical_speed(const Scenario& s, const CriticalSpeedOptions& options,
                                    const Control& control) {
+    const auto at = [&s](double speed, bool with_strip_stiffness) {
+        return analyse(at_speed(s, speed), with_strip_stiffness);
+    };
+    return critical_speed_search(at, options, control);
+}
+
+CriticalSpeedResult critical_speed_search(const StabilityAtSpeed& analyse_at,
+                                          const CriticalSpeedOptions& options,
+                                          const Control& control) {
     CriticalSpeedResult result;
     const double step = std::min(options.speed_step, 0.5);
     const int count = std::max(
@@ -245,7 +255,7 @@ CriticalSpeedResult critical_speed(const Scenario& s, const CriticalSpeedOptions
     std::atomic<int> done{0};
     parallel_for(count, control, [&](int i) {
         if (control.should_stop()) return;
-        SpeedStability point = analyse(at_speed(s, speeds[static_cast<std::size_t>(i)]), false);
+        SpeedStability point = analyse_at(speeds[static_cast<std::size_t>(i)], false);
         result.scan[static_cast<std::size_t>(i)] = std::move(point);
         control.report(0.9 * (++done) / count);
     });
@@ -289,7 +299,7 @@ CriticalSpeedResult critical_speed(const Scenario& s, const CriticalSpeedOptions
     const SpeedStability& lo = result.scan[static_cast<std::size_t>(crossing - 1)];
     const SpeedStability& hi = result.scan[static_cast<std::size_t>(crossing)];
     auto growth = [&](double v) {
-        const SpeedStability p = analyse(at_speed(s, v), false);
+        const SpeedStability p = analyse_at(v, false);
         return usable(p) ? p.max_real_part : std::nan("");
     };
     const RootResult root = brent_root(growth, lo.speed, hi.speed, lo.max_real_part,
@@ -301,13 +311,15 @@ CriticalSpeedResult critical_speed(const Scenario& s, const CriticalSpeedOptions
         result.unstable_mode = hi.least_damped;
     } else {
         result.critical_speed = root.x;
-        const SpeedStability at = analyse(at_speed(s, root.x), true);
+        const SpeedStability at = analyse_at(root.x, true);
         result.unstable_mode = at.least_damped;
         // the mode that crosses: the eigenvalue with the largest real part, oscillatory or not
         if (at.max_real_part > at.least_damped.eigenvalue.real()) {
             for (const auto& lambda : at.eigenvalues) {
                 if (lambda.real() == at.max_real_part)
-                    result.unstable_mode = make_mode(lambda, Eigen::VectorXcd::Zero(6));
+                    result.unstable_mode = make_mode(
+                        lambda, std::vector<Eigen::VectorXcd>(at.least_damped.shapes.size(),
+                                                              Eigen::VectorXcd::Zero(6)));
             }
         }
     }

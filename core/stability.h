@@ -3,6 +3,7 @@
 // rolling speed (docs/model.md §7.3).
 
 #include <complex>
+#include <functional>
 #include <vector>
 
 #include <Eigen/Dense>
@@ -10,17 +11,13 @@
 #include "core/chatter_type.h"
 #include "core/control.h"
 #include "core/coupled_model.h"
+#include "core/dynamic_model.h"
 
 namespace rollgap::core {
 
-struct Linearisation {
-    DynamicsStatus status = DynamicsStatus::solver_failure;
-    Eigen::MatrixXd jacobian;
-};
-
-// Central differences of f at (t, z) with the model document's steps: q 1e-7 m, q' 1e-3 m/s,
-// h0 1e-5 h0, tensions 1 kPa.
-Linearisation linearise(const CoupledModel& model, const Eigen::VectorXd& z, double t = 0.0);
+// The model's jacobian() at (t, z): by default central differences with the model document's
+// steps (q 1e-7 m, q' 1e-3 m/s, h0 1e-5 h0, tensions 1 kPa; core/dynamic_model.h).
+Linearisation linearise(const DynamicModel& model, const Eigen::VectorXd& z, double t = 0.0);
 
 // Eigenvalues of a Jacobian after Parlett-Reinsch balancing (the coupled model's Jacobian
 // mixes entries from 1e-13 to 1e14; unbalanced, the QR iteration is wrong by O(10/s)).
@@ -31,11 +28,14 @@ struct Eigenmode {
     std::complex<double> eigenvalue;  // 1/s
     double frequency_Hz = 0.0;        // Im / 2 pi
     double damping_ratio = 1.0;       // -Re / |lambda|
-    Vector6 shape = Vector6::Zero();  // |q| per mass (m1..m6), largest 1
-    // q per mass with its phase, scaled so that the largest component is 1 (real): which
+    // One entry per stand (the single stand has one), in the model's stand order:
+    // |q| per mass (m1..m6), scaled so that the largest component over all stands is 1
+    std::vector<Vector6> shapes = {Vector6::Zero()};
+    // q per mass with its phase, on the same scale (the largest component is 1, real): which
     // masses move with and against which, the basis of the chatter type
-    Vector6c displacement = Vector6c::Zero();
-    ChatterClassification chatter;  // from `displacement` and the frequency
+    std::vector<Vector6c> displacements = {Vector6c::Zero()};
+    // from the displacements of the stand that moves most, and the frequency
+    ChatterClassification chatter;
 };
 
 struct SpeedStability {
@@ -53,6 +53,10 @@ struct SpeedStability {
 
 // Eigenvalues of the linearisation at the scenario's own speed.
 SpeedStability stability_at(const Scenario& s);
+
+// The eigenvalues and modes of any model linearised at its equilibrium (the speed, steady status,
+// force and k4 are the caller's to fill). Mode shapes are read at stand 0's displacements.
+SpeedStability linear_stability(const DynamicModel& model);
 
 struct CriticalSpeedOptions {
     double speed_min = 1.0;   // m/s
@@ -86,5 +90,13 @@ struct CriticalSpeedResult {
 // The scan speeds run in parallel on the executor and thread budget of `control`.
 CriticalSpeedResult critical_speed(const Scenario& s, const CriticalSpeedOptions& options = {},
                                    const Control& control = {});
+
+// The search behind critical_speed() for any model: `analyse_at(speed, with_strip_stiffness)`
+// is the stability at one speed (called concurrently from the scan; k4 only where a result
+// reports it). A mill passes its own.
+using StabilityAtSpeed = std::function<SpeedStability(double speed, bool with_strip_stiffness)>;
+CriticalSpeedResult critical_speed_search(const StabilityAtSpeed& analyse_at,
+                                          const CriticalSpeedOptions& options = {},
+                                          const Control& control = {});
 
 }  // namespace rollgap::core

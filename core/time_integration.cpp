@@ -7,13 +7,14 @@
 #include <sunmatrix/sunmatrix_dense.h>
 
 #include <memory>
+#include <vector>
 
 namespace rollgap::core {
 
 namespace {
 
 struct RhsData {
-    const CoupledModel* model;
+    const DynamicModel* model;
     DynamicsStatus last_failure = DynamicsStatus::ok;
     int limit_failures = 0;
 };
@@ -81,7 +82,7 @@ const char* end_message(DynamicsStatus status) {
 
 }  // namespace
 
-IntegrationResult integrate(const CoupledModel& model, Eigen::VectorXd& z, double t0,
+IntegrationResult integrate(const DynamicModel& model, Eigen::VectorXd& z, double t0,
                             const std::vector<double>& output_times,
                             const std::function<void(const Sample&)>& on_output,
                             const IntegrationOptions& options, const Control& control) {
@@ -108,7 +109,7 @@ IntegrationResult integrate(const CoupledModel& model, Eigen::VectorXd& z, doubl
     for (int i = 0; i < n; ++i) {
         y[i] = z(i);
         // docs/model.md §6: q 1e-10 m, q' 1e-7 m/s, h0 1e-12 m, tensions 1 Pa
-        tol[i] = i < 6 ? 1e-10 : i < 12 ? 1e-7 : i == CoupledModel::film_index ? 1e-12 : 1.0;
+        tol[i] = model.absolute_tolerance(i);
     }
     CVodeSetErrHandlerFn(cv.memory, silent_errors, nullptr);
     if (CVodeInit(cv.memory, right_hand_side, t0, cv.y) != CV_SUCCESS ||
@@ -125,7 +126,7 @@ IntegrationResult integrate(const CoupledModel& model, Eigen::VectorXd& z, doubl
     }
     CVodeSetUserData(cv.memory, &data);
     CVodeSetMaxNumSteps(cv.memory, options.max_steps);
-    if (CVodeRootInit(cv.memory, CoupledModel::limit_count, limit_margins) != CV_SUCCESS) {
+    if (CVodeRootInit(cv.memory, model.margin_count(), limit_margins) != CV_SUCCESS) {
         result.message = "CVODE root finding setup failed";
         return result;
     }
@@ -143,11 +144,11 @@ IntegrationResult integrate(const CoupledModel& model, Eigen::VectorXd& z, doubl
         sunrealtype t = t0;
         int flag = CVode(cv.memory, tout, cv.y, &t, CV_NORMAL);
         if (flag == CV_ROOT_RETURN) {
-            int crossed[CoupledModel::limit_count] = {};
-            CVodeGetRootInfo(cv.memory, crossed);
-            for (int i = 0; i < CoupledModel::limit_count; ++i) {
-                if (crossed[i] < 0)
-                    result.status = CoupledModel::limit_status(i);  // crossed downwards
+            std::vector<int> crossed(static_cast<std::size_t>(model.margin_count()), 0);
+            CVodeGetRootInfo(cv.memory, crossed.data());
+            for (int i = 0; i < model.margin_count(); ++i) {
+                if (crossed[static_cast<std::size_t>(i)] < 0)
+                    result.status = model.margin_status(i);  // crossed downwards
             }
             if (result.status != DynamicsStatus::ok) {
                 result.end_time = t;

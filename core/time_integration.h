@@ -9,6 +9,7 @@
 
 #include "core/control.h"
 #include "core/coupled_model.h"
+#include "core/dynamic_model.h"
 
 namespace rollgap::core {
 
@@ -38,7 +39,7 @@ struct Sample {
 // at the first physical limit (contact lost, skidding, slack strip: the status says which), on
 // cancellation (polled at every output) or on a solver failure. On return z holds the last state
 // reached.
-IntegrationResult integrate(const CoupledModel& model, Eigen::VectorXd& z, double t0,
+IntegrationResult integrate(const DynamicModel& model, Eigen::VectorXd& z, double t0,
                             const std::vector<double>& output_times,
                             const std::function<void(const Sample&)>& on_output,
                             const IntegrationOptions& options = {}, const Control& control = {});
