@@ -6,7 +6,7 @@
 #   @redocly/cli           lint of the served OpenAPI document
 #   playwright-core        drives Debian's chromium in browser tests
 #   axe-core               accessibility checks of the workbench in the browser tests
-# Idempotent: when the cache already holds exactly these versions it returns at once.
+# Idempotent: when the cache already holds exactly these versions, complete, it returns at once.
 # Prints the cache directory on its last line. ROLLGAP_NODE_TOOLS overrides the location.
 # Without node/npm on PATH it installs Debian's nodejs and npm (the machine image may bring
 # its own node in /usr/local or from nodesource; then nothing is installed).
@@ -32,12 +32,45 @@ fi
 
 stamp="$dir/.installed"
 wanted="${packages[*]}"
-if [[ -f "$stamp" && "$(cat "$stamp")" == "$wanted" && -d "$dir/node_modules" ]]; then
+# complete: the stamp names these versions and every package and command the tests use is there.
+# (The stamp alone is not enough: two installs at once once left a cache whose stamp was
+# written while another npm had half-emptied node_modules.)
+complete() {
+    [[ -f "$stamp" && "$(cat "$stamp")" == "$wanted" ]] || return 1
+    local p
+    for p in "${packages[@]}"; do
+        [[ -f "$dir/node_modules/${p%@*}/package.json" ]] || return 1
+    done
+    for p in tsc openapi-typescript redocly; do
+        [[ -x "$dir/node_modules/.bin/$p" ]] || return 1
+    done
+}
+
+if complete; then
     echo "$dir"
     exit 0
 fi
-mkdir -p "$dir"
-[[ -f "$dir/package.json" ]] || echo '{"name": "rollgap-node-tools", "private": true}' >"$dir/package.json"
-npm install --prefix "$dir" --no-audit --no-fund --loglevel=error "${packages[@]}" >&2
-echo "$wanted" >"$stamp"
+# One install at a time (ctest fixtures and several checkouts share the cache), into a fresh
+# directory that replaces the cache only once npm has finished: a broken or interrupted install
+# never becomes the cache.
+mkdir -p "$(dirname "$dir")"
+exec 9>"$dir.lock"
+flock 9
+if complete; then
+    echo "$dir"
+    exit 0
+fi
+fresh="$dir.new.$$"
+rm -rf "$fresh"
+mkdir -p "$fresh"
+echo '{"name": "rollgap-node-tools", "private": true}' >"$fresh/package.json"
+if ! npm install --prefix "$fresh" --no-audit --no-fund --loglevel=error "${packages[@]}" >&2; then
+    rm -rf "$fresh"
+    exit 1
+fi
+echo "$wanted" >"$fresh/.installed"
+rm -rf "$dir.old"
+[[ -e "$dir" ]] && mv "$dir" "$dir.old"
+mv "$fresh" "$dir"
+rm -rf "$dir.old"
 echo "$dir"
