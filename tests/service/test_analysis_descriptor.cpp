@@ -29,20 +29,6 @@ using namespace rollgap;
 
 namespace {
 
-std::string read_text(const std::filesystem::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::ostringstream text;
-    text << in.rdbuf();
-    return text.str();
-}
-
-// Text pieces joined (GCC 12 warns falsely on "literal" + std::string at -O3).
-std::string join(std::initializer_list<std::string_view> pieces) {
-    std::string text;
-    for (const std::string_view piece : pieces) text.append(piece);
-    return text;
-}
-
 bool has_component(const json& document, std::string_view name) {
     return document["components"]["schemas"].contains(std::string(name));
 }
@@ -89,7 +75,7 @@ TEST_CASE("every analysis is in the OpenAPI document: path, answer, options, res
         const json& post = document["paths"][path]["post"];
         CHECK(post.contains("requestBody"));
         CHECK(post["responses"]["200"]["content"]["application/json"]["schema"]["$ref"] ==
-              join({"#/components/schemas/", analysis.response_schema}));
+              test::joined({"#/components/schemas/", analysis.response_schema}));
         CHECK(has_component(document, analysis.response_schema));
         CHECK(has_component(document, analysis.options_schema));
         CHECK(has_component(document, analysis.result_schema));
@@ -99,8 +85,8 @@ TEST_CASE("every analysis is in the OpenAPI document: path, answer, options, res
               enum_names.end());
         CHECK(mapping.contains(std::string(analysis.name)));
         // The request a job takes names the analysis' options component too.
-        CHECK(document.dump().find(join({"\"#/components/schemas/", analysis.options_schema,
-                                         "\""})) != std::string::npos);
+        CHECK(document.dump().find(test::joined({"\"#/components/schemas/", analysis.options_schema,
+                                                 "\""})) != std::string::npos);
     }
 }
 
@@ -135,22 +121,22 @@ TEST_CASE("a pointwise analysis splits into points and its points are in the par
         for (const std::string_view component : analysis.point_components) {
             CAPTURE(component);
             CHECK(has_component(document, component));
-            CHECK(points.find(join({"\"#/components/schemas/", component, "\""})) !=
+            CHECK(points.find(test::joined({"\"#/components/schemas/", component, "\""})) !=
                   std::string::npos);
         }
     }
 }
 
 TEST_CASE("every analysis the page shows is a row, by name and route") {
-    const std::string views = read_text(test::repository_root() / "web/js/views.js");
+    const std::string views = test::read_text(test::repository_root() / "web/js/views.js");
     for (const service::Analysis& analysis : service::analyses()) {
         CAPTURE(analysis.name);
-        const std::string entry = join({"key: '", analysis.name, "'"});
+        const std::string entry = test::joined({"key: '", analysis.name, "'"});
         const auto at = views.find(entry);
         CHECK((at != std::string::npos) == analysis.on_page);
         if (at == std::string::npos) continue;
         const auto line_end = views.find('\n', at);
-        CHECK(views.substr(at, line_end - at).find(join({"path: '", analysis.path, "'"})) !=
+        CHECK(views.substr(at, line_end - at).find(test::joined({"path: '", analysis.path, "'"})) !=
               std::string::npos);
     }
 }

@@ -18,32 +18,14 @@
 
 using namespace rollgap;
 
-namespace {
-
-std::string file_text(const std::filesystem::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::ostringstream text;
-    text << in.rdbuf();
-    return text.str();
-}
-
-// Text pieces joined (GCC 12 warns falsely on "literal" + std::string at -O3).
-std::string joined(std::initializer_list<std::string_view> pieces) {
-    std::string text;
-    for (const std::string_view piece : pieces) text.append(piece);
-    return text;
-}
-
-}  // namespace
-
 TEST_CASE("the committed fuzz dictionary and seeds are the generated ones") {
     const std::filesystem::path fuzz = test::repository_root() / "fuzz";
-    CHECK_MESSAGE(file_text(fuzz / "fuzz_evaluate.dict") == tools::fuzz_evaluate_dictionary(),
+    CHECK_MESSAGE(test::read_text(fuzz / "fuzz_evaluate.dict") == tools::fuzz_evaluate_dictionary(),
                   "run build/tools/fuzz_vocabulary fuzz");
     for (const auto& seed : tools::fuzz_evaluate_seeds()) {
         const auto& name = seed.first;  // not a structured binding: clang 14 cannot CAPTURE one
         CAPTURE(name);
-        CHECK_MESSAGE(file_text(fuzz / "corpus/fuzz_evaluate" / name) == seed.second,
+        CHECK_MESSAGE(test::read_text(fuzz / "corpus/fuzz_evaluate" / name) == seed.second,
                       "run build/tools/fuzz_vocabulary fuzz");
     }
 }
@@ -54,8 +36,9 @@ TEST_CASE("the fuzz dictionary and corpus know every analysis and base") {
     for (const auto& [name, text] : tools::fuzz_evaluate_seeds()) corpus += text;
     for (const service::Analysis& analysis : service::analyses()) {
         CAPTURE(analysis.name);
-        CHECK(dictionary.find(joined({"=\"", analysis.name, "\"\n"})) != std::string::npos);
-        CHECK(corpus.find(joined({"\"analysis\":\"", analysis.name, "\""})) != std::string::npos);
+        CHECK(dictionary.find(test::joined({"=\"", analysis.name, "\"\n"})) != std::string::npos);
+        CHECK(corpus.find(test::joined({"\"analysis\":\"", analysis.name, "\""})) !=
+              std::string::npos);
     }
     CHECK(dictionary.find("=\"base\"\n") != std::string::npos);
     CHECK(corpus.find("\"base\":") != std::string::npos);
