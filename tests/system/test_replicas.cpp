@@ -9,12 +9,14 @@
 
 #include <algorithm>
 #include <chrono>
+#include <csignal>
 #include <fstream>
 #include <map>
 #include <optional>
 #include <set>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "support/replicas.h"
@@ -305,13 +307,26 @@ TEST_CASE("replicas: kill -9 of a replica running a sweep: the other finishes it
     ReplicaSet& replicas = sweep.replicas;
     CAPTURE(replicas.logs());
     const std::string id = sweep.submit_and_wait_under_way();
+    // Killed while it holds a chunk: between two chunks a replica holds nothing, and a kill then
+    // would test nothing. Frozen (SIGSTOP) so that its chunk cannot finish while the store is
+    // read; thawed and tried again when it held none at that instant.
+    const std::string held_query = "SELECT idx, lease_until_ms FROM chunks WHERE job_id = '" + id +
+                                   "' AND lease_owner = 'a' AND state = 'running'";
+    std::string held;
+    const auto give_up = Clock::now() + std::chrono::seconds(30);
+    while (held.empty() && Clock::now() < give_up) {
+        ::kill(replicas[0].pid(), SIGSTOP);
+        held = psql(replicas.postgres(), "replicas", held_query);
+        if (held.empty()) {
+            ::kill(replicas[0].pid(), SIGCONT);
+            std::this_thread::sleep_for(std::chrono::milliseconds(5));
+        }
+    }
+    // What the dead replica held: chunks leased to it, and until when.
+    CAPTURE(held);
+    REQUIRE_MESSAGE(!held.empty(), "replica a never held a chunk of the sweep");
     const auto killed_at = Clock::now();
     replicas[0].kill9();
-    // What the dead replica held: chunks leased to it, and until when.
-    const std::string held = psql(replicas.postgres(), "replicas",
-                                  "SELECT idx, lease_until_ms FROM chunks WHERE job_id = '" + id +
-                                      "' AND lease_owner = 'a' AND state = 'running'");
-    CAPTURE(held);
 
     httplib::Client b = replicas[1].client();
     const json done = wait_finished(b, id, std::chrono::seconds(60));
