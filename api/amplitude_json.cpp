@@ -1,4 +1,3 @@
-#include "api/option_names.h"
 #include "api/amplitude_json.h"
 
 #include <array>
@@ -6,6 +5,7 @@
 #include <string_view>
 
 #include "api/json_pointer.h"
+#include "api/option_table.h"
 #include "api/options_reader.h"
 #include "api/quantity_json.h"
 #include "api/result_table.h"
@@ -16,15 +16,15 @@ namespace rollgap::api {
 namespace {
 
 constexpr std::string_view speeds_name = "speeds_m_per_s";
-constexpr std::string_view window_name = "window_s";
-constexpr std::string_view excitation_amplitude_name = "excitation_amplitude_MPa";
-constexpr std::string_view excitation_frequency_name = "excitation_frequency_Hz";
-constexpr std::string_view time_series_name = "time_series";
-constexpr std::string_view time_series_points_name = "time_series_points";
 
 constexpr std::array<std::string_view, 7> analysis_members{
-    speeds_name,    window_name,      excitation_amplitude_name, excitation_frequency_name,
-    tolerance_name, time_series_name, time_series_points_name};
+    speeds_name,
+    option_name(OptionId::window),
+    option_name(OptionId::excitation_amplitude),
+    option_name(OptionId::excitation_frequency),
+    option_name(OptionId::integration_tolerance),
+    option_name(OptionId::time_series),
+    option_name(OptionId::time_series_points)};
 
 std::span<const std::string_view> known_members(AmplitudeMembers members) {
     const std::span<const std::string_view> all(analysis_members);
@@ -96,16 +96,13 @@ AmplitudeOptions amplitude_options_from_json(const nlohmann::json& options,
     const OptionsReader reader(options, pointer, known_members(members), errors);
     if (members == AmplitudeMembers::analysis) read_speeds(reader, parsed.speeds);
     core::AmplitudeOptions& run = parsed.run;
-    reader.number(window_name, units::second, open_closed(0.0, 20.0), run.window);
-    reader.number(excitation_amplitude_name, units::megapascal, closed(0.0, 100.0),
-                  run.excitation_amplitude);
-    reader.number(excitation_frequency_name, units::hertz, closed(0.0, 2000.0),
-                  run.excitation_frequency_Hz);
-    reader.number(tolerance_name, units::one, closed(1e-9, 1e-3), run.relative_tolerance);
+    reader.read(OptionId::window, run.window);
+    reader.read(OptionId::excitation_amplitude, run.excitation_amplitude);
+    reader.read(OptionId::excitation_frequency, run.excitation_frequency_Hz);
+    reader.read(OptionId::integration_tolerance, run.relative_tolerance);
     if (members != AmplitudeMembers::sweep_point) {
-        reader.boolean(time_series_name, run.time_series);
-        reader.integer(time_series_points_name, closed(2.0, max_time_series_points),
-                       run.time_series_points);
+        reader.read(OptionId::time_series, run.time_series);
+        reader.read(OptionId::time_series_points, run.time_series_points);
     }
     return parsed;
 }
@@ -115,13 +112,13 @@ nlohmann::json amplitude_options_json(const AmplitudeOptions& options, Amplitude
     nlohmann::json document = nlohmann::json::object();
     if (members == AmplitudeMembers::analysis)
         document[speeds_name] = quantities_json(options.speeds, units::metre_per_second);
-    document[window_name] = from_si(run.window, units::second);
-    document[excitation_amplitude_name] = from_si(run.excitation_amplitude, units::megapascal);
-    document[excitation_frequency_name] = from_si(run.excitation_frequency_Hz, units::hertz);
-    document[tolerance_name] = run.relative_tolerance;
+    put_option(document, OptionId::window, run.window);
+    put_option(document, OptionId::excitation_amplitude, run.excitation_amplitude);
+    put_option(document, OptionId::excitation_frequency, run.excitation_frequency_Hz);
+    put_option(document, OptionId::integration_tolerance, run.relative_tolerance);
     if (members != AmplitudeMembers::sweep_point) {
-        document[time_series_name] = run.time_series;
-        document[time_series_points_name] = run.time_series_points;
+        put_option(document, OptionId::time_series, run.time_series);
+        put_option(document, OptionId::time_series_points, run.time_series_points);
     }
     return document;
 }

@@ -13,6 +13,7 @@
 
 #include "api/json_pointer.h"
 #include "api/name_suggestion.h"
+#include "api/option_table.h"
 #include "api/options_reader.h"
 #include "api/quantity_json.h"
 #include "api/result_table.h"
@@ -23,8 +24,8 @@
 namespace rollgap::api {
 namespace {
 
-constexpr std::array<std::string_view, 4> option_members{"parameters", "observations",
-                                                         "max_iterations", "critical_speed"};
+constexpr std::array<std::string_view, 4> option_members{
+    "parameters", "observations", option_name(OptionId::max_iterations), "critical_speed"};
 constexpr std::array<std::string_view, 4> parameter_members{"field", "min", "max", "prior"};
 constexpr std::array<std::string_view, 2> prior_members{"value", "standard_uncertainty"};
 constexpr std::array<std::string_view, 5> observation_members{"scenario", "quantity", "value",
@@ -313,7 +314,7 @@ CalibrationPlan calibration_plan_from_json(const nlohmann::json& options,
     const auto observations = read_list<ObservationRead>(
         reader, "observations", max_calibration_observations, "observations", read_observation);
     int max_iterations = 30;
-    reader.integer("max_iterations", closed(1.0, max_calibration_iterations), max_iterations);
+    reader.read(OptionId::max_iterations, max_iterations);
     const nlohmann::json* search = reader.find("critical_speed");
     plan.setup.critical_speed =
         critical_speed_options_from_json(search != nullptr ? *search : nlohmann::json::object(),
@@ -343,7 +344,7 @@ CalibrationPlan calibration_plan_from_json(const nlohmann::json& options,
     plan.resolved_options = {
         {"parameters", std::move(parameter_echo)},
         {"observations", std::move(observation_echo)},
-        {"max_iterations", max_iterations},
+        {option_name(OptionId::max_iterations), max_iterations},
         {"critical_speed", critical_speed_options_json(plan.setup.critical_speed)}};
     if (errors.size() != errors_before || valid_scenario == nullptr) return plan;
 
@@ -407,7 +408,7 @@ CalibrationPlan calibration_plan_from_json(const nlohmann::json& options,
         const long evaluations = max_calibration_stability_evaluations / per_evaluation;
         const int iterations = static_cast<int>((evaluations - 2 * n - 2) / (n + 4));
         errors.add(
-            {reader.at("max_iterations"),
+            {reader.at(option_name(OptionId::max_iterations)),
              concat(
                  "up to ", std::to_string(plan.setup.options.max_evaluations), " evaluations × ",
                  std::to_string(per_evaluation),

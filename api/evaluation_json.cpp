@@ -29,7 +29,7 @@ const ResultTable<EvaluationView>& evaluation_table() {
         {
             {"roll_gap", "The steady roll bite.", ref_schema("RollGapResult"),
              [](const EvaluationView& v) {
-                 nlohmann::json bite = bite_result_json(v.evaluation.roll_gap);
+                 nlohmann::json bite = bite_result_json(v.evaluation.bite);
                  if (v.options.detail == Detail::summary) bite.erase("distribution");
                  return bite;
              }},
@@ -85,12 +85,12 @@ nlohmann::json evaluation_result_json(const core::Evaluation& evaluation,
     core::SpeedStability stability = evaluation.stability;
     core::AmplitudeResult amplitude = evaluation.amplitude;
     core::CriticalSpeedResult critical = evaluation.critical;
-    if (evaluation.roll_gap.status != core::BiteStatus::ok) {
+    if (evaluation.bite.status != core::BiteStatus::ok) {
         // core stops after the critical-speed search: say why the rest is missing, consistently.
         stability.speed = scenario_speed;
-        stability.steady_status = evaluation.roll_gap.status;
+        stability.steady_status = evaluation.bite.status;
         amplitude.speed = scenario_speed;
-        amplitude.steady_status = evaluation.roll_gap.status;
+        amplitude.steady_status = evaluation.bite.status;
         amplitude.status = core::AmplitudeStatus::no_steady_state;
         amplitude.message =
             "no steady state at the scenario's speed: the bite skids or loses contact";

@@ -1,5 +1,7 @@
 #include "api/options_reader.h"
 
+#include <cassert>
+
 #include "api/json_pointer.h"
 
 namespace rollgap::api {
@@ -48,6 +50,40 @@ bool OptionsReader::boolean(std::string_view name, bool& target) const {
     if (!flag) return false;
     target = *flag;
     return true;
+}
+
+bool OptionsReader::read(OptionId id, double& si_target) const {
+    const Option& row = option(id);
+    assert(row.type == OptionType::number);
+    return number(row.name, row.unit, row.range, si_target);
+}
+
+bool OptionsReader::read(OptionId id, int& target) const {
+    const Option& row = option(id);
+    assert(row.type == OptionType::integer);
+    return integer(row.name, row.range, target);
+}
+
+bool OptionsReader::read(OptionId id, bool& target) const {
+    const Option& row = option(id);
+    assert(row.type == OptionType::boolean);
+    return boolean(row.name, target);
+}
+
+void put_option(nlohmann::json& document, OptionId id, double value_si) {
+    const Option& row = option(id);
+    assert(row.type == OptionType::number);
+    document[std::string(row.name)] = echo(value_si, row.unit);
+}
+
+void put_option(nlohmann::json& document, OptionId id, int value) {
+    assert(option(id).type == OptionType::integer);
+    document[std::string(option_name(id))] = value;
+}
+
+void put_option(nlohmann::json& document, OptionId id, bool value) {
+    assert(option(id).type == OptionType::boolean);
+    document[std::string(option_name(id))] = value;
 }
 
 }  // namespace rollgap::api

@@ -12,6 +12,7 @@
 
 #include "api/field_errors.h"
 #include "api/interval.h"
+#include "api/option_table.h"
 #include "api/units.h"
 
 namespace rollgap::api {
@@ -36,8 +37,15 @@ public:
     bool integer(std::string_view name, const Interval& range, int& target) const;
     bool boolean(std::string_view name, bool& target) const;
 
+    // A scalar option by its row (api/option_table.h): name, type, unit and bounds from the
+    // row. The target's type must be the row's (double: number, int: integer, bool: boolean).
+    bool read(OptionId id, double& si_target) const;
+    bool read(OptionId id, int& target) const;
+    bool read(OptionId id, bool& target) const;
+
     // Whether a violation was recorded at or below a member.
     bool failed(std::string_view name) const { return errors_.has_error_at_or_below(at(name)); }
+    bool failed(OptionId id) const { return failed(option(id).name); }
 
 private:
     const nlohmann::json* object_ = nullptr;
@@ -48,5 +56,11 @@ private:
 // A number in the client's unit, ready to echo: the SI value converted back (exact for values
 // the client sent, units.h).
 inline double echo(double value_si, Unit unit) { return from_si(value_si, unit); }
+
+// An option's echo written into `document` under its row's name: a number in the client's unit
+// (echo above), an integer or a boolean.
+void put_option(nlohmann::json& document, OptionId id, double value_si);
+void put_option(nlohmann::json& document, OptionId id, int value);
+void put_option(nlohmann::json& document, OptionId id, bool value);
 
 }  // namespace rollgap::api

@@ -102,7 +102,7 @@ void check_rayleigh_frequencies_ordered(const Context& context) {
     const std::string low_path = "/mill/rayleigh/low_frequency_Hz";
     const std::string high_path = "/mill/rayleigh/high_frequency_Hz";
     if (!context.inputs_valid({low_path, high_path})) return;
-    const core::Mill& mill = context.scenario.mill;
+    const core::StandStructure& mill = context.scenario.structure;
     if (mill.rayleigh_frequency_low < mill.rayleigh_frequency_high) return;
     const Interval allowed = open_closed(mill.rayleigh_frequency_low, 1e5);
     context.errors.add(

@@ -315,7 +315,7 @@ std::vector<ScenarioField> build_fields() {
         fields.push_back(number_field(
             concat("/mill/masses_t/", name), tonne, closed(0.001, 1e4),
             concat("Mass ", name, " of the six-mass stand model: the ", mass_parts[i], "."),
-            [i](core::Scenario & s) -> auto& { return s.mill.mass[i]; }));
+            [i](core::Scenario & s) -> auto& { return s.structure.mass[i]; }));
     }
     // k4 is not an input: the strip's stiffness comes from the roll-bite model (docs/model.md §5).
     using StiffnessAccess = double& (*)(core::Scenario&);
@@ -327,25 +327,25 @@ std::vector<ScenarioField> build_fields() {
     const std::array<Stiffness, 6> stiffnesses{{
         {"k1",
          "between the upper crosshead m1 and the foundation (the housing columns and upper beam)",
-         [](core::Scenario& s) -> double& { return s.mill.k1; }},
+         [](core::Scenario& s) -> double& { return s.structure.k1; }},
         {"k2",
          "between the upper crosshead m1 and the upper backup roll m2 (screw-down or hydraulic cylinder and "
          "backup chocks)",
-         [](core::Scenario& s) -> double& { return s.mill.k2; }},
+         [](core::Scenario& s) -> double& { return s.structure.k2; }},
         {"k3",
          "between the upper backup roll m2 and the upper work roll m3 (the roll-to-roll contact and the "
          "roll bodies)",
-         [](core::Scenario& s) -> double& { return s.mill.k3; }},
+         [](core::Scenario& s) -> double& { return s.structure.k3; }},
         {"k5",
          "between the lower work roll m4 and the lower backup roll m5 (the roll-to-roll contact and the "
          "roll bodies)",
-         [](core::Scenario& s) -> double& { return s.mill.k5; }},
+         [](core::Scenario& s) -> double& { return s.structure.k5; }},
         {"k6",
          "between the lower backup roll m5 and the lower crosshead m6 (backup chocks and their supports)",
-         [](core::Scenario& s) -> double& { return s.mill.k6; }},
+         [](core::Scenario& s) -> double& { return s.structure.k6; }},
         {"k7",
          "between the lower crosshead m6 and the foundation (the bending of the housing's lower beam)",
-         [](core::Scenario& s) -> double& { return s.mill.k7; }},
+         [](core::Scenario& s) -> double& { return s.structure.k7; }},
     }};
     for (const Stiffness& stiffness : stiffnesses) {
         fields.push_back(number_field(
@@ -361,34 +361,34 @@ std::vector<ScenarioField> build_fields() {
         "/mill/damping_MN_s_per_m/c1", meganewton_second_per_metre, closed(0.0, 1e4),
         "Damper c1 between the upper crosshead m1 and the upper backup roll m2: the hydraulic roll-gap cylinder. "
         "Typically 0.5–5 MN.s/m.",
-        [](core::Scenario & s) -> auto& { return s.mill.c1; }));
+        [](core::Scenario & s) -> auto& { return s.structure.c1; }));
     fields.push_back(number_field(
         "/mill/damping_MN_s_per_m/c2", meganewton_second_per_metre, closed(0.0, 1e4),
         "Damper c2 between the two work rolls m3 and m4: the damping of the strip in the bite. Typically "
         "0.01–0.5 MN.s/m.",
-        [](core::Scenario & s) -> auto& { return s.mill.c2; }));
+        [](core::Scenario & s) -> auto& { return s.structure.c2; }));
     fields.push_back(boolean_field(
         "/mill/rayleigh/enabled",
         "Whether the stand has Rayleigh (proportional) structural damping, α·M + β·K_s, on top of c1 and c2. "
         "On by default: with c1 and c2 alone, as in the paper, some modes of the stand are almost undamped.",
-        [](core::Scenario & s) -> auto& { return s.mill.rayleigh; }));
+        [](core::Scenario & s) -> auto& { return s.structure.rayleigh; }));
     fields.push_back(number_field(
         "/mill/rayleigh/damping_ratio", one, closed_open(0.0, 0.5),
         "Damping ratio ζ (dimensionless, a fraction of critical damping: 0.04 = 4 %) that the Rayleigh damping "
         "gives at low_frequency_Hz and at high_frequency_Hz. Welded and bolted steel structures typically "
         "0.01–0.05. The critical speed depends strongly on it.",
-        [](core::Scenario & s) -> auto& { return s.mill.rayleigh_damping_ratio; }));
+        [](core::Scenario & s) -> auto& { return s.structure.rayleigh_damping_ratio; }));
     // low < high is a cross-field rule: scenario_consistency.cpp.
     fields.push_back(number_field(
         "/mill/rayleigh/low_frequency_Hz", hertz, open_closed(0.0, 1e5),
         "Lower frequency at which the Rayleigh damping ratio is exactly ζ; below it the damping rises. Choose it "
         "near the stand's lowest mode with roll-gap motion (about 100 Hz on the default stand).",
-        [](core::Scenario & s) -> auto& { return s.mill.rayleigh_frequency_low; }));
+        [](core::Scenario & s) -> auto& { return s.structure.rayleigh_frequency_low; }));
     fields.push_back(number_field(
         "/mill/rayleigh/high_frequency_Hz", hertz, open_closed(0.0, 1e5),
         "Upper frequency at which the Rayleigh damping ratio is exactly ζ (between the two it is a little lower, "
         "above it rises); above low_frequency_Hz. Typically the highest mode of interest, e.g. 400 Hz.",
-        [](core::Scenario & s) -> auto& { return s.mill.rayleigh_frequency_high; }));
+        [](core::Scenario & s) -> auto& { return s.structure.rayleigh_frequency_high; }));
 
     // Even: the bite is integrated in steps on each side of the neutral point.
     fields.push_back(integer_field(

@@ -21,7 +21,7 @@
 #include "api/field_errors.h"
 #include "api/options_reader.h"
 #include "api/result_table.h"
-#include "core/mill_structure.h"
+#include "core/stand_structure.h"
 #include "core/stability.h"
 
 namespace rollgap::api {

@@ -1,6 +1,5 @@
 // Reading the stability analysis' options and the critical-speed search's (api/stability_json.h),
 // and their echo; the result writer is in stability_json.cpp.
-#include "api/option_names.h"
 #include "api/stability_json.h"
 
 #include <algorithm>
@@ -12,6 +11,7 @@
 #include <vector>
 
 #include "api/chatter_json.h"
+#include "api/option_table.h"
 #include "api/options_reader.h"
 #include "api/result_table.h"
 #include "api/quantity_json.h"
@@ -21,27 +21,30 @@
 namespace rollgap::api {
 namespace {
 
-constexpr std::string_view speed_min_name = "speed_min_m_per_s";
-constexpr std::string_view speed_max_name = "speed_max_m_per_s";
-constexpr std::string_view speed_step_name = "speed_step_m_per_s";
 constexpr std::string_view detail_name = "detail";
 constexpr std::array<std::string_view, 2> detail_choices{"full", "summary"};
 
-constexpr std::array<std::string_view, 4> search_members{speed_min_name, speed_max_name,
-                                                         speed_step_name, tolerance_name};
-constexpr std::array<std::string_view, 6> stability_members{speed_min_name,      speed_max_name,
-                                                            speed_step_name,     tolerance_name,
-                                                            critical_speed_name, detail_name};
+constexpr std::string_view speed_min_name = option_name(OptionId::search_speed_min);
+constexpr std::string_view speed_max_name = option_name(OptionId::search_speed_max);
+constexpr std::string_view speed_step_name = option_name(OptionId::search_speed_step);
 
-// The speeds a search may scan are the speeds a scenario may have.
-Interval speed_range() { return find_scenario_field("/rolls/speed_m_per_s")->range; }
+constexpr std::array<std::string_view, 4> search_members{
+    speed_min_name, speed_max_name, speed_step_name, option_name(OptionId::search_tolerance)};
+constexpr std::array<std::string_view, 6> stability_members{speed_min_name,
+                                                            speed_max_name,
+                                                            speed_step_name,
+                                                            option_name(OptionId::search_tolerance),
+                                                            option_name(OptionId::critical_speed),
+                                                            detail_name};
+
+// The speeds a search may scan (the search's own bounds).
+Interval speed_range() { return option(OptionId::search_speed_min).range; }
 
 void read_search(const OptionsReader& reader, core::CriticalSpeedOptions& search) {
-    reader.number(speed_min_name, units::metre_per_second, speed_range(), search.speed_min);
-    reader.number(speed_max_name, units::metre_per_second, speed_range(), search.speed_max);
-    reader.number(speed_step_name, units::metre_per_second, open_closed(0.0, 0.5),
-                  search.speed_step);
-    reader.number(tolerance_name, units::one, closed(1e-8, 1e-2), search.relative_tolerance);
+    reader.read(OptionId::search_speed_min, search.speed_min);
+    reader.read(OptionId::search_speed_max, search.speed_max);
+    reader.read(OptionId::search_speed_step, search.speed_step);
+    reader.read(OptionId::search_tolerance, search.relative_tolerance);
 
     // Cross-member rules, each only on members that passed their own checks.
     if (reader.failed(speed_min_name) || reader.failed(speed_max_name)) return;
@@ -63,7 +66,7 @@ void read_search(const OptionsReader& reader, core::CriticalSpeedOptions& search
         const double digits = std::ceil(smallest / std::pow(10.0, exponent));
         const double rounded =
             to_si(digits, Unit{"", exponent});  // digits × 10^exponent, exactly rounded
-        const Interval allowed = closed(rounded, 0.5);
+        const Interval allowed = closed(rounded, option(OptionId::search_speed_step).range.max);
         reader.errors().add(
             {reader.at(speed_step_name),
              concat("a step of ", format_number(search.speed_step), " m/s scans ",
@@ -77,12 +80,12 @@ void read_search(const OptionsReader& reader, core::CriticalSpeedOptions& search
 }
 
 nlohmann::json search_json(const core::CriticalSpeedOptions& search) {
-    return {
-        {speed_min_name, echo(search.speed_min, units::metre_per_second)},
-        {speed_max_name, echo(search.speed_max, units::metre_per_second)},
-        {speed_step_name, echo(search.speed_step, units::metre_per_second)},
-        {tolerance_name, search.relative_tolerance},
-    };
+    nlohmann::json document = nlohmann::json::object();
+    put_option(document, OptionId::search_speed_min, search.speed_min);
+    put_option(document, OptionId::search_speed_max, search.speed_max);
+    put_option(document, OptionId::search_speed_step, search.speed_step);
+    put_option(document, OptionId::search_tolerance, search.relative_tolerance);
+    return document;
 }
 
 }  // namespace
@@ -111,14 +114,14 @@ StabilityOptions stability_options_from_json(const nlohmann::json& options,
     StabilityOptions parsed;
     const OptionsReader reader(options, pointer, stability_members, errors);
     read_search(reader, parsed.search);
-    reader.boolean(critical_speed_name, parsed.critical_speed);
+    reader.read(OptionId::critical_speed, parsed.critical_speed);
     read_detail(reader, parsed.detail);
     return parsed;
 }
 
 nlohmann::json stability_options_json(const StabilityOptions& options) {
     nlohmann::json document = search_json(options.search);
-    document[critical_speed_name] = options.critical_speed;
+    put_option(document, OptionId::critical_speed, options.critical_speed);
     document[detail_name] = detail_json(options.detail);
     return document;
 }

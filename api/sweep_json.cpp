@@ -11,6 +11,7 @@
 #include "api/chatter_json.h"
 #include "api/json_pointer.h"
 #include "api/name_suggestion.h"
+#include "api/option_table.h"
 #include "api/options_reader.h"
 #include "api/quantity_json.h"
 #include "api/result_table.h"
@@ -287,7 +288,7 @@ void check_work(const OptionsReader& reader, SweepPlan& plan, std::size_t point_
         return;
     }
     const std::string step_pointer =
-        append_pointer(reader.at(critical_speed_name), "speed_step_m_per_s");
+        append_pointer(reader.at(critical_speed_name), option_name(OptionId::search_speed_step));
     if (reader.errors().has_error_at_or_below(reader.at(critical_speed_name))) return;
     const long scan = scan_point_count(plan.critical_speed);
     const long total = static_cast<long>(point_count) * scan;

@@ -1,4 +1,3 @@
-#include "api/option_names.h"
 #include "api/tension_cycle_json.h"
 
 #include <algorithm>
@@ -8,6 +7,7 @@
 #include <vector>
 
 #include "api/json_pointer.h"
+#include "api/option_table.h"
 #include "api/options_reader.h"
 #include "api/quantity_json.h"
 #include "api/result_json.h"
@@ -18,10 +18,10 @@
 namespace rollgap::api {
 namespace {
 
-constexpr std::string_view cycles_name = "cycles";
+constexpr std::string_view cycles_name = option_name(OptionId::cycles);
 constexpr std::string_view phases_name = "phases";
-constexpr std::array<std::string_view, 3> tension_cycle_members{cycles_name, phases_name,
-                                                                tolerance_name};
+constexpr std::array<std::string_view, 3> tension_cycle_members{
+    cycles_name, phases_name, option_name(OptionId::integration_tolerance)};
 
 void read_phases(const OptionsReader& reader, std::vector<double>& phases) {
     const nlohmann::json* value = reader.find(phases_name);
@@ -76,9 +76,9 @@ core::TensionCycleOptions tension_cycle_options_from_json(const nlohmann::json& 
                                                           FieldErrors& errors) {
     core::TensionCycleOptions parsed;
     const OptionsReader reader(options, pointer, tension_cycle_members, errors);
-    reader.integer(cycles_name, closed(1.0, 20.0), parsed.cycles);
+    reader.read(OptionId::cycles, parsed.cycles);
     read_phases(reader, parsed.phases);
-    reader.number(tolerance_name, units::one, closed(1e-9, 1e-3), parsed.relative_tolerance);
+    reader.read(OptionId::integration_tolerance, parsed.relative_tolerance);
 
     // A slow sinusoid makes many cycles a long simulation.
     if (valid_scenario != nullptr && !reader.failed(cycles_name)) {
@@ -105,11 +105,10 @@ core::TensionCycleOptions tension_cycle_options_from_json(const nlohmann::json& 
 }
 
 nlohmann::json tension_cycle_options_json(const core::TensionCycleOptions& options) {
-    return {
-        {cycles_name, options.cycles},
-        {phases_name, options.phases},
-        {tolerance_name, options.relative_tolerance},
-    };
+    nlohmann::json document = {{phases_name, options.phases}};
+    put_option(document, OptionId::cycles, options.cycles);
+    put_option(document, OptionId::integration_tolerance, options.relative_tolerance);
+    return document;
 }
 
 void check_tension_cycle_scenario(const core::Scenario& scenario,

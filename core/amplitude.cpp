@@ -78,9 +78,9 @@ AmplitudeResult vibration_amplitude(const Scenario& s, const AmplitudeOptions& o
 
     constexpr int window_count = 10;
     std::vector<Range> upper(window_count), gap(window_count), force(window_count);
-    const Matrix6& M = model.mill().mass;
-    const Matrix6& C = model.mill().damping;
-    const Matrix6& K = model.mill().structural_stiffness;
+    const Matrix6& M = model.structure().mass;
+    const Matrix6& C = model.structure().damping;
+    const Matrix6& K = model.structure().structural_stiffness;
     // every stride-th sample, rounded up so the series never holds more than time_series_points
     const int points = std::max(1, options.time_series_points);
     const int stride = options.time_series ? std::max(1, (samples + points - 1) / points) : 0;

@@ -61,7 +61,7 @@ Modes modes_of(const Scenario& s) {
             std::string("no steady bite for the strip spring: ") + to_string(reference.status);
         return out;
     }
-    out.modal = modal_analysis(mill_matrices(s.mill), reference.strip_stiffness);
+    out.modal = modal_analysis(structure_matrices(s.structure), reference.strip_stiffness);
     out.ok = out.modal.ok && out.modal.natural.size() == 6;
     if (!out.ok) out.failure = "the modal analysis failed";
     return out;

@@ -12,7 +12,7 @@
 
 #include "core/calibration.h"
 #include "core/control.h"
-#include "core/mill_structure.h"
+#include "core/stand_structure.h"
 #include "core/scenario.h"
 #include "core/stability.h"
 

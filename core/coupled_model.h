@@ -14,7 +14,7 @@
 #include <Eigen/Dense>
 
 #include "core/dynamic_model.h"
-#include "core/mill_structure.h"
+#include "core/stand_structure.h"
 #include "core/roll_bite.h"
 #include "core/scenario.h"
 #include "core/span_element.h"
@@ -65,7 +65,7 @@ public:
 
     const Scenario& scenario() const { return stand_.scenario(); }
     const ReferenceState& reference() const { return stand_.reference(); }
-    const MillMatrices& mill() const { return stand_.mill(); }
+    const StructureMatrices& structure() const { return stand_.structure(); }
 
 private:
     StandBlock stand_;

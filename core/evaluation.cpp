@@ -5,14 +5,14 @@ namespace rollgap::core {
 Evaluation evaluate_scenario(const Scenario& s, const CriticalSpeedOptions& critical_options,
                              const AmplitudeOptions& amplitude_options, const Control& control) {
     Evaluation out;
-    out.roll_gap = solve_roll_bite(s, steady_bite_state(s));
+    out.bite = solve_roll_bite(s, steady_bite_state(s));
     // The critical speed is a search over speed, so it answers even when the scenario's own speed
     // has no steady bite (a skidding set speed still has a chatter limit below it).
     // progress: the critical speed is most of the work, then the amplitude
     Control critical_control = control;
     critical_control.progress = [&](double f) { control.report(0.6 * f); };
     out.critical = critical_speed(s, critical_options, critical_control);
-    if (out.roll_gap.status != BiteStatus::ok)
+    if (out.bite.status != BiteStatus::ok)
         return out;  // no steady state: nothing vibrates about it
     out.stability = stability_at(s);
     if (control.should_stop()) return out;

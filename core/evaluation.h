@@ -10,7 +10,7 @@
 namespace rollgap::core {
 
 struct Evaluation {
-    BiteResult roll_gap;
+    BiteResult bite;
     SpeedStability stability;  // eigenvalues at the scenario's speed
     CriticalSpeedResult critical;
     AmplitudeResult amplitude;

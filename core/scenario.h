@@ -63,7 +63,7 @@ struct Tensions {
 
 // Six masses, x upward: m1 upper crosshead, m2 upper backup roll, m3 upper work roll,
 // m4 lower work roll, m5 lower backup roll, m6 lower crosshead (docs/model.md §5).
-struct Mill {
+struct StandStructure {
     std::array<double, 6> mass{40e3, 60e3, 11e3, 11e3, 60e3, 40e3};
     // k1, k2, k3, k5, k6, k7; k4 (the strip) is derived from the roll-bite model.
     double k1 = 25e9, k2 = 30e9, k3 = 35e9, k5 = 35e9, k6 = 30e9, k7 = 25e9;
@@ -90,7 +90,7 @@ struct Scenario {
     Friction friction;
     InletFilmModel inlet_film = InletFilmModel::paper;
     Tensions tensions;
-    Mill mill;
+    StandStructure structure;
     Numerics numerics;
 };
 

@@ -51,9 +51,9 @@ DynamicsStatus from_bite(BiteStatus status) {
 
 StandBlock::StandBlock(const Scenario& s, const ReferenceState& reference, Excitation excitation,
                        int offset)
-    : s_(s), ref_(reference), excitation_(excitation), mill_(mill_matrices(s.mill)),
+    : s_(s), ref_(reference), excitation_(excitation), structure_(structure_matrices(s.structure)),
       offset_(offset) {
-    mass_inverse_ = mill_.mass.inverse();
+    mass_inverse_ = structure_.mass.inverse();
     last_neutral_point_ = ref_.bite.neutral_point;
 }
 
@@ -86,7 +86,7 @@ void StandBlock::rates(const double* z, const BiteState& state, const BiteResult
     Eigen::Map<const Vector6> q(x), qdot(x + 6);
     const Vector6 load = gap_direction() * (bite.force - ref_.bite.force);
     const Vector6 qddot =
-        mass_inverse_ * (load - mill_.damping * qdot - mill_.structural_stiffness * q);
+        mass_inverse_ * (load - structure_.damping * qdot - structure_.structural_stiffness * q);
     for (int i = 0; i < 6; ++i) {
         xdot[i] = x[6 + i];
         xdot[6 + i] = qddot(i);

@@ -9,7 +9,7 @@
 #include <Eigen/Dense>
 
 #include "core/dynamic_model.h"
-#include "core/mill_structure.h"
+#include "core/stand_structure.h"
 #include "core/roll_bite.h"
 #include "core/scenario.h"
 
@@ -83,13 +83,13 @@ public:
     const Scenario& scenario() const { return s_; }
     const ReferenceState& reference() const { return ref_; }
     const Excitation& excitation() const { return excitation_; }
-    const MillMatrices& mill() const { return mill_; }
+    const StructureMatrices& structure() const { return structure_; }
 
 private:
     Scenario s_;
     ReferenceState ref_;
     Excitation excitation_;
-    MillMatrices mill_;
+    StructureMatrices structure_;
     Matrix6 mass_inverse_;
     int offset_ = 0;
     mutable double last_neutral_point_ = -1.0;  // warm start of the root search only

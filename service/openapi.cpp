@@ -8,6 +8,7 @@
 
 #include "api/csv.h"
 #include "api/field_errors.h"
+#include "api/option_table.h"
 #include "api/problem.h"
 #include "api/scenario_json.h"
 #include "api/scenario_schema.h"
@@ -31,6 +32,23 @@ std::string unit_text(const api::Unit& unit) {
     return concat("unit ", unit.code, " (UCUM)");
 }
 
+// `integer`: the bounds written as integers (2, not 2.0), as an integer option's.
+void add_bounds(json& schema, const api::Interval& range, bool integer = false) {
+    const auto bound = [integer](double value) {
+        return integer ? json(static_cast<long long>(value)) : json(value);
+    };
+    schema[range.min_open ? "exclusiveMinimum" : "minimum"] = bound(range.min);
+    schema[range.max_open ? "exclusiveMaximum" : "maximum"] = bound(range.max);
+}
+
+// "Number; unit m/s (UCUM); bounds [0.01, 100].", "Integer, even; dimensionless; bounds [2, 64]."
+std::string numeric_text(bool integer, bool even, const api::Unit& unit,
+                         const api::Interval& range) {
+    return concat(integer ? "Integer" : "Number", even ? ", even" : "", "; ",
+                  integer ? std::string("dimensionless") : unit_text(unit), "; bounds ",
+                  range.text(), ".");
+}
+
 json leaf_schema(const api::ScenarioField& field, const json& default_value, bool patch) {
     json schema = json::object();
     const auto nullable = [patch](std::string_view type) {
@@ -42,21 +60,10 @@ json leaf_schema(const api::ScenarioField& field, const json& default_value, boo
         case api::FieldKind::integer: {
             const bool integer = field.kind == api::FieldKind::integer;
             schema["type"] = nullable(integer ? "integer" : "number");
-            if (field.range.min_open) {
-                schema["exclusiveMinimum"] = field.range.min;
-            } else {
-                schema["minimum"] = field.range.min;
-            }
-            if (field.range.max_open) {
-                schema["exclusiveMaximum"] = field.range.max;
-            } else {
-                schema["maximum"] = field.range.max;
-            }
+            add_bounds(schema, field.range);
             if (field.even) schema["multipleOf"] = 2;
             if (!integer) schema["x-unit"] = field.unit.code;
-            description = concat(integer ? "Integer" : "Number", field.even ? ", even" : "", "; ",
-                                 integer ? std::string("dimensionless") : unit_text(field.unit),
-                                 "; bounds ", field.range.text(), ".");
+            description = numeric_text(integer, field.even, field.unit, field.range);
             break;
         }
         case api::FieldKind::boolean:
@@ -77,6 +84,41 @@ json leaf_schema(const api::ScenarioField& field, const json& default_value, boo
     // The glossary text of the field table first, verbatim; then type, unit and bounds.
     schema["description"] = concat(field.description, " ", description);
     return schema;
+}
+
+// A scalar option from its row (api/option_table.h), as a scenario field's leaf: its glossary
+// text, then type, unit and bounds. The reader enforces the same row.
+json option_schema(const api::Option& option) {
+    json schema = json::object();
+    switch (option.type) {
+        case api::OptionType::number:
+        case api::OptionType::integer: {
+            const bool integer = option.type == api::OptionType::integer;
+            schema["type"] = integer ? "integer" : "number";
+            add_bounds(schema, option.range, integer);
+            if (!integer) schema["x-unit"] = option.unit.code;
+            schema["description"] = concat(option.description, " ",
+                                           numeric_text(integer, false, option.unit, option.range));
+            break;
+        }
+        case api::OptionType::boolean:
+            schema["type"] = "boolean";
+            schema["description"] = option.description;
+            break;
+    }
+    return schema;
+}
+
+// The scalar members of the options components, from the option rows; the components' compound
+// members are written in openapi.json.
+void add_option_members(json& schemas) {
+    for (const api::OptionComponent& component : api::option_components()) {
+        json& properties = schemas[std::string(component.schema)]["properties"];
+        for (const api::OptionId id : component.members) {
+            const api::Option& option = api::option(id);
+            properties[std::string(option.name)] = option_schema(option);
+        }
+    }
 }
 
 json group_schema(std::string_view path, const json& defaults, bool patch) {
@@ -302,6 +344,7 @@ json openapi_document() {
     }
     schemas["SweepOptions"]["properties"]["parameter"]["enum"] = std::move(numeric_paths);
     add_base(schemas);
+    add_option_members(schemas);
     add_option_defaults(schemas);
     add_result_schemas(document);
     return document;

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "core/coupled_model.h"
-#include "core/mill_structure.h"
+#include "core/stand_structure.h"
 #include "core/roll_bite.h"
 #include "core/stability.h"
 
@@ -91,7 +91,7 @@ ModeDiagnostics diagnose(const core::Scenario& s, double mode_frequency_Hz) {
         return d;
     }
     const Eigen::MatrixXd& J = lin.jacobian;
-    const MillMatrices& mill = model.mill();
+    const StructureMatrices& mill = model.structure();
     const int film = CoupledModel::film_index;
     const int back = model.back_tension_index();
 

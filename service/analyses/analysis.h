@@ -9,10 +9,15 @@
 //  - service/analyses/<name>.{h,cpp}: its prepare function (options read, the run captured);
 //  - api/<name>_json.{h,cpp}: its options reader and result writer with the result's schema
 //    components (api/result_table.h), and its CSV tables in api/csv.cpp if it has any;
-//  - in service/openapi.json: its request body, its path and its options component (the row
-//    names them; the response, result and CSV parts of the document are generated from the row);
+//  - its scalar options (numbers, integers, booleans) as rows of api/option_table.cpp, listed
+//    under its options component there: the reader reads them by row (OptionsReader::read) and
+//    the document's schema of each is generated from the same row;
+//  - in service/openapi.json: its request body, its path and its options component with the
+//    compound members only (the row names them; the scalar options, the response, result and
+//    CSV parts of the document are generated);
 //  - `build/tools/fuzz_vocabulary fuzz` to regenerate the fuzz dictionary and seed requests.
-// tests/service/test_analysis_descriptor.cpp checks every row is reachable everywhere.
+// tests/service/test_analysis_descriptor.cpp checks every row is reachable everywhere, and
+// tests/service/test_options_contract.cpp that every bound the document states is enforced.
 
 #include <concepts>
 #include <cstdint>

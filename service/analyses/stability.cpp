@@ -1,7 +1,7 @@
 #include "service/analyses/stability.h"
 
 #include "api/stability_json.h"
-#include "core/mill_structure.h"
+#include "core/stand_structure.h"
 #include "core/stability.h"
 
 namespace rollgap::service {
@@ -17,7 +17,7 @@ PreparedAnalysis prepare_stability(const core::Scenario& scenario, const nlohman
             const double k4 = report.at_speed.strip_stiffness;
             if (report.at_speed.steady_status == core::BiteStatus::ok && k4 > 0.0) {
                 core::ModalAnalysis modal =
-                    core::modal_analysis(core::mill_matrices(scenario.mill), k4);
+                    core::modal_analysis(core::structure_matrices(scenario.structure), k4);
                 if (modal.ok) report.modal = std::move(modal);
             }
             if (parsed.critical_speed) {

@@ -163,9 +163,9 @@ TEST_CASE("engineering units are converted to SI") {
     CHECK(s.roughness.strip_rq == doctest::Approx(6e-6));
     CHECK(s.tensions.back.stress == doctest::Approx(40e6));
     CHECK(s.tensions.back.amplitude == doctest::Approx(5e6));
-    CHECK(s.mill.mass[2] == doctest::Approx(11e3));
-    CHECK(s.mill.k1 == doctest::Approx(25e9));
-    CHECK(s.mill.c1 == doctest::Approx(2e6));
+    CHECK(s.structure.mass[2] == doctest::Approx(11e3));
+    CHECK(s.structure.k1 == doctest::Approx(25e9));
+    CHECK(s.structure.c1 == doctest::Approx(2e6));
 }
 
 TEST_CASE("choices map to core's enums") {

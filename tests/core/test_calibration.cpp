@@ -19,10 +19,10 @@ namespace {
 
 double& flow_stress(Scenario& s) { return s.strip.flow_stress; }
 double& asperity_factor(Scenario& s) { return s.friction.asperity_factor; }
-double& rayleigh_ratio(Scenario& s) { return s.mill.rayleigh_damping_ratio; }
+double& rayleigh_ratio(Scenario& s) { return s.structure.rayleigh_damping_ratio; }
 double& span_length(Scenario& s) { return s.tensions.back.span_length; }
-double& k1(Scenario& s) { return s.mill.k1; }
-double& m1(Scenario& s) { return s.mill.mass[0]; }
+double& k1(Scenario& s) { return s.structure.k1; }
+double& m1(Scenario& s) { return s.structure.mass[0]; }
 
 Scenario at_speed(double speed) {
     Scenario s;
@@ -162,10 +162,10 @@ TEST_CASE("a mode is followed by its shape, not its index, through an avoided cr
     // 209.9 Hz, past the lower one. By index, "mode 2" would become the lower stack's mode.
     Scenario base;
     base.strip.width = 0.05;
-    base.mill.mass[1] = 80e3;
+    base.structure.mass[1] = 80e3;
     ScenarioCalibration setup;
     setup.conditions = {base};
-    setup.access = {[](Scenario& s) -> double& { return s.mill.mass[1]; }};
+    setup.access = {[](Scenario& s) -> double& { return s.structure.mass[1]; }};
     setup.parameters = {{80e3, 1e3, 500e3}};
     setup.observations = {{0, Observable::natural_frequency, 0.0, 1.0, {2, 0.0}},
                           {0, Observable::natural_frequency, 0.0, 1.0, {3, 0.0}}};
@@ -173,9 +173,9 @@ TEST_CASE("a mode is followed by its shape, not its index, through an avoided cr
     const auto light = predict_observations(setup, vector({30e3}));
 
     Scenario lightened = base;
-    lightened.mill.mass[1] = 30e3;
+    lightened.structure.mass[1] = 30e3;
     const ModalAnalysis modal =
-        modal_analysis(mill_matrices(lightened.mill),
+        modal_analysis(structure_matrices(lightened.structure),
                        reference_state(dynamics_scenario(lightened)).strip_stiffness);
     REQUIRE(modal.ok);
     // The upper stack's mode is now index 3, the lower stack's index 2.

@@ -7,7 +7,7 @@
 #include <doctest/doctest.h>
 
 #include "core/chatter_type.h"
-#include "core/mill_structure.h"
+#include "core/stand_structure.h"
 #include "core/stability.h"
 #include "core/sweep.h"
 #include "support/pool_control.h"
@@ -26,8 +26,8 @@ Vector6c shape_of(std::initializer_list<std::complex<double>> q) {
 Vector6c real_shape(const Vector6& q) { return q.cast<std::complex<double>>(); }
 
 // The natural mode of the stack nearest to `frequency_Hz`, with the strip spring k4.
-NaturalMode nearest_mode(const Mill& mill, double strip_stiffness, double frequency_Hz) {
-    const ModalAnalysis modal = modal_analysis(mill_matrices(mill), strip_stiffness);
+NaturalMode nearest_mode(const StandStructure& mill, double strip_stiffness, double frequency_Hz) {
+    const ModalAnalysis modal = modal_analysis(structure_matrices(mill), strip_stiffness);
     REQUIRE(modal.natural.size() == 6);
     NaturalMode best = modal.natural.front();
     for (const NaturalMode& m : modal.natural) {
@@ -123,9 +123,9 @@ TEST_CASE(
     "stacks that allow one kind only: back-up rolls held still give fifth-octave, rigid work-roll springs third-octave") {
     const double k4 = 20e9;
     // back-up rolls a thousand times heavier: the work rolls can only vibrate against them
-    Mill heavy;
+    StandStructure heavy;
     heavy.mass[1] = heavy.mass[4] = 6e7;
-    const ModalAnalysis modal = modal_analysis(mill_matrices(heavy), k4);
+    const ModalAnalysis modal = modal_analysis(structure_matrices(heavy), k4);
     REQUIRE(modal.ok);
     // the gap mode of the work rolls on k3, k5 and the strip: omega^2 = (k3 + 2 k4) / m3
     const double expected =
@@ -136,9 +136,9 @@ TEST_CASE(
           ChatterType::fifth_octave);
 
     // work rolls welded to their back-up rolls: each roll package moves as one body
-    Mill welded;
+    StandStructure welded;
     welded.k3 = welded.k5 = 1e15;
-    const ModalAnalysis rigid = modal_analysis(mill_matrices(welded), k4);
+    const ModalAnalysis rigid = modal_analysis(structure_matrices(welded), k4);
     REQUIRE(rigid.ok);
     int gap_modes = 0;
     for (const NaturalMode& m : rigid.natural) {

@@ -97,7 +97,7 @@ TEST_CASE("coupled model: the equilibrium is a steady state, f(z0) = 0 component
         // m_i q''_i is a force: against the rolling force, to the bite's repeatability (1e-9)
         for (int i = 0; i < 6; ++i) {
             CAPTURE(i);
-            CHECK(std::abs(s.mill.mass[static_cast<std::size_t>(i)] * f(6 + i)) <=
+            CHECK(std::abs(s.structure.mass[static_cast<std::size_t>(i)] * f(6 + i)) <=
                   1e-9 * ref.bite.force);
         }
         // h0': against the supply term theta u1bar
@@ -163,7 +163,7 @@ TEST_CASE("coupled model: M q'' + C q' + (K_s + k4 b b^T) q = b (P - P_ref + k4 
         const ReferenceState ref = reference_state(s);
         REQUIRE(ref.status == BiteStatus::ok);
         const CoupledModel model(s, ref);
-        const MillMatrices mats = mill_matrices(s.mill);
+        const StructureMatrices mats = structure_matrices(s.structure);
         const double k4 = ref.strip_stiffness;
         const Matrix6 K = total_stiffness(mats, k4);
         const Vector6 b = gap_direction();
@@ -204,7 +204,7 @@ TEST_CASE("coupled model: M q'' + C q' + (K_s + k4 b b^T) q = b (P - P_ref + k4 
             CHECK(f(i) == qdot(i));
             // to the bite's repeatability: 1e-9 of the rolling force on mass i
             CHECK(std::abs(f(6 + i) - qddot(i)) <=
-                  1e-9 * ref.bite.force / s.mill.mass[static_cast<std::size_t>(i)]);
+                  1e-9 * ref.bite.force / s.structure.mass[static_cast<std::size_t>(i)]);
         }
         // the same state seen through the bite_state mapping
         const BiteState mapped = model.bite_state(0.0, z.data());
@@ -424,7 +424,7 @@ TEST_CASE(
         Scenario s;
         s.friction.model = FrictionModel::coulomb;
         s.tensions.back.mode = TensionMode::constant;
-        s.mill.mass = {huge, huge, huge, huge, huge, huge};
+        s.structure.mass = {huge, huge, huge, huge, huge, huge};
         const ReferenceState ref = reference_state(s, false);
         REQUIRE(ref.status == BiteStatus::ok);
         const CoupledModel model(s, ref);
@@ -458,7 +458,7 @@ TEST_CASE(
     SUBCASE("mixed friction: the decay rate is eq. (11)'s plus the feedback of h0 on u1") {
         Scenario s;
         s.tensions.back.mode = TensionMode::constant;
-        s.mill.mass = {huge, huge, huge, huge, huge, huge};
+        s.structure.mass = {huge, huge, huge, huge, huge, huge};
         const ReferenceState ref = reference_state(s, false);
         REQUIRE(ref.status == BiteStatus::ok);
         const CoupledModel model(s, ref);

@@ -26,18 +26,20 @@ std::vector<Corner> corners() {
     return {
         {"light, stiff stack (modes near 500 kHz)",
          [](Scenario& s) {
-             s.mill.mass = {1.0, 1.0, 1.0, 1.0, 1.0, 1.0};
-             s.mill.k1 = s.mill.k2 = s.mill.k3 = s.mill.k5 = s.mill.k6 = s.mill.k7 = 1e13;
+             s.structure.mass = {1.0, 1.0, 1.0, 1.0, 1.0, 1.0};
+             s.structure.k1 = s.structure.k2 = s.structure.k3 = s.structure.k5 = s.structure.k6 =
+                 s.structure.k7 = 1e13;
          }},
         {"heavy, soft stack",
          [](Scenario& s) {
-             s.mill.mass = {1e7, 1e7, 1e7, 1e7, 1e7, 1e7};
-             s.mill.k1 = s.mill.k2 = s.mill.k3 = s.mill.k5 = s.mill.k6 = s.mill.k7 = 1e6;
+             s.structure.mass = {1e7, 1e7, 1e7, 1e7, 1e7, 1e7};
+             s.structure.k1 = s.structure.k2 = s.structure.k3 = s.structure.k5 = s.structure.k6 =
+                 s.structure.k7 = 1e6;
          }},
         {"no damping at all",
          [](Scenario& s) {
-             s.mill.c1 = s.mill.c2 = 0.0;
-             s.mill.rayleigh = false;
+             s.structure.c1 = s.structure.c2 = 0.0;
+             s.structure.rayleigh = false;
          }},
         {"crawling speed", [](Scenario& s) { s.rolls.speed = 0.01; }},
         {"100 m/s", [](Scenario& s) { s.rolls.speed = 100.0; }},

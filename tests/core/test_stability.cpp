@@ -15,7 +15,7 @@
 
 #include "core/coupled_model.h"
 #include "core/inlet_film.h"
-#include "core/mill_structure.h"
+#include "core/stand_structure.h"
 #include "core/roll_bite.h"
 #include "core/stability.h"
 #include "support/compare.h"
@@ -69,7 +69,7 @@ TEST_CASE("stability: the Jacobian's structural block is the analytic one") {
     REQUIRE(J.rows() == 14);
     REQUIRE(J.cols() == 14);
 
-    const MillMatrices mats = mill_matrices(s.mill);
+    const StructureMatrices mats = structure_matrices(s.structure);
     const Matrix6 Minv = mats.mass.inverse();
     const Matrix6 MK = -Minv * mats.structural_stiffness;
     const Matrix6 MC = -Minv * mats.damping;

@@ -9,7 +9,7 @@
 #include <limits>
 #include <numbers>
 
-#include "core/mill_structure.h"
+#include "core/stand_structure.h"
 #include "core/tension_cycle.h"
 
 using namespace rollgap::core;
@@ -21,7 +21,7 @@ TEST_CASE(
     REQUIRE(r.status == DynamicsStatus::ok);
     REQUIRE(r.phases.size() == 3);
     const double mean = s.tensions.back.stress, amplitude = s.tensions.back.amplitude;
-    const MillMatrices mill = mill_matrices(s.mill);
+    const StructureMatrices mill = structure_matrices(s.structure);
     const Vector6 b = gap_direction();
     const double compliance = b.dot(mill.structural_stiffness.ldlt().solve(b));
     const double reference_force = solve_roll_bite(s, steady_bite_state(s), {false}).force;

@@ -136,10 +136,10 @@ int main(int argc, char** argv) {
         const std::vector<Variant> variants = {
             {"defaults: Rayleigh ζ = 0.04 at 100 and 400 Hz, entry span L_b = 5 m, λ_L = 0.05",
              [](Scenario&) {}},
-            {"Rayleigh ζ = 0.02", [](Scenario& s) { s.mill.rayleigh_damping_ratio = 0.02; }},
-            {"Rayleigh ζ = 0.08", [](Scenario& s) { s.mill.rayleigh_damping_ratio = 0.08; }},
+            {"Rayleigh ζ = 0.02", [](Scenario& s) { s.structure.rayleigh_damping_ratio = 0.02; }},
+            {"Rayleigh ζ = 0.08", [](Scenario& s) { s.structure.rayleigh_damping_ratio = 0.08; }},
             {"no Rayleigh damping (only c1, c2, as in the paper)",
-             [](Scenario& s) { s.mill.rayleigh = false; }},
+             [](Scenario& s) { s.structure.rayleigh = false; }},
             {"entry span L_b = 2.5 m", [](Scenario& s) { s.tensions.back.span_length = 2.5; }},
             {"entry span L_b = 10 m", [](Scenario& s) { s.tensions.back.span_length = 10.0; }},
             {"entry span L_b = 20 m", [](Scenario& s) { s.tensions.back.span_length = 20.0; }},

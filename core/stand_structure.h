@@ -1,5 +1,6 @@
 #pragma once
-// The six-mass mill stack of eq. (37) with the mass mapping of docs/model.md §5:
+// The six-mass structure of one stand, eq. (37) (crossheads, backup and work rolls), with the
+// mass mapping of docs/model.md §5:
 //   M q'' + C q' + K q = b dP,  b = e3 - e4,  K = K_s + k4 b b^T,
 // where K_s is the structure without the strip spring k4 and the gap is g = x3 - x4.
 
@@ -24,20 +25,20 @@ struct RayleighCoefficients {
 RayleighCoefficients rayleigh_coefficients(double damping_ratio, double low_frequency_Hz,
                                            double high_frequency_Hz);
 
-struct MillMatrices {
+struct StructureMatrices {
     Matrix6 mass;
     Matrix6 structural_stiffness;  // K_s, without k4
     Matrix6 damping;               // c1, c2 and, if enabled, alpha M + beta K_s
     RayleighCoefficients rayleigh;
 };
 
-MillMatrices mill_matrices(const Mill& mill);
+StructureMatrices structure_matrices(const StandStructure& structure);
 
 // b = e3 - e4: +dP pushes the upper work roll up and the lower one down.
 Vector6 gap_direction();
 
 // K_s + k4 b b^T.
-Matrix6 total_stiffness(const MillMatrices& m, double strip_stiffness);
+Matrix6 total_stiffness(const StructureMatrices& m, double strip_stiffness);
 
 struct NaturalMode {
     double frequency_Hz;
@@ -58,6 +59,6 @@ struct ModalAnalysis {
         damped;  // of (M, C, K), oscillatory pairs once (Im > 0), ascending frequency
 };
 
-ModalAnalysis modal_analysis(const MillMatrices& m, double strip_stiffness);
+ModalAnalysis modal_analysis(const StructureMatrices& m, double strip_stiffness);
 
 }  // namespace rollgap::core

@@ -10,20 +10,18 @@
 #include <numbers>
 #include <vector>
 
-#include "core/mill_structure.h"
+#include "core/stand_structure.h"
 
 #include "support/compare.h"
 
 namespace {
 
 using namespace rollgap::core;
-constexpr double kPi = std::numbers::pi;
-
 using rollgap::test::rel;
 
 // A mill with every mass m and every spring k, no damping at all.
-Mill uniform_mill(double m, double k) {
-    Mill mill;
+StandStructure uniform_structure(double m, double k) {
+    StandStructure mill;
     mill.mass = {m, m, m, m, m, m};
     mill.k1 = mill.k2 = mill.k3 = mill.k5 = mill.k6 = mill.k7 = k;
     mill.c1 = mill.c2 = 0.0;
@@ -33,13 +31,13 @@ Mill uniform_mill(double m, double k) {
 
 std::vector<double> natural_omegas(const ModalAnalysis& modes) {
     std::vector<double> out;
-    for (const auto& n : modes.natural) out.push_back(2.0 * kPi * n.frequency_Hz);
+    for (const auto& n : modes.natural) out.push_back(2.0 * std::numbers::pi * n.frequency_Hz);
     return out;
 }
 
 // Distinct, random-ish values so that a swapped index cannot go unnoticed.
-Mill irregular_mill() {
-    Mill mill;
+StandStructure irregular_structure() {
+    StandStructure mill;
     mill.mass = {41.3e3, 57.9e3, 10.7e3, 12.2e3, 63.1e3, 38.5e3};
     mill.k1 = 23.7e9;
     mill.k2 = 31.9e9;
@@ -60,14 +58,15 @@ TEST_CASE(
     // All m and k equal, strip spring k4 = k: a chain of N = 6 equal masses between two walls,
     // omega_j = 2 sqrt(k/m) sin(j pi / (2 (N + 1))).
     const double m = 17.0e3, k = 29.0e9;
-    const MillMatrices mats = mill_matrices(uniform_mill(m, k));
+    const StructureMatrices mats = structure_matrices(uniform_structure(m, k));
     const ModalAnalysis modes = modal_analysis(mats, k);
     REQUIRE(modes.ok);
     const std::vector<double> omega = natural_omegas(modes);
     REQUIRE(omega.size() == 6);
     const int N = 6;
     for (int j = 1; j <= N; ++j) {
-        const double expected = 2.0 * std::sqrt(k / m) * std::sin(j * kPi / (2.0 * (N + 1)));
+        const double expected =
+            2.0 * std::sqrt(k / m) * std::sin(j * std::numbers::pi / (2.0 * (N + 1)));
         CHECK(rel(omega[static_cast<std::size_t>(j - 1)], expected) < 1e-10);
     }
     // undamped: every eigenvalue of the first-order system is purely imaginary at the same omegas
@@ -75,7 +74,7 @@ TEST_CASE(
     for (int j = 0; j < N; ++j) {
         CHECK(std::abs(modes.damped[static_cast<std::size_t>(j)].eigenvalue.real()) <
               1e-9 * omega[static_cast<std::size_t>(j)]);
-        CHECK(rel(2.0 * kPi * modes.damped[static_cast<std::size_t>(j)].frequency_Hz,
+        CHECK(rel(2.0 * std::numbers::pi * modes.damped[static_cast<std::size_t>(j)].frequency_Hz,
                   omega[static_cast<std::size_t>(j)]) < 1e-10);
     }
     // mass-normalised shapes: phi^T M phi = 1; sine shapes: |phi_i| proportional to |sin(i j pi/7)|
@@ -83,7 +82,7 @@ TEST_CASE(
         const Vector6& phi = modes.natural[static_cast<std::size_t>(j - 1)].shape;
         CHECK(std::abs(phi.dot(mats.mass * phi) - 1.0) < 1e-12);
         Vector6 sine;
-        for (int i = 1; i <= N; ++i) sine(i - 1) = std::sin(i * j * kPi / (N + 1));
+        for (int i = 1; i <= N; ++i) sine(i - 1) = std::sin(i * j * std::numbers::pi / (N + 1));
         sine *= std::sqrt(2.0 / ((N + 1) * m));  // mass-normalised sine mode
         CHECK((phi.cwiseAbs() - sine.cwiseAbs()).norm() < 1e-9 * sine.norm());
     }
@@ -94,14 +93,14 @@ TEST_CASE("mill structure: k4 = 0 splits the stack into two fixed-free three-mas
     // are identical fixed-free chains of N = 3: omega_j = 2 sqrt(k/m) sin((2j - 1) pi / (2 (2N +
     // 1))), each frequency twice.
     const double m = 11.0e3, k = 35.0e9;
-    const ModalAnalysis modes = modal_analysis(mill_matrices(uniform_mill(m, k)), 0.0);
+    const ModalAnalysis modes = modal_analysis(structure_matrices(uniform_structure(m, k)), 0.0);
     REQUIRE(modes.ok);
     const std::vector<double> omega = natural_omegas(modes);
     REQUIRE(omega.size() == 6);
     const int N = 3;
     for (int j = 1; j <= N; ++j) {
-        const double expected =
-            2.0 * std::sqrt(k / m) * std::sin((2.0 * j - 1.0) * kPi / (2.0 * (2 * N + 1)));
+        const double expected = 2.0 * std::sqrt(k / m) *
+                                std::sin((2.0 * j - 1.0) * std::numbers::pi / (2.0 * (2 * N + 1)));
         CHECK(rel(omega[static_cast<std::size_t>(2 * j - 2)], expected) < 1e-10);
         CHECK(rel(omega[static_cast<std::size_t>(2 * j - 1)], expected) < 1e-10);
     }
@@ -117,14 +116,14 @@ TEST_CASE(
         CHECK(r.alpha > 0.0);
         CHECK(r.beta > 0.0);
         for (const double f : {c.f1, c.f2}) {
-            const double w = 2.0 * kPi * f;
+            const double w = 2.0 * std::numbers::pi * f;
             const double zeta = r.alpha / (2.0 * w) + r.beta * w / 2.0;
             CHECK(std::abs(zeta - c.zeta) <=
                   1e-14 * c.zeta * 4);  // a few roundings of a 0.04-sized sum
         }
         // between the two frequencies the Rayleigh curve dips below zeta (its minimum is at sqrt(w1
         // w2))
-        const double wm = 2.0 * kPi * std::sqrt(c.f1 * c.f2);
+        const double wm = 2.0 * std::numbers::pi * std::sqrt(c.f1 * c.f2);
         CHECK(r.alpha / (2.0 * wm) + r.beta * wm / 2.0 < c.zeta);
     }
 }
@@ -134,12 +133,13 @@ TEST_CASE(
     // With c1 = c2 = 0 and no strip spring, C = alpha M + beta K_s is proportional to the stiffness
     // of the modal problem, so the modes decouple (classical damping) and each damped eigenvalue
     // is lambda = -zeta_n w_n + i w_n sqrt(1 - zeta_n^2), |lambda| = w_n.
-    Mill symmetric;  // docs/model.md §8 defaults (a symmetric stack: modes in degenerate pairs)
-    Mill irregular = irregular_mill();
-    for (Mill mill : {symmetric, irregular}) {
+    StandStructure
+        symmetric;  // docs/model.md §8 defaults (a symmetric stack: modes in degenerate pairs)
+    StandStructure irregular = irregular_structure();
+    for (StandStructure mill : {symmetric, irregular}) {
         mill.c1 = mill.c2 = 0.0;
         mill.rayleigh = true;
-        const MillMatrices mats = mill_matrices(mill);
+        const StructureMatrices mats = structure_matrices(mill);
         const double alpha = mats.rayleigh.alpha, beta = mats.rayleigh.beta;
         REQUIRE(alpha > 0.0);
         REQUIRE(beta > 0.0);
@@ -148,7 +148,8 @@ TEST_CASE(
         REQUIRE(modes.natural.size() == 6);
         REQUIRE(modes.damped.size() == 6);  // every mode underdamped here (zeta_n < 0.2)
         for (int n = 0; n < 6; ++n) {
-            const double wn = 2.0 * kPi * modes.natural[static_cast<std::size_t>(n)].frequency_Hz;
+            const double wn =
+                2.0 * std::numbers::pi * modes.natural[static_cast<std::size_t>(n)].frequency_Hz;
             const double zeta = alpha / (2.0 * wn) + beta * wn / 2.0;
             // pair each natural mode with the damped eigenvalue of nearest modulus (damped modes
             // are sorted by damped frequency, which can reorder near-degenerate pairs)
@@ -167,10 +168,10 @@ TEST_CASE(
 }
 
 TEST_CASE("mill structure: matrices are eq. (37) row by row") {
-    const Mill mill = irregular_mill();
+    const StandStructure mill = irregular_structure();
     const double k1 = mill.k1, k2 = mill.k2, k3 = mill.k3, k5 = mill.k5, k6 = mill.k6, k7 = mill.k7;
     const double k4 = 21.9e9, c1 = mill.c1, c2 = mill.c2;
-    const MillMatrices mats = mill_matrices(mill);
+    const StructureMatrices mats = structure_matrices(mill);
 
     // M: diagonal, positive, m1..m6 in order
     for (int i = 0; i < 6; ++i) {
@@ -244,11 +245,11 @@ TEST_CASE("mill structure: matrices are eq. (37) row by row") {
 }
 
 TEST_CASE("mill structure: Rayleigh damping is added as alpha M + beta K_s, never with k4") {
-    Mill mill = irregular_mill();
+    StandStructure mill = irregular_structure();
     mill.rayleigh = true;
-    const MillMatrices with = mill_matrices(mill);
+    const StructureMatrices with = structure_matrices(mill);
     mill.rayleigh = false;
-    const MillMatrices without = mill_matrices(mill);
+    const StructureMatrices without = structure_matrices(mill);
     const RayleighCoefficients r = rayleigh_coefficients(0.04, 100.0, 400.0);
     CHECK(with.rayleigh.alpha == r.alpha);
     CHECK(with.rayleigh.beta == r.beta);

@@ -1,4 +1,4 @@
-#include "core/mill_structure.h"
+#include "core/stand_structure.h"
 
 #include <algorithm>
 #include <cmath>
@@ -26,26 +26,27 @@ void connect(Matrix6& matrix, int i, int j, double value) {
 
 }  // namespace
 
-MillMatrices mill_matrices(const Mill& mill) {
-    MillMatrices m;
+StructureMatrices structure_matrices(const StandStructure& structure) {
+    StructureMatrices m;
     m.mass = Matrix6::Zero();
-    for (int i = 0; i < 6; ++i) m.mass(i, i) = mill.mass[static_cast<std::size_t>(i)];
+    for (int i = 0; i < 6; ++i) m.mass(i, i) = structure.mass[static_cast<std::size_t>(i)];
 
     // eq. (37), masses 0..5 = m1..m6; k4 (masses 2-3) is the strip and stays out of K_s
     m.structural_stiffness = Matrix6::Zero();
-    connect(m.structural_stiffness, 0, -1, mill.k1);
-    connect(m.structural_stiffness, 0, 1, mill.k2);
-    connect(m.structural_stiffness, 1, 2, mill.k3);
-    connect(m.structural_stiffness, 3, 4, mill.k5);
-    connect(m.structural_stiffness, 4, 5, mill.k6);
-    connect(m.structural_stiffness, 5, -1, mill.k7);
+    connect(m.structural_stiffness, 0, -1, structure.k1);
+    connect(m.structural_stiffness, 0, 1, structure.k2);
+    connect(m.structural_stiffness, 1, 2, structure.k3);
+    connect(m.structural_stiffness, 3, 4, structure.k5);
+    connect(m.structural_stiffness, 4, 5, structure.k6);
+    connect(m.structural_stiffness, 5, -1, structure.k7);
 
     m.damping = Matrix6::Zero();
-    connect(m.damping, 0, 1, mill.c1);
-    connect(m.damping, 2, 3, mill.c2);
-    if (mill.rayleigh) {
-        m.rayleigh = rayleigh_coefficients(mill.rayleigh_damping_ratio, mill.rayleigh_frequency_low,
-                                           mill.rayleigh_frequency_high);
+    connect(m.damping, 0, 1, structure.c1);
+    connect(m.damping, 2, 3, structure.c2);
+    if (structure.rayleigh) {
+        m.rayleigh = rayleigh_coefficients(structure.rayleigh_damping_ratio,
+                                           structure.rayleigh_frequency_low,
+                                           structure.rayleigh_frequency_high);
         m.damping += m.rayleigh.alpha * m.mass + m.rayleigh.beta * m.structural_stiffness;
     }
     return m;
@@ -58,12 +59,12 @@ Vector6 gap_direction() {
     return b;
 }
 
-Matrix6 total_stiffness(const MillMatrices& m, double strip_stiffness) {
+Matrix6 total_stiffness(const StructureMatrices& m, double strip_stiffness) {
     const Vector6 b = gap_direction();
     return m.structural_stiffness + strip_stiffness * b * b.transpose();
 }
 
-ModalAnalysis modal_analysis(const MillMatrices& m, double strip_stiffness) {
+ModalAnalysis modal_analysis(const StructureMatrices& m, double strip_stiffness) {
     ModalAnalysis out;
     const Matrix6 K = total_stiffness(m, strip_stiffness);
 

@@ -1,0 +1,170 @@
+#include "api/option_table.h"
+
+#include <cassert>
+#include <string>
+
+#include "api/amplitude_json.h"
+#include "api/calibration_json.h"
+#include "api/scenario_schema.h"
+#include "api/stability_json.h"
+#include "api/tension_cycle_json.h"
+#include "api/text.h"
+
+namespace rollgap::api {
+namespace {
+
+using enum OptionId;
+
+// The speeds a search may scan are the speeds a scenario may have.
+Interval speed_range() { return find_scenario_field("/rolls/speed_m_per_s")->range; }
+
+const std::vector<Option>& rows() {
+    static const std::vector<Option> table = [] {
+        const std::string integration_tolerance_text =
+            "Relative tolerance of the time integration (CVODE); 1e-6 resolves sub-micrometre "
+            "roll vibration; tighter costs time.";
+        std::vector<Option> all{
+            {search_speed_min,
+             {},
+             OptionType::number,
+             units::metre_per_second,
+             speed_range(),
+             "Lowest rolling speed v of the critical-speed search (docs/model.md §7.3); below "
+             "speed_max_m_per_s. If the stand already chatters here the answer is "
+             "unstable_at_lower_bound."},
+            {search_speed_max,
+             {},
+             OptionType::number,
+             units::metre_per_second,
+             speed_range(),
+             "Highest rolling speed v of the critical-speed search; if the stand is stable up to "
+             "here the answer is stable_in_range."},
+            {search_speed_step,
+             {},
+             OptionType::number,
+             units::metre_per_second,
+             open_closed(0.0, 0.5),
+             concat("Scan step of the critical-speed search: the stability is computed at every "
+                    "step and the first change from stable to unstable is refined; a smaller "
+                    "step finds a narrower unstable window and costs more; at most ",
+                    std::to_string(max_scan_points), " scan speeds.")},
+            {search_tolerance,
+             {},
+             OptionType::number,
+             units::one,
+             closed(1e-8, 1e-2),
+             "Relative tolerance to which the critical speed is refined (1e-4: 2 mm/s at 20 "
+             "m/s)."},
+            {critical_speed,
+             {},
+             OptionType::boolean,
+             units::one,
+             {},
+             "Whether to search the critical speed (false: only the stability at the scenario's "
+             "speed)."},
+            {distributions,
+             {},
+             OptionType::boolean,
+             units::one,
+             {},
+             "Whether the result carries the distributions along the bite "
+             "(`result.distribution`)."},
+            {window,
+             {},
+             OptionType::number,
+             units::second,
+             open_closed(0.0, 20.0),
+             "Simulated time per speed (the window); amplitudes are read over its last 10 %, so "
+             "it must let the response settle (the lightly damped ~100 Hz gap mode of the "
+             "default stand needs 1-2 s)."},
+            {excitation_amplitude,
+             {},
+             OptionType::number,
+             units::megapascal,
+             closed(0.0, 100.0),
+             "Amplitude of the sinusoidal back-tension excitation added to the tension the bite "
+             "sees (docs/model.md §7.4), like a ripple from an eccentric upstream roll; 1 MPa "
+             "keeps the response linear."},
+            {excitation_frequency,
+             {},
+             OptionType::number,
+             units::hertz,
+             closed(0.0, 2000.0),
+             "Frequency of the excitation; 0: the least-damped eigenfrequency at each speed (the "
+             "resonance, where the response peaks)."},
+            {integration_tolerance,
+             {},
+             OptionType::number,
+             units::one,
+             closed(1e-9, 1e-3),
+             integration_tolerance_text},
+            {time_series,
+             {},
+             OptionType::boolean,
+             units::one,
+             {},
+             "Whether the result carries the decimated time series of x3 (the upper work roll's "
+             "displacement), the roll-gap change g = x3 - x4 and the force change P - P_ref."},
+            {time_series_points,
+             {},
+             OptionType::integer,
+             units::one,
+             closed(2.0, max_time_series_points),
+             "Most points of the decimated time series (every n-th integrator output is "
+             "kept)."},
+            {cycles,
+             {},
+             OptionType::integer,
+             units::one,
+             closed(1.0, 20.0),
+             concat("Whole cycles of the back-tension sinusoid simulated (the first ones let the "
+                    "start-up transient pass); cycles / frequency is at most ",
+                    format_number(max_simulated_time_s), " s.")},
+            {max_iterations,
+             {},
+             OptionType::integer,
+             units::one,
+             closed(1.0, max_calibration_iterations),
+             "Levenberg–Marquardt iterations at most."},
+        };
+        static_assert(option_names.size() == static_cast<std::size_t>(max_iterations) + 1);
+        assert(all.size() == option_names.size());
+        for (std::size_t i = 0; i < all.size(); ++i) {
+            assert(static_cast<std::size_t>(all[i].id) == i && "rows in OptionId order");
+            all[i].name = option_name(all[i].id);
+        }
+        return all;
+    }();
+    return table;
+}
+
+const std::vector<OptionComponent>& components() {
+    static const std::vector<OptionComponent> table{
+        {"RollGapOptions", {distributions}},
+        {"CriticalSpeedSearchOptions",
+         {search_speed_min, search_speed_max, search_speed_step, search_tolerance}},
+        {"StabilityOptions",
+         {search_speed_min, search_speed_max, search_speed_step, search_tolerance, critical_speed}},
+        {"AmplitudeOptions",
+         {window, excitation_amplitude, excitation_frequency, integration_tolerance, time_series,
+          time_series_points}},
+        {"AmplitudeRunOptions",
+         {window, excitation_amplitude, excitation_frequency, integration_tolerance, time_series,
+          time_series_points}},
+        {"SweepAmplitudeOptions",
+         {window, excitation_amplitude, excitation_frequency, integration_tolerance}},
+        {"TensionCycleOptions", {cycles, integration_tolerance}},
+        {"CalibrateOptions", {max_iterations}},
+    };
+    return table;
+}
+
+}  // namespace
+
+std::span<const Option> option_rows() { return rows(); }
+
+const Option& option(OptionId id) { return rows()[static_cast<std::size_t>(id)]; }
+
+std::span<const OptionComponent> option_components() { return components(); }
+
+}  // namespace rollgap::api
