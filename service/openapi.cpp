@@ -301,6 +301,25 @@ void add_result_schemas(json& document) {
     add_csv(get_job, get_job["responses"]["200"], analyses());
 }
 
+// The analyses as the descriptor's rows, in order (x-rollgap-analyses): what a client such as
+// the workbench page lists without a copy of its own. `csv`: the result has CSV tables (its route
+// answers Accept: text/csv); `on_page`: the workbench offers it.
+json analysis_list() {
+    json list = json::array();
+    for (const Analysis& analysis : analyses()) {
+        list.push_back({
+            {"name", analysis.name},
+            {"label", analysis.label},
+            {"summary", analysis.summary},
+            {"path", analysis.path},
+            {"csv", !analysis.tables().empty()},
+            {"pointwise", analysis.pointwise()},
+            {"on_page", analysis.on_page},
+        });
+    }
+    return list;
+}
+
 }  // namespace
 
 json scenario_json_schema(bool patch) {
@@ -347,6 +366,7 @@ json openapi_document() {
     add_option_members(schemas);
     add_option_defaults(schemas);
     add_result_schemas(document);
+    document["x-rollgap-analyses"] = analysis_list();
     return document;
 }
 

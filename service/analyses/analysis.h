@@ -15,7 +15,10 @@
 //  - in service/openapi.json: its request body, its path and its options component with the
 //    compound members only (the row names them; the scalar options, the response, result and
 //    CSV parts of the document are generated);
-//  - `build/tools/fuzz_vocabulary fuzz` to regenerate the fuzz dictionary and seed requests.
+//  - `build/tools/fuzz_vocabulary fuzz` to regenerate the fuzz dictionary and seed requests;
+//  - if the page shows it (on_page), its view in web/js/views.js, keyed by its name (the page
+//    lists the rows from the OpenAPI document's x-rollgap-analyses; without a view it shows the
+//    headline numbers only).
 // tests/service/test_analysis_descriptor.cpp checks every row is reachable everywhere, and
 // tests/service/test_options_contract.cpp that every bound the document states is enforced.
 
@@ -132,6 +135,7 @@ struct OptionsDefaults {
 // One analysis, everything the service says about it in one row.
 struct Analysis {
     std::string_view name;     // the request's "analysis"
+    std::string_view label;    // a short title: the workbench's tab and report heading
     std::string_view summary;  // one line for --help and the documentation
     PrepareAnalysis prepare;
     std::string_view path = "";  // its synchronous HTTP route (POST)
@@ -149,7 +153,7 @@ struct Analysis {
     // Pointwise (PointwiseRun: a job splits into chunks of points): the result components a
     // point can be (a running job's partial result lists them). Empty: runs whole.
     std::span<const std::string_view> point_components = {};
-    bool on_page = true;  // the workbench page has a view of it (web/js/views.js)
+    bool on_page = true;  // the workbench page offers it (x-rollgap-analyses in OpenAPI)
 
     bool pointwise() const { return !point_components.empty(); }
     std::span<const api::CsvTable> tables() const {

@@ -64,12 +64,31 @@ function equalArrays(actual, expected, what) {
   actual.forEach((v, i) => check(Object.is(v, expected[i]) || v === expected[i], `${what}[${i}]: plotted ${v}, the API gave ${expected[i]}`));
 }
 
+// Clicks "Download CSV" and returns the file the browser saved.
+async function downloadCsv(analysis) {
+  check(await page.isVisible('#download-csv'), 'the CSV download is offered');
+  const [download] = await Promise.all([page.waitForEvent('download'), page.click('#download-csv')]);
+  check(download.suggestedFilename() === `rollgap-${analysis}.csv`, `file name ${download.suggestedFilename()}`);
+  return readFileSync(await download.path());
+}
+function equalBytes(saved, served, what) {
+  check(saved.length > 0 && saved.equals(served), `${what}: the page saved ${saved.length} bytes, the service answers ${served.length}:\n${saved.toString('utf8').slice(0, 300)}\n---\n${served.toString('utf8').slice(0, 300)}`);
+}
+
 // ---- the page --------------------------------------------------------------------------------
 const { child, base } = await startServer();
 const post = async (route, body) => {
   const response = await fetch(base + route, { method: 'POST', headers: { 'Content-Type': 'application/json' }, body: JSON.stringify(body) });
   return { status: response.status, body: await response.json() };
 };
+// The service's CSV of a request, byte for byte (its one CSV writer, api/csv.cpp).
+const postCsv = async (route, body) => {
+  const response = await fetch(base + route, { method: 'POST', headers: { 'Content-Type': 'application/json', Accept: 'text/csv' }, body: JSON.stringify(body) });
+  check(response.status === 200, `${route} with Accept: text/csv answered ${response.status}`);
+  return Buffer.from(await response.arrayBuffer());
+};
+// The service's analyses (its OpenAPI document's list, the rows of its analysis table).
+const documentAnalyses = async () => (await (await fetch(base + '/openapi.json')).json())['x-rollgap-analyses'];
 // launch() gives the browser a fresh, temporary profile (user-data-dir) and removes it on close.
 const browser = await chromium.launch({
   executablePath: process.env.CHROMIUM || '/usr/bin/chromium',
@@ -174,6 +193,17 @@ try {
     await shot('editor');
   });
 
+  await test("the analysis selector is the document's analysis list: its on_page rows, in order, labelled", async () => {
+    const rows = await documentAnalyses();
+    check(Array.isArray(rows) && rows.length > 0, 'the document lists the analyses (x-rollgap-analyses)');
+    const tabs = await page.$$eval('#tabs [role="tab"]', (all) => all.map((t) => ({ name: t.dataset.key, id: t.id, label: t.textContent, title: t.title })));
+    const shown = rows.filter((r) => r.on_page);
+    equalArrays(tabs.map((t) => t.name), shown.map((r) => r.name), 'tabs');
+    equalArrays(tabs.map((t) => t.id), shown.map((r) => `tab-${r.name}`), 'tab ids');
+    equalArrays(tabs.map((t) => t.label), shown.map((r) => r.label), 'tab labels');
+    equalArrays(tabs.map((t) => t.title), shown.map((r) => r.summary), 'tab titles');
+  });
+
   await test("the editor's groups and fields follow the field table's order (the document's required lists)", async () => {
     const doc = await (await fetch(base + '/openapi.json')).json();
     const scenario = doc.components.schemas.Scenario;
@@ -204,6 +234,21 @@ try {
     const force = await page.textContent('#headline');
     check(force.includes(String(Number(api.force_kN.toPrecision(4)))), `headline force ${api.force_kN} in: ${force}`);
     await shot('roll-gap');
+  });
+
+  await test("Download CSV saves the service's CSV of the same request (Accept: text/csv)", async () => {
+    const row = (await documentAnalyses()).find((r) => r.name === 'roll_gap');
+    check(row.csv, 'the roll gap has CSV tables');
+    const sent = [];
+    const listen = (request) => { if (request.method() === 'POST' && request.url() === base + row.path) sent.push({ accept: request.headers().accept, body: request.postData() }); };
+    page.on('request', listen);
+    const saved = await downloadCsv('roll_gap');
+    page.off('request', listen);
+    check(sent.length === 1 && sent[0].accept === 'text/csv', `the page asked: ${JSON.stringify(sent)}`);
+    const body = JSON.parse(sent[0].body);
+    check(JSON.stringify(body.scenario) === JSON.stringify(patch), `the request run: ${sent[0].body}`);
+    equalBytes(saved, await postCsv(row.path, body), 'roll gap CSV');
+    equalBytes(saved, await postCsv(row.path, { scenario: patch }), 'roll gap CSV of the edited field');
   });
 
   await test('stability: damping branches, critical speed marker and mode shape are the API data', async () => {
@@ -289,6 +334,8 @@ try {
     check(/job succeeded/.test(await page.textContent('#status')), 'status says the job succeeded');
     check((await page.$$('#job-list li')).length >= 1, 'the job is listed');
     await shot('sweep');
+    // A job's result: its CSV is the service's for the same request.
+    equalBytes(await downloadCsv('sweep'), await postCsv('/v1/sweeps', { scenario: patch, options }), 'sweep CSV');
   });
 
   await test('a sweep over a field with a unit: chatter type per point, its changes marked, finished points drawn while it runs', async () => {
@@ -518,6 +565,31 @@ try {
     check(other.url().includes('base=stand-3'), 'the base is in the link');
     await shot('stored-scenario', other);
     await scenarios.close();
+  });
+
+  await test('an analysis the document offers without a view of the page still runs (its headline numbers)', async () => {
+    const rows = await documentAnalyses();
+    const hidden = rows.find((r) => !r.on_page);
+    if (!hidden) { console.log('  (every analysis is on the page: nothing to check)'); return; }
+    const offered = await browser.newContext({ viewport: { width: 1280, height: 800 }, acceptDownloads: true });
+    const other = watch(await offered.newPage());
+    // The document as a service would serve it with that row on the page.
+    await other.route(/\/openapi\.json$/, async (route) => {
+      const doc = await (await route.fetch()).json();
+      doc['x-rollgap-analyses'].find((r) => r.name === hidden.name).on_page = true;
+      return route.fulfill({ status: 200, contentType: 'application/json', body: JSON.stringify(doc) });
+    });
+    await other.goto(base + '/');
+    await other.waitForSelector('body[data-ready="true"]');
+    check(await other.textContent(`#tab-${hidden.name}`) === hidden.label, 'its tab, labelled from the document');
+    await other.click(`#tab-${hidden.name}`);
+    await other.click('#run');
+    await other.waitForSelector('#headline table', { timeout: 120000 });
+    check((await other.textContent('#headline caption')).startsWith(hidden.label), `headline: ${await other.textContent('#headline caption')}`);
+    check(await other.isVisible('#download-json'), 'the JSON download is offered');
+    check(await other.isVisible('#download-csv') === hidden.csv, 'the CSV download is offered iff the row has CSV');
+    await shot('without-view', other);
+    await offered.close();
   });
 
   await test('no console errors', async () => {

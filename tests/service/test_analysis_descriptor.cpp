@@ -1,8 +1,8 @@
 // The analysis descriptor (service/analyses/analysis.h) walked row by row: every analysis is
 // reachable everywhere the service names analyses — its HTTP route, the OpenAPI document (its
 // path, its answer, options and result components, the job answer's discriminator), CSV (if it
-// has tables), chunked jobs (if it is pointwise) and the workbench page's list. A row added
-// without its files fails here, by name.
+// has tables), chunked jobs (if it is pointwise) and the document's analysis list, which the
+// workbench page is built from. A row added without its files fails here, by name.
 
 #include <doctest/doctest.h>
 
@@ -127,16 +127,30 @@ TEST_CASE("a pointwise analysis splits into points and its points are in the par
     }
 }
 
-TEST_CASE("every analysis the page shows is a row, by name and route") {
-    const std::string views = test::read_text(test::repository_root() / "web/js/views.js");
-    for (const service::Analysis& analysis : service::analyses()) {
+TEST_CASE("the document's analysis list (x-rollgap-analyses) is the rows, in order") {
+    // What the workbench page builds its selector and CSV download from.
+    const json document = service::openapi_document();
+    REQUIRE(document.contains("x-rollgap-analyses"));
+    const json& listed = document["x-rollgap-analyses"];
+    REQUIRE(listed.is_array());
+    const auto rows = service::analyses();
+    REQUIRE(listed.size() == rows.size());
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+        const service::Analysis& analysis = rows[i];
+        const json& entry = listed[i];
         CAPTURE(analysis.name);
-        const std::string entry = test::joined({"key: '", analysis.name, "'"});
-        const auto at = views.find(entry);
-        CHECK((at != std::string::npos) == analysis.on_page);
-        if (at == std::string::npos) continue;
-        const auto line_end = views.find('\n', at);
-        CHECK(views.substr(at, line_end - at).find(test::joined({"path: '", analysis.path, "'"})) !=
-              std::string::npos);
+        CHECK(entry.size() == 7);
+        CHECK(entry.value("name", "") == analysis.name);
+        CHECK(entry.value("label", "") == analysis.label);
+        CHECK(!analysis.label.empty());
+        CHECK(entry.value("summary", "") == analysis.summary);
+        CHECK(entry.value("path", "") == analysis.path);
+        CHECK(document["paths"].contains(entry.value("path", "")));
+        CHECK(entry["csv"] == !analysis.tables().empty());
+        // csv says whether the route answers text/csv, as the operation in the document says.
+        const json& ok = document["paths"][std::string(analysis.path)]["post"]["responses"]["200"];
+        CHECK(entry["csv"] == ok["content"].contains("text/csv"));
+        CHECK(entry["pointwise"] == analysis.pointwise());
+        CHECK(entry["on_page"] == analysis.on_page);
     }
 }

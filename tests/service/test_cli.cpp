@@ -184,12 +184,12 @@ TEST_CASE("request text: syntax, size") {
 
 TEST_CASE("an exception inside an analysis becomes the problem 'internal'") {
     const std::array<Analysis, 2> throwing{
-        Analysis{"throws_when_run", "test",
+        Analysis{"throws_when_run", "Throws when run", "test",
                  [](const core::Scenario&, const json&, const std::string&, api::FieldErrors&) {
                      return PreparedAnalysis{json::object(),
                                              []() -> json { throw std::runtime_error("boom"); }};
                  }},
-        Analysis{"throws_when_prepared", "test",
+        Analysis{"throws_when_prepared", "Throws when prepared", "test",
                  [](const core::Scenario&, const json&, const std::string&,
                     api::FieldErrors&) -> PreparedAnalysis {
                      throw 42;  // not even a std::exception

@@ -16,16 +16,29 @@ export class ProblemError extends Error {
   }
 }
 
-export async function call(method, path, body) {
-  const headers = { Accept: 'application/json' };
+function send(method, path, body, accept) {
+  const headers = { Accept: accept };
   if (token()) headers.Authorization = `Bearer ${token()}`;
   if (body !== undefined) headers['Content-Type'] = 'application/json';
-  const response = await fetch(path, { method, headers, body: body === undefined ? undefined : JSON.stringify(body) });
-  const text = await response.text();
-  let document = null;
-  try { document = text ? JSON.parse(text) : null; } catch { document = { detail: text }; }
+  return fetch(path, { method, headers, body: body === undefined ? undefined : JSON.stringify(body) });
+}
+const parsed = (text) => {
+  try { return text ? JSON.parse(text) : null; } catch { return { detail: text }; }
+};
+
+export async function call(method, path, body) {
+  const response = await send(method, path, body, 'application/json');
+  const document = parsed(await response.text());
   if (!response.ok) throw new ProblemError(response.status, document);
   return { status: response.status, location: response.headers.get('Location'), etag: response.headers.get('ETag'), body: document };
+}
+
+// The body in another media type (`accept`, e.g. text/csv) as the service wrote it, byte for
+// byte; a problem is an error as in call().
+export async function fetchBlob(method, path, body, accept) {
+  const response = await send(method, path, body, accept);
+  if (!response.ok) throw new ProblemError(response.status, parsed(await response.text()));
+  return response.blob();
 }
 
 export const getJson = async (path) => (await call('GET', path)).body;

@@ -1,58 +1,67 @@
 // The workbench: wires the generated forms, the analyses' views, jobs, the URL state and the
-// report together. Everything it knows about fields comes from /openapi.json.
-import { ProblemError, getJson, call, setToken, token } from './api.js';
+// report together. Everything it knows about fields and analyses comes from /openapi.json (the
+// analyses: its x-rollgap-analyses, the rows of the service's analysis table).
+import { ProblemError, call, fetchBlob, getJson, setToken, token } from './api.js';
 import { clearPlots } from './charts.js';
 import { OptionsForm, ScenarioForm, clearFieldErrors, mergePatch, resolve, showFieldErrors } from './editor.js';
 import { JobRunner, openJob, recentJobs, useServerJobList } from './jobs.js';
 import { storedScenario, storedScenarios } from './scenarios.js';
 import { downloadCsv, downloadJson, fillReport, table } from './report.js';
 import { readState, writeState } from './state.js';
-import { analyses, analysisByKey } from './views.js';
+import { viewOf } from './views.js';
 
 const $ = (id) => document.getElementById(id);
-const app = { doc: null, defaults: null, baseName: '', scenario: null, options: null, analysis: null, response: null, report: false, partialShown: -1 };
+// rows: every analysis of the service; analyses: those the page offers (on_page), in order.
+// source: where the result shown came from (the request posted, or the job), for its CSV.
+const app = { doc: null, defaults: null, baseName: '', scenario: null, options: null, rows: [], analyses: [], analysis: null, response: null, source: null, report: false, partialShown: -1 };
+
+const rowOf = (name) => app.rows.find((row) => row.name === name) || { name, label: name, csv: false };
+const analysisNamed = (name) => app.analyses.find((row) => row.name === name) || app.analyses[0];
 
 function optionsSchema(analysis) {
   const request = resolve(app.doc, app.doc.paths[analysis.path].post.requestBody.content['application/json'].schema);
   return request.properties.options;
 }
 
-function selectAnalysis(key) {
-  app.analysis = analysisByKey(key);
+function selectAnalysis(name) {
+  app.analysis = analysisNamed(name);
   for (const tab of $('tabs').children) {
-    const selected = tab.dataset.key === app.analysis.key;
+    const selected = tab.dataset.key === app.analysis.name;
     tab.setAttribute('aria-selected', String(selected));
     tab.tabIndex = selected ? 0 : -1;
   }
   app.options = new OptionsForm($('options-form'), app.doc, optionsSchema(app.analysis));
-  $('run').textContent = app.analysis.job ? `Run ${app.analysis.label.toLowerCase()} as a job` : `Run ${app.analysis.label.toLowerCase()}`;
-  $('run-job').hidden = Boolean(app.analysis.job);
+  const { job } = viewOf(app.analysis.name);
+  $('run').textContent = job ? `Run ${app.analysis.label.toLowerCase()} as a job` : `Run ${app.analysis.label.toLowerCase()}`;
+  $('run-job').hidden = Boolean(job);
 }
 
 function buildTabs() {
-  for (const analysis of analyses) {
+  for (const analysis of app.analyses) {
     const tab = document.createElement('button');
     tab.type = 'button';
     tab.setAttribute('role', 'tab');
-    tab.id = `tab-${analysis.key}`;
-    tab.dataset.key = analysis.key;
+    tab.id = `tab-${analysis.name}`;
+    tab.dataset.key = analysis.name;
     tab.textContent = analysis.label;
+    tab.title = analysis.summary;
     tab.setAttribute('aria-controls', 'options-form');
-    tab.addEventListener('click', () => { selectAnalysis(analysis.key); saveState(); });
+    tab.addEventListener('click', () => { selectAnalysis(analysis.name); saveState(); });
     $('tabs').append(tab);
   }
   $('tabs').addEventListener('keydown', (event) => {
     const step = { ArrowRight: 1, ArrowLeft: -1 }[event.key];
     if (!step) return;
+    const { analyses } = app;
     const i = analyses.indexOf(app.analysis);
     const next = analyses[(i + step + analyses.length) % analyses.length];
-    selectAnalysis(next.key);
-    $(`tab-${next.key}`).focus();
+    selectAnalysis(next.name);
+    $(`tab-${next.name}`).focus();
   });
 }
 
 function saveState() {
-  return writeState({ analysis: app.analysis.key, base: app.baseName, scenario: app.scenario.patch(), options: app.options.options(), view: app.report ? 'report' : null });
+  return writeState({ analysis: app.analysis.name, base: app.baseName, scenario: app.scenario.patch(), options: app.options.options(), view: app.report ? 'report' : null });
 }
 
 function showDiff() {
@@ -96,37 +105,40 @@ function context() {
   return { doc: app.doc, speed: full.rolls && full.rolls.speed_m_per_s };
 }
 
-function render(response) {
+// `source`: { path, body } posted, or { job } (its id): where the same result's CSV is asked.
+function render(response, source) {
   app.response = response;
+  app.source = source;
   const plots = $('plots');
   clearPlots(plots);
-  const view = analysisByKey(response.analysis);
-  const headline = view.render(response, plots, context());
-  $('headline').replaceChildren(table(`${view.label}: headline figures`, headline, ['quantity', 'value', 'unit']));
+  const row = rowOf(response.analysis);
+  const headline = viewOf(response.analysis).render(response, plots, context());
+  $('headline').replaceChildren(table(`${row.label}: headline figures`, headline, ['quantity', 'value', 'unit']));
+  $('download-csv').hidden = !row.csv;
   $('result-actions').hidden = false;
   if (app.report) fillReportView();
 }
 
 // A run that did not succeed must not leave an earlier result on screen as if it were its own.
 function clearResult() {
-  app.response = null;
+  app.response = app.source = null;
   clearPlots($('plots'));
   $('headline').replaceChildren();
   $('result-actions').hidden = true;
 }
 
-const request = () => ({ analysis: app.analysis.key, ...(app.baseName ? { base: app.baseName } : {}), scenario: app.scenario.patch(), options: app.options.options() });
+const request = () => ({ analysis: app.analysis.name, ...(app.baseName ? { base: app.baseName } : {}), scenario: app.scenario.patch(), options: app.options.options() });
 
 // A running sweep or map: its finished points (the job's partial_result) drawn as they arrive.
 function renderPartial(job, body) {
-  const view = analysisByKey(body.analysis);
+  const view = viewOf(body.analysis);
   const partial = job.partial_result;
   if (job.state !== 'running' || !view.partial || !partial || !Array.isArray(partial.points)) return;
   if (partial.points.length === app.partialShown) return;
   app.partialShown = partial.points.length;
   clearPlots($('plots'));
   const headline = view.render({ analysis: body.analysis, options: body.options, result: view.partial(body, partial), partial: true }, $('plots'), context());
-  $('headline').replaceChildren(table(`${view.label} (running): the finished points`, headline, ['quantity', 'value', 'unit']));
+  $('headline').replaceChildren(table(`${rowOf(body.analysis).label} (running): the finished points`, headline, ['quantity', 'value', 'unit']));
 }
 
 async function run(asJob) {
@@ -139,19 +151,19 @@ async function run(asJob) {
   setStatus('running…');
   const started = performance.now();
   try {
-    if (asJob || app.analysis.job) {
+    if (asJob || viewOf(app.analysis.name).job) {
       $('progress').hidden = $('cancel').hidden = false;
       $('progress').value = 0;
       app.partialShown = -1;
       const job = await runner.run(body);
-      if (job.state === 'succeeded') render(job.result.result ? job.result : { ...body, result: job.result });
+      if (job.state === 'succeeded') render(job.result.result ? job.result : { ...body, result: job.result }, { job: job.id });
       else clearResult();
       if (job.state === 'failed') showProblem(job.problem || { detail: 'the job failed' });
       setStatus(`job ${job.state}`);
       listJobs();
     } else {
       const { analysis, ...payload } = body;
-      render((await call('POST', app.analysis.path, payload)).body);
+      render((await call('POST', app.analysis.path, payload)).body, { path: app.analysis.path, body: payload });
       setStatus(`done in ${((performance.now() - started) / 1000).toFixed(2)} s`);
     }
   } catch (error) {
@@ -190,7 +202,7 @@ async function listJobs(cursor) {
         app.scenario.applyFull(stored.result.scenario || {});
         app.options.apply(stored.result.options || {});
         showDiff();
-        render(stored.result);
+        render(stored.result, { job: job.id });
         saveState();
       } catch (error) {
         showProblem(error instanceof ProblemError ? error.problem : { detail: String(error) });
@@ -259,16 +271,34 @@ function setReport(on) {
   saveState();
 }
 
+// The CSV of the result shown, as the service writes it: the same request posted again with
+// Accept: text/csv, or the job's result asked in CSV (no second computation).
+async function downloadResultCsv() {
+  const { response, source } = app;
+  if (!response || !source) return;
+  try {
+    const csv = source.job
+      ? await fetchBlob('GET', `/v1/jobs/${encodeURIComponent(source.job)}`, undefined, 'text/csv')
+      : await fetchBlob('POST', source.path, source.body, 'text/csv');
+    downloadCsv(response.analysis, csv);
+  } catch (error) {
+    showProblem(error instanceof ProblemError ? error.problem : { title: 'Download failed', detail: String(error) });
+  }
+}
+
 async function start() {
   const [doc, base] = await Promise.all([getJson('/openapi.json'), getJson('/v1/scenarios/default')]);
   app.doc = doc;
+  app.rows = Array.isArray(doc['x-rollgap-analyses']) ? doc['x-rollgap-analyses'] : [];
+  app.analyses = app.rows.filter((row) => row.on_page && doc.paths[row.path]);
+  if (!app.analyses.length) throw new Error('the service\'s OpenAPI document lists no analysis for the page (x-rollgap-analyses)');
   app.defaults = base;
   useServerJobList(doc);
   $('version').textContent = doc.info.version;
   app.scenario = new ScenarioForm($('scenario-form'), doc, base);
   buildTabs();
   const state = readState();
-  selectAnalysis(state.analysis || 'roll_gap');
+  selectAnalysis(state.analysis);
   await offerStoredScenarios(state.base);
   app.scenario.apply(state.scenario);
   app.options.apply(state.options);
@@ -289,7 +319,7 @@ async function start() {
   $('run-job').addEventListener('click', () => run(true));
   $('cancel').addEventListener('click', () => runner.cancel().catch(() => {}));
   $('download-json').addEventListener('click', () => downloadJson(app.response));
-  $('download-csv').addEventListener('click', () => downloadCsv(app.response, analysisByKey(app.response.analysis).csv(app.response)));
+  $('download-csv').addEventListener('click', downloadResultCsv);
   $('copy-link').addEventListener('click', async () => {
     const link = saveState();
     try { await navigator.clipboard.writeText(link); setStatus('link copied'); } catch { setStatus(`link: ${link}`); }

@@ -1,8 +1,9 @@
-// Downloads of a result (JSON as the service answered it, CSV of its tabular part) and the
+// Downloads of a result (JSON as the service answered it, CSV as the service writes it) and the
 // printable report: headline, plots, the full scenario and the rollgap version.
 
-function save(name, type, text) {
-  const url = URL.createObjectURL(new Blob([text], { type }));
+// `data`: a string or a Blob, saved as it is.
+function save(name, type, data) {
+  const url = URL.createObjectURL(new Blob([data], { type }));
   const link = document.createElement('a');
   link.href = url;
   link.download = name;
@@ -12,17 +13,12 @@ function save(name, type, text) {
   setTimeout(() => URL.revokeObjectURL(url), 1000);
 }
 
-const csvCell = (value) => {
-  const text = value === null || value === undefined ? '' : String(value);
-  return /[",\n]/.test(text) ? `"${text.replace(/"/g, '""')}"` : text;
-};
-export const toCsv = (rows) => rows.map((r) => r.map(csvCell).join(',')).join('\n') + '\n';
-
 export function downloadJson(response) {
   save(`rollgap-${response.analysis}.json`, 'application/json', JSON.stringify(response, null, 2));
 }
-export function downloadCsv(response, rows) {
-  save(`rollgap-${response.analysis}.csv`, 'text/csv', toCsv(rows));
+// The service's CSV of a result (Accept: text/csv on its route or its job), unchanged.
+export function downloadCsv(analysis, blob) {
+  save(`rollgap-${analysis}.csv`, 'text/csv', blob);
 }
 
 function flatten(object, prefix = '', out = []) {

@@ -1,5 +1,9 @@
-// What each analysis draws and lists. Every view takes the service's answer as it is (the
-// numbers are plotted unchanged) and returns its headline rows; `csv` gives the tabular part.
+// What each analysis draws and lists, keyed by the analysis' name. Which analyses the page
+// offers, their labels, routes and whether they have CSV come from the OpenAPI document
+// (x-rollgap-analyses, the service's analysis table); an analysis offered without a view here
+// gets `plainView`. Every view takes the service's answer as it is (the numbers are plotted
+// unchanged) and returns its headline rows. `job`: the page runs it as a job; `partial`: a
+// running job's finished points as a result to draw.
 import { addPlot, color, errorBars, line, marker, points } from './charts.js';
 import { unitOf } from './editor.js';
 import { drawHeatmap } from './heatmap.js';
@@ -13,20 +17,6 @@ const fmt = (value, digits = 4) => {
 const row = (label, value, unit = '') => [label, fmt(value), unit];
 const max = (values) => Math.max(...values.filter((v) => v !== null));
 const min = (values) => Math.min(...values.filter((v) => v !== null));
-
-// Columnar arrays (the bite distribution, time series) as CSV rows.
-function columns(object) {
-  const keys = Object.keys(object).filter((k) => Array.isArray(object[k]));
-  const length = Math.max(0, ...keys.map((k) => object[k].length));
-  const rows = [keys];
-  for (let i = 0; i < length; i++) rows.push(keys.map((k) => object[k][i]));
-  return rows;
-}
-// An array of flat objects as CSV rows (nested members left out).
-function records(list) {
-  const keys = [...new Set(list.flatMap((item) => Object.keys(item).filter((k) => typeof item[k] !== 'object' || item[k] === null)))];
-  return [keys, ...list.map((item) => keys.map((k) => item[k]))];
-}
 
 // Chatter types (docs/model.md, "Chatter type"): a name and a symbol each, so a plot never
 // tells them apart by colour alone.
@@ -154,18 +144,15 @@ function drawCritical(plots, critical) {
   });
 }
 
-export const analyses = [
-  {
-    key: 'roll_gap', label: 'Roll gap', path: '/v1/roll-gap',
+export const views = {
+  roll_gap: {
     render(response, plots) {
       const r = response.result;
       drawBite(plots, r, response.scenario.rolls.speed_m_per_s);
       return biteHeadline(r);
     },
-    csv: (response) => (response.result.distribution ? columns(response.result.distribution) : records([response.result])),
   },
-  {
-    key: 'stability', label: 'Stability', path: '/v1/stability',
+  stability: {
     render(response, plots) {
       const r = response.result;
       const c = r.critical_speed || {};
@@ -183,10 +170,8 @@ export const analyses = [
         row('strip stiffness', r.strip_stiffness_GN_per_m, 'GN/m'),
       ];
     },
-    csv: (response) => records((response.result.critical_speed || {}).scan || []),
   },
-  {
-    key: 'amplitude', label: 'Amplitude', path: '/v1/amplitude',
+  amplitude: {
     render(response, plots) {
       const p = response.result.points;
       const v = p.map((q) => q.speed_m_per_s);
@@ -207,10 +192,8 @@ export const analyses = [
       }));
       return p.map((q) => row(`gap amplitude at ${fmt(q.speed_m_per_s)} m/s (${q.status})`, q.gap_amplitude_um, 'µm'));
     },
-    csv: (response) => records(response.result.points),
   },
-  {
-    key: 'tension_cycle', label: 'Tension cycle', path: '/v1/tension-cycle',
+  tension_cycle: {
     render(response, plots) {
       const r = response.result;
       r.phases.forEach((phase, i) => {
@@ -225,10 +208,9 @@ export const analyses = [
       }
       return [row('status', r.status), ...r.phases.map((p) => row(`force at phase ${p.phase} (back tension ${fmt(p.back_tension_MPa)} MPa)`, p.roll_gap.force_kN, 'kN'))];
     },
-    csv: (response) => records(response.result.phases.map((p) => ({ ...p, ...p.roll_gap }))),
   },
-  {
-    key: 'sweep', label: 'Sweep', path: '/v1/sweeps', job: true,
+  sweep: {
+    job: true,
     // A running job's finished points (partial_result) as a result with gaps.
     partial(request, partial) {
       const options = request.options || {};
@@ -273,10 +255,9 @@ export const analyses = [
       }
       return rows;
     },
-    csv: (response) => records(response.result.points),
   },
-  {
-    key: 'map', label: 'Map', path: '/v1/maps', job: true,
+  map: {
+    job: true,
     partial(request, partial) {
       const axes = ((request.options || {}).parameters || []).map((a) => ({ parameter: a.parameter, unit: '', values: optionValues(a) }));
       const count = axes.length === 2 ? axes[0].values.length * axes[1].values.length : 0;
@@ -343,10 +324,9 @@ export const analyses = [
         row('chatter type changes', response.partial ? null : (r.chatter_type_changes || []).length),
       ];
     },
-    csv: (response) => records(response.result.cells.map((c) => ({ row: c.values[0], column: c.values[1], ...c }))),
   },
-  {
-    key: 'calibrate', label: 'Calibration', path: '/v1/calibrate', job: true,
+  calibrate: {
+    job: true,
     render(response, plots) {
       const r = response.result;
       const observations = r.observations || [];
@@ -407,9 +387,15 @@ export const analyses = [
         row('reciprocal condition', r.reciprocal_condition), row('warnings', (r.warnings || []).length),
       ];
     },
-    csv: (response) => records(response.result.parameters),
   },
-];
+};
 
-export const analysisByKey = (key) => analyses.find((a) => a.key === key) || analyses[0];
+// An analysis the page offers without a view of its own: the scalar members of its result.
+export const plainView = {
+  render(response) {
+    const rows = Object.entries(response.result || {}).filter(([, v]) => v === null || typeof v !== 'object').map(([k, v]) => row(k, v));
+    return rows.length ? rows : [['result', 'no view on this page: see the JSON download', '']];
+  },
+};
+export const viewOf = (name) => (Object.hasOwn(views, name) ? views[name] : plainView);
 export { fmt };
