@@ -62,6 +62,7 @@ done
 wait || true
 
 status=0
+failed=()
 for h in "${harnesses[@]}"; do
     log="$scratch/$h.log"
     result=$(cat "$scratch/$h.rc" 2>/dev/null || echo "no exit status")
@@ -74,6 +75,20 @@ for h in "${harnesses[@]}"; do
         printf 'fuzz: %s: FAILED (exit %s) after %s executions\n' "$h" "$result" "${execs:-?}"
         grep -E 'ERROR|invariant broken|runtime error|SUMMARY|Test unit written|^#0 |^    #[0-9] ' "$log" | head -40 || true
         echo "fuzz: full log of $h:" && tail -60 "$log"
+        failed+=("$h")
+    fi
+done
+# Last, where a truncated CI log still shows it: why each failed harness stopped and the input
+# that did it (base64, when small), so that the finding can be reproduced without the machine:
+#   base64 -d > crash && build-asan/fuzz/<harness> crash
+for h in "${failed[@]}"; do
+    log="$scratch/$h.log"
+    echo "fuzz: $h stopped on:"
+    grep -E 'invariant broken|runtime error|ERROR: |deadly signal|timeout|out-of-memory' "$log" | head -5 || true
+    input=$(sed -n "s/.*Test unit written to \(.*\)$/\1/p" "$log" | tail -1)
+    if [[ -n $input && -f $input && $(stat -c %s "$input") -le 4096 ]]; then
+        echo "fuzz: the input ($(stat -c %s "$input") bytes, base64):"
+        base64 -w 100 "$input"
     fi
 done
 exit "$status"
