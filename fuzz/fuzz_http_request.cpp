@@ -15,6 +15,7 @@
 #include <unistd.h>
 
 #include <array>
+#include <cerrno>
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
@@ -153,10 +154,14 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
 
     // The client: sends (the service reads while answering, so neither side blocks for good),
     // half-closes, and reads until the service closes.
+    // Both sides retry a call interrupted by a signal: libFuzzer's timeout timer sends SIGALRM
+    // every -timeout/2 + 1 seconds, and a recv() it interrupts in the middle of an answer would
+    // otherwise look like an answer shorter than its Content-Length.
     std::thread sender([client, data, size] {
         std::size_t sent = 0;
         while (sent < size) {
             const ssize_t n = ::send(client, data + sent, size - sent, MSG_NOSIGNAL);
+            if (n < 0 && errno == EINTR) continue;
             if (n <= 0) break;  // the service closed (a refusal)
             sent += static_cast<std::size_t>(n);
         }
@@ -166,6 +171,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     std::array<char, 16 * 1024> buffer{};
     for (;;) {
         const ssize_t n = ::recv(client, buffer.data(), buffer.size(), 0);
+        if (n < 0 && errno == EINTR) continue;
         if (n <= 0) break;
         received.append(buffer.data(), static_cast<std::size_t>(n));
     }
