@@ -147,26 +147,35 @@ Config heavy(const Config& cfg, long reps) {
     return c;
 }
 
-// The critical speed of the default scenario over 1-60 m/s, on one thread and on all cores.
+// The critical speed of the default scenario over 1-60 m/s, on one thread and on all cores:
+// the full scan (detail "full") and the scan that stops at the first crossing ("summary",
+// sweeps, maps, calibration; docs/model.md §7.3).
 int bench_critical_speed(const Config& cfg) {
     const rollgap::core::Scenario scenario{};
     const auto pool = rollgap::service::local_pool();
-    for (const int threads : {1, pool->concurrency()}) {
-        const rollgap::core::CriticalSpeedOptions options;
-        rollgap::core::Control control;
-        control.executor = pool.get();
-        control.threads = threads;
-        const auto check = rollgap::core::critical_speed(scenario, options, control);
-        if (check.status != rollgap::core::CriticalSpeedStatus::found) {
-            std::fprintf(stderr, "critical_speed: not found (%s)\n",
-                         rollgap::core::to_string(check.status));
-            return 1;
+    for (const bool summary : {false, true}) {
+        const std::string name = summary ? "critical_speed_summary" : "critical_speed";
+        for (const int threads : {1, pool->concurrency()}) {
+            rollgap::core::CriticalSpeedOptions options;
+            options.stop_at_crossing = summary;
+            rollgap::core::Control control;
+            control.executor = pool.get();
+            control.threads = threads;
+            const auto check = rollgap::core::critical_speed(scenario, options, control);
+            if (check.status != rollgap::core::CriticalSpeedStatus::found) {
+                std::fprintf(stderr, "%s: not found (%s)\n", name.c_str(),
+                             rollgap::core::to_string(check.status));
+                return 1;
+            }
+            if (threads == 1) {
+                print_figure(name + ".value", check.critical_speed, "m/s");
+                print_count(name + ".scanned_speeds", static_cast<long>(check.scan.size()));
+            }
+            const Timing t = time_it(heavy(cfg, 20), [&] {
+                return rollgap::core::critical_speed(scenario, options, control).critical_speed;
+            });
+            print_timing(name + ".threads_" + std::to_string(threads), t);
         }
-        if (threads == 1) print_figure("critical_speed.value", check.critical_speed, "m/s");
-        const Timing t = time_it(heavy(cfg, 20), [&] {
-            return rollgap::core::critical_speed(scenario, options, control).critical_speed;
-        });
-        print_timing("critical_speed.threads_" + std::to_string(threads), t);
     }
     return 0;
 }

@@ -80,7 +80,10 @@ struct Critical {
 Critical critical_of(const Scenario& s, const CriticalSpeedOptions& search,
                      const Control& control) {
     Critical out;
-    const CriticalSpeedResult found = critical_speed(s, search, control);
+    // Only the critical speed is used: the scan may stop at the first crossing (§7.3).
+    CriticalSpeedOptions to_crossing = search;
+    to_crossing.stop_at_crossing = true;
+    const CriticalSpeedResult found = critical_speed(s, to_crossing, control);
     if (found.status != CriticalSpeedStatus::found) {
         out.failure = std::string("no critical speed: ") + to_string(found.status);
         return out;

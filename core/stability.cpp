@@ -243,7 +243,7 @@ CriticalSpeedResult critical_speed_search(const StabilityAtSpeed& analyse_at,
                                           const Control& control) {
     CriticalSpeedResult result;
     const double step = std::min(options.speed_step, 0.5);
-    const int count = std::max(
+    int count = std::max(
         2, static_cast<int>(std::ceil((options.speed_max - options.speed_min) / step - 1e-9)) + 1);
     std::vector<double> speeds(static_cast<std::size_t>(count));
     for (int i = 0; i < count; ++i) {
@@ -253,16 +253,45 @@ CriticalSpeedResult critical_speed_search(const StabilityAtSpeed& analyse_at,
 
     result.scan.resize(speeds.size());
     std::atomic<int> done{0};
-    parallel_for(count, control, [&](int i) {
-        if (control.should_stop()) return;
-        SpeedStability point = analyse_at(speeds[static_cast<std::size_t>(i)], false);
-        result.scan[static_cast<std::size_t>(i)] = std::move(point);
-        control.report(0.9 * (++done) / count);
-    });
+    // The scan in blocks of grid speeds, each block in parallel. Whole at once unless the search
+    // may stop at the first crossing: then block after block, in grid order, until a block
+    // decides the outcome (the first usable speed unstable, or a stable-to-unstable pair). Which
+    // speeds are scanned depends on the block size, the outcome does not: it is decided by the
+    // speeds up to the crossing, which every block size scans.
+    const int block = options.stop_at_crossing ? std::max(2, control.thread_budget()) : count;
+    int scanned = 0;
+    bool decided = false;
+    while (scanned < count && !decided) {
+        const int begin = scanned;
+        const int end = std::min(count, begin + block);
+        parallel_for(end - begin, control, [&](int k) {
+            if (control.should_stop()) return;
+            const int i = begin + k;
+            SpeedStability point = analyse_at(speeds[static_cast<std::size_t>(i)], false);
+            result.scan[static_cast<std::size_t>(i)] = std::move(point);
+            control.report(0.9 * (++done) / count);
+        });
+        if (control.should_stop()) break;
+        scanned = end;
+        if (!options.stop_at_crossing) break;
+        int first_usable = 0;
+        while (first_usable < scanned &&
+               !usable(result.scan[static_cast<std::size_t>(first_usable)]))
+            ++first_usable;
+        if (first_usable == scanned) continue;
+        if (!result.scan[static_cast<std::size_t>(first_usable)].stable) decided = true;
+        for (int i = first_usable + 1; i < scanned && !decided; ++i) {
+            const SpeedStability& previous = result.scan[static_cast<std::size_t>(i - 1)];
+            const SpeedStability& p = result.scan[static_cast<std::size_t>(i)];
+            if (usable(previous) && usable(p) && previous.stable && !p.stable) decided = true;
+        }
+    }
     if (control.should_stop()) {
         result.status = CriticalSpeedStatus::cancelled;
         return result;
     }
+    result.scan.resize(static_cast<std::size_t>(scanned));
+    count = scanned;
     result.branches = track_branches(result.scan);
 
     // The lowest speed with a steady state decides whether the range starts stable; then the

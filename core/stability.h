@@ -63,6 +63,11 @@ struct CriticalSpeedOptions {
     double speed_max = 60.0;  // m/s
     double speed_step = 0.5;  // m/s, at most 0.5
     double relative_tolerance = 1e-4;
+    // Scan the grid only up to its first crossing (docs/model.md §7.3): the status, the critical
+    // speed and its mode are the full scan's, as they depend on no speed above the crossing;
+    // `scan` and `branches` then stop there. For callers that report no scan (a summary, a
+    // sweep, a map, a calibration).
+    bool stop_at_crossing = false;
 };
 
 enum class CriticalSpeedStatus {

@@ -32,8 +32,11 @@ std::vector<CriticalSpeedResult> sweep_critical_speed(std::span<const Scenario> 
                                                       const Control& control, bool keep_scan) {
     // The parallelism is across the sweep: each point's own scan runs on its thread.
     const Control inner = control.nested(1);
+    // Without the scans kept, each point's search may stop at its first crossing (§7.3).
+    CriticalSpeedOptions search = options;
+    if (!keep_scan) search.stop_at_crossing = true;
     return sweep<CriticalSpeedResult>(scenarios, control, [&](const Scenario& s) {
-        CriticalSpeedResult result = critical_speed(s, options, inner);
+        CriticalSpeedResult result = critical_speed(s, search, inner);
         if (!keep_scan) {
             result.scan = {};
             result.branches = {};

@@ -12,9 +12,12 @@ PreparedAnalysis prepare_evaluation(const core::Scenario& scenario, const nlohma
     return {
         api::evaluation_options_json(parsed),
         [scenario, parsed](const core::Control& control) {
-            // The scan speeds run in parallel on the Control's executor and budget.
+            // The scan speeds run in parallel on the Control's executor and budget. The result
+            // gives the search's summary, no scan: it may stop at the first crossing.
+            core::CriticalSpeedOptions search = parsed.critical_speed;
+            search.stop_at_crossing = true;
             const core::Evaluation evaluation =
-                core::evaluate_scenario(scenario, parsed.critical_speed, parsed.amplitude, control);
+                core::evaluate_scenario(scenario, search, parsed.amplitude, control);
             if (evaluation.critical.status == core::CriticalSpeedStatus::cancelled ||
                 evaluation.amplitude.status == core::AmplitudeStatus::cancelled) {
                 throw AnalysisCancelled{};

@@ -23,7 +23,10 @@ PreparedAnalysis prepare_stability(const core::Scenario& scenario, const nlohman
             if (parsed.critical_speed) {
                 // The scan speeds are independent: spread over the Control's executor and
                 // budget (the result does not depend on it).
-                report.critical = core::critical_speed(scenario, parsed.search, control);
+                // "summary" reports no scan: the search may stop at the first crossing.
+                core::CriticalSpeedOptions search = parsed.search;
+                search.stop_at_crossing = parsed.detail == api::Detail::summary;
+                report.critical = core::critical_speed(scenario, search, control);
                 if (report.critical->status == core::CriticalSpeedStatus::cancelled)
                     throw AnalysisCancelled{};
                 throw_if_cancelled(control);

@@ -23,8 +23,9 @@ PreparedAnalysis prepare_sweep(const core::Scenario& scenario, const nlohmann::j
             // The points run in parallel on the Control's executor and budget; the results do
             // not depend on it.
             if (plan->quantity == api::SweepQuantity::critical_speed) {
-                const auto results =
-                    core::sweep_critical_speed(slice, plan->critical_speed, control);
+                // A sweep point reports no scan: each search may stop at its first crossing.
+                const auto results = core::sweep_critical_speed(slice, plan->critical_speed,
+                                                                control, /*keep_scan=*/false);
                 throw_if_cancelled(control, results);
                 return api::sweep_critical_speed_points_json(*plan, results, first);
             }
