@@ -66,6 +66,7 @@ BiteState StandBlock::bite_state(double t, const double* z, double back_tension,
                                  double front_tension) const {
     const double* q = z + offset_;
     BiteState state;
+    state.entry_thickness = s_.strip.entry_thickness;  // a single stand's y1 is the scenario's
     state.exit_thickness = ref_.exit_thickness + (q[2] - q[3]);
     state.gap_rate = q[8] - q[9];
     state.inlet_film = q[film_index];
@@ -108,9 +109,10 @@ void StandBlock::rates(const double* z, const BiteState& state, const BiteResult
 
 namespace {
 bool same(const BiteState& a, const BiteState& b) {
-    return a.exit_thickness == b.exit_thickness && a.gap_rate == b.gap_rate &&
-           a.inlet_film == b.inlet_film && a.back_tension == b.back_tension &&
-           a.front_tension == b.front_tension && a.roll_radius == b.roll_radius;
+    return a.entry_thickness == b.entry_thickness && a.exit_thickness == b.exit_thickness &&
+           a.gap_rate == b.gap_rate && a.inlet_film == b.inlet_film &&
+           a.back_tension == b.back_tension && a.front_tension == b.front_tension &&
+           a.roll_radius == b.roll_radius;
 }
 }  // namespace
 

@@ -68,7 +68,7 @@ public:
 
     // y1 - y2: contact is lost at zero.
     double contact_margin(const BiteState& state) const {
-        return s_.strip.entry_thickness - state.exit_thickness;
+        return state.entry_thickness_or(s_.strip.entry_thickness) - state.exit_thickness;
     }
 
     // docs/model.md §6, §7.3, by the block's own index: q 1e-7 m, q' 1e-3 m/s, h0 1e-5 h0;
