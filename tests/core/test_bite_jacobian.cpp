@@ -180,9 +180,8 @@ double worst_relative_difference(const Eigen::MatrixXd& a, const Eigen::MatrixXd
     return worst;
 }
 
-}  // namespace bite_jacobian_test
-
-using namespace bite_jacobian_test;
+// The test cases stay in the namespace: the suite is compiled in unity batches, and a
+// using-directive at file scope would carry these names into the files after this one.
 
 TEST_CASE("bite Jacobian: each column lies between the forward and backward differences") {
     // At the default dynamic bite (film h00 held) and at a bite with a moving gap: by the mean
@@ -476,3 +475,5 @@ TEST_CASE("assembled Jacobian: the suite's critical speeds equal those of the fi
         }
     }
 }
+
+}  // namespace bite_jacobian_test
