@@ -83,7 +83,8 @@ BiteJacobian bite_jacobian(const Scenario& s, const BiteState& at, const BiteRes
         const BiteResult b = solve_roll_bite(s, hi, options);
         out.bite_solves += 2;
         if (a.status != BiteStatus::ok || b.status != BiteStatus::ok) {
-            out.status = a.status != BiteStatus::ok ? a.status : b.status;
+            // the upper side's status first, as finite_difference_jacobian reports it
+            out.status = b.status != BiteStatus::ok ? b.status : a.status;
             out.message = failed_column_message(input);
             return out;
         }

@@ -326,21 +326,47 @@ TEST_CASE("bite Jacobian: identities of the bite") {
 }
 
 TEST_CASE("bite Jacobian: a perturbed bite that fails is a status") {
-    // an exit thickness within the y2 step of the entry thickness: y2 + delta >= y1
-    const Scenario s = dynamics_scenario(Scenario{});
-    BiteState at = steady_bite_state(s);
-    at.inlet_film = 3e-6;
-    BiteState near = at;
-    near.exit_thickness = s.strip.entry_thickness - 0.5e-7;
-    const BiteResult bite = solve_roll_bite(s, near, {false});
-    if (bite.status == BiteStatus::ok) {
-        const BiteJacobian jb = bite_jacobian(s, near, bite);
-        CHECK(jb.status == BiteStatus::contact_lost);
+    // A gap closing fast enough has no rolling state (§1: the strip would move backwards, or the
+    // bite skids). Bisect the gap rate where the default bite stops solving, and linearise just
+    // inside: the bite solves, the one a gap-rate step (1e-3 m/s) closer does not.
+    const Built d(Scenario{});
+    REQUIRE(d.ref.status == BiteStatus::ok);
+    const Eigen::VectorXd z0 = d.model.equilibrium();
+    const BiteState base = d.model.bite_state(0.0, z0.data());
+    auto at_rate = [&](double rate) {
+        BiteState st = base;
+        st.gap_rate = rate;
+        return st;
+    };
+    double ok = 0.0, failing = -50.0;
+    REQUIRE(solve_roll_bite(d.s, at_rate(failing), {false}).status != BiteStatus::ok);
+    while (ok - failing > 1e-5) {
+        const double mid = 0.5 * (ok + failing);
+        (solve_roll_bite(d.s, at_rate(mid), {false}).status == BiteStatus::ok ? ok : failing) = mid;
     }
+    const BiteState edge = at_rate(ok);
+    const BiteResult bite = solved(d.s, edge);
+    const BiteStatus beyond = solve_roll_bite(d.s, at_rate(ok - 1e-3), {false}).status;
+    MESSAGE("the default bite stops solving at a gap rate of "
+            << failing << " m/s: " << std::string(to_string(beyond)));
+    REQUIRE(beyond != BiteStatus::ok);
+    // (the y2 step moves that edge too, by ~1e-3 m/s: whichever column fails first names it)
+    const BiteJacobian jb = bite_jacobian(d.s, edge, bite);
+    CHECK(jb.status != BiteStatus::ok);
+    CHECK(std::string(jb.message).find("does not solve") != std::string::npos);
+
+    // the state Jacobian there: the same status by both routes, as the differences give it
+    Eigen::VectorXd z = z0;
+    z(8) = ok;  // the gap rate is q3' - q4'
+    const Linearisation a = d.model.jacobian(z, 0.0);
+    const Linearisation f = finite_difference_jacobian(d.model, z, 0.0);
+    CHECK(f.status != DynamicsStatus::ok);
+    CHECK(a.status == f.status);
+
     // and a bite that is not solved is not linearised
     BiteResult failed;
     failed.status = BiteStatus::skidding;
-    CHECK(bite_jacobian(s, at, failed).status == BiteStatus::skidding);
+    CHECK(bite_jacobian(d.s, base, failed).status == BiteStatus::skidding);
 }
 
 TEST_CASE("assembled Jacobian: equal to central differences of the right-hand side") {
