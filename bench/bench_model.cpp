@@ -1,5 +1,6 @@
 // Timing of rollgap's analyses for the default scenario: the roll-bite solve (docs/model.md §4),
-// the critical speed (§7.3), the amplitude (§7.4) and a critical-speed sweep (§7.5).
+// the linearisation alone (§6.1), the critical speed (§7.3), the amplitude (§7.4) and a
+// critical-speed sweep (§7.5).
 //
 // Output, one figure per line on stdout, in a stable format that scripts can parse:
 //     <bench>.<figure>: <value> <unit>
@@ -25,6 +26,7 @@
 
 #include "core/amplitude.h"
 #include "core/control.h"
+#include "core/coupled_model.h"
 #include "service/worker_pool.h"
 #include "core/roll_bite.h"
 #include "core/scenario.h"
@@ -138,6 +140,48 @@ int bench_roll_gap(const Config& cfg) {
     return 0;
 }
 
+// The Jacobian of the default coupled model at z0 (19 m/s), as each stability point takes it: the
+// model's jacobian() (assembled from the bite linearisation J_b, docs/model.md §6.1) and the
+// central differences of the whole right-hand side it replaced (finite_difference_jacobian).
+// Each call builds a fresh model, whose bite memo holds only the reference bite, as analyse()
+// does; `model_only` times that construction alone. `bite_solves` counts solve_roll_bite calls
+// per linearisation (the reference state's own three, steady bite and k4, are not included).
+int bench_linearisation(const Config& cfg) {
+    namespace core = rollgap::core;
+    const core::Scenario s = core::dynamics_scenario(core::Scenario{});
+    const core::ReferenceState ref = core::reference_state(s, false);
+    if (ref.status != core::BiteStatus::ok) {
+        std::fprintf(stderr, "linearisation: no steady bite (%s)\n", ref.message);
+        return 1;
+    }
+    const Timing model_only = time_it(cfg, [&] {
+        const core::CoupledModel model(s, ref);
+        return model.equilibrium()(core::CoupledModel::film_index);
+    });
+    print_timing("linearisation.model_only", model_only);
+    for (const bool assembled : {true, false}) {
+        const std::string name = assembled ? "linearisation.assembled" : "linearisation.fd";
+        const auto linearise = [&](const core::CoupledModel& model) {
+            const Eigen::VectorXd z0 = model.equilibrium();
+            return assembled ? model.jacobian(z0, 0.0)
+                             : core::finite_difference_jacobian(model, z0, 0.0);
+        };
+        const core::CoupledModel counted(s, ref);
+        const core::Linearisation check = linearise(counted);
+        if (check.status != core::DynamicsStatus::ok) {
+            std::fprintf(stderr, "%s: %s\n", name.c_str(), core::to_string(check.status));
+            return 1;
+        }
+        print_count(name + ".bite_solves", counted.bite_solves());
+        const Timing t = time_it(cfg, [&] {
+            const core::CoupledModel model(s, ref);
+            return linearise(model).jacobian(6 + 2, 2);
+        });
+        print_timing(name, t);
+    }
+    return 0;
+}
+
 // The expensive analyses repeat a few times, not thousands.
 Config heavy(const Config& cfg, long reps) {
     Config c = cfg;
@@ -225,6 +269,7 @@ struct Bench {
 // Register new benches here.
 constexpr Bench kBenches[] = {
     {"roll_gap", bench_roll_gap},
+    {"linearisation", bench_linearisation},
     {"critical_speed", bench_critical_speed},
     {"amplitude", bench_amplitude},
     {"sweep", bench_sweep},

@@ -109,4 +109,73 @@ DynamicsStatus CoupledModel::rhs(double t, const double* z, double* zdot,
     return DynamicsStatus::ok;
 }
 
+Linearisation CoupledModel::jacobian(const Eigen::VectorXd& z, double t) const {
+    Linearisation out;
+    const BiteState state = bite_state(t, z.data());
+    // The states the finite-difference Jacobian would visit fail where this one's perturbed
+    // bites would: a tension within its step of zero is slack there (as in rhs()), a film that
+    // is not positive a solver failure.
+    const bool slack_span =
+        (back_span_ && z(back_span_->index) - SpanElement::perturbation <= 0.0) ||
+        (front_span_ && z(front_span_->index) - SpanElement::perturbation <= 0.0);
+    const double back_step = back_span_ ? SpanElement::perturbation : 0.0;
+    const double front_step = front_span_ ? SpanElement::perturbation : 0.0;
+    if (slack_span || state.back_tension - back_step < 0.0 ||
+        state.front_tension - front_step < 0.0) {
+        out.status = DynamicsStatus::slack_strip;
+        return out;
+    }
+    if (!(state.inlet_film > 0.0)) return out;  // solver_failure
+
+    const BiteResult bite = stand_.solve_bite(state);  // at z0 the reference bite (the memo)
+    if (bite.status != BiteStatus::ok) {
+        out.status = from_bite(bite.status);
+        return out;
+    }
+
+    // D = d(bite inputs)/dz: the stand block's own, and each span's tension, seen one to one
+    Eigen::Matrix<double, bite_input_count, Eigen::Dynamic> inputs =
+        stand_.bite_input_derivatives(size_);
+    if (back_span_) inputs(static_cast<int>(BiteInput::back_tension), back_span_->index) = 1.0;
+    if (front_span_) inputs(static_cast<int>(BiteInput::front_tension), front_span_->index) = 1.0;
+    // only the bite columns some state moves: y1 is a constant of the single stand
+    unsigned columns = 0;
+    for (int k = 0; k < bite_input_count; ++k) {
+        if (inputs.row(k).cwiseAbs().maxCoeff() > 0.0)
+            columns |= bite_column(static_cast<BiteInput>(k));
+    }
+    // the steps the finite differences take on the states that move each input (§6.1, §7.3)
+    BiteSteps steps;
+    steps.exit_thickness = StandBlock::perturbation(2, 0.0);  // q3, the gap
+    steps.entry_thickness = steps.exit_thickness;
+    steps.gap_rate = StandBlock::perturbation(8, 0.0);                                  // q3'
+    steps.inlet_film_relative = StandBlock::perturbation(StandBlock::film_index, 1.0);  // of h0
+    steps.tension = SpanElement::perturbation;
+    const BiteJacobian jb = bite_jacobian(scenario(), state, bite, columns, steps);
+    stand_.count_bite_solves(jb.bite_solves);
+    if (jb.status != BiteStatus::ok) {
+        out.status = from_bite(jb.status);
+        return out;
+    }
+    const Eigen::Matrix<double, bite_output_count, Eigen::Dynamic> outputs = jb.derivative * inputs;
+
+    out.jacobian = Eigen::MatrixXd::Zero(size_, size_);
+    stand_.jacobian_rows(state, bite, outputs, inputs, out.jacobian);
+    // s_b' = (E/L_b)(u1 - u1_ref), s_f' = (E/L_f)(u2_ref - u2) (core/span_element.h)
+    if (back_span_) {
+        out.jacobian.row(back_span_->index) =
+            back_span_->stiffness * outputs.row(static_cast<int>(BiteOutput::entry_speed));
+    }
+    if (front_span_) {
+        out.jacobian.row(front_span_->index) =
+            -front_span_->stiffness * outputs.row(static_cast<int>(BiteOutput::exit_speed));
+    }
+    if (!out.jacobian.allFinite()) {
+        out.jacobian.resize(0, 0);
+        return out;  // solver_failure
+    }
+    out.status = DynamicsStatus::ok;
+    return out;
+}
+
 }  // namespace rollgap::core

@@ -46,6 +46,16 @@ public:
     }
     DynamicsStatus rhs(double t, const double* z, double* zdot, BiteResult* bite) const;
 
+    // J = df/dz at (t, z), assembled (docs/model.md §6.1): the stack analytic, the bite through
+    // one bite linearisation J_b (core/bite_jacobian.h) in the inputs the state moves (y2, the
+    // gap rate, h0 and the tensions in span mode: two bite solves each), the film by the chain
+    // rule, the spans from J_b's u1 and u2. Equal to finite_difference_jacobian() to rounding
+    // and the bite's own noise; a state where a perturbed bite fails is that status, as there.
+    Linearisation jacobian(const Eigen::VectorXd& z, double t) const override;
+
+    // solve_roll_bite calls made by this model so far (right-hand sides and linearisations).
+    long bite_solves() const { return stand_.bite_solves(); }
+
     double perturbation(int index, const Eigen::VectorXd& z) const override;
     double absolute_tolerance(int index) const override;
 

@@ -11,6 +11,7 @@ namespace rollgap::core {
 
 BiteState steady_bite_state(const Scenario& s) {
     BiteState state;
+    state.entry_thickness = s.strip.entry_thickness;
     state.exit_thickness = exit_thickness(s);
     state.gap_rate = 0.0;
     state.inlet_film = 0.0;
@@ -367,7 +368,7 @@ BiteResult solve_roll_bite(const Scenario& s, const BiteState& state, const Bite
     BiteResult result;
     Bite b;
     b.s = &s;
-    b.y1 = s.strip.entry_thickness;
+    b.y1 = state.entry_thickness_or(s.strip.entry_thickness);
     b.y2 = state.exit_thickness;
     b.a = state.roll_radius > 0.0 ? state.roll_radius : s.rolls.radius;
     b.v = s.rolls.speed;

@@ -18,7 +18,7 @@ FlatteningResult hitchcock_fixed_point(const Scenario& s, const BiteState& state
                                        const BiteForceFunction& force_of, double relative_tolerance,
                                        int max_iterations) {
     FlatteningResult out;
-    const double dh = s.strip.entry_thickness - state.exit_thickness;
+    const double dh = state.entry_thickness_or(s.strip.entry_thickness) - state.exit_thickness;
     BiteState at = state;
     at.roll_radius = s.rolls.radius;
     out.radius = s.rolls.radius;

@@ -16,7 +16,8 @@
 namespace rollgap::core {
 
 // The model's jacobian() at (t, z): by default central differences with the model document's
-// steps (q 1e-7 m, q' 1e-3 m/s, h0 1e-5 h0, tensions 1 kPa; core/dynamic_model.h).
+// steps (q 1e-7 m, q' 1e-3 m/s, h0 1e-5 h0, tensions 1 kPa; core/dynamic_model.h); the coupled
+// model's is assembled from the bite linearisation with the same steps (docs/model.md §6.1).
 Linearisation linearise(const DynamicModel& model, const Eigen::VectorXd& z, double t = 0.0);
 
 // Eigenvalues of a Jacobian after Parlett-Reinsch balancing (the coupled model's Jacobian

@@ -66,6 +66,7 @@ BiteState StandBlock::bite_state(double t, const double* z, double back_tension,
                                  double front_tension) const {
     const double* q = z + offset_;
     BiteState state;
+    state.entry_thickness = s_.strip.entry_thickness;  // a single stand's y1 is the scenario's
     state.exit_thickness = ref_.exit_thickness + (q[2] - q[3]);
     state.gap_rate = q[8] - q[9];
     state.inlet_film = q[film_index];
@@ -92,6 +93,10 @@ void StandBlock::rates(const double* z, const BiteState& state, const BiteResult
         xdot[6 + i] = qddot(i);
     }
 
+    xdot[film_index] = inlet_film_rate(s_.inlet_film, film_inputs(state, bite));
+}
+
+InletFilmInputs StandBlock::film_inputs(const BiteState& state, const BiteResult& bite) const {
     InletFilmInputs film;
     film.inlet_film = state.inlet_film;
     film.inlet_angle = bite.inlet_angle;
@@ -103,14 +108,101 @@ void StandBlock::rates(const double* z, const BiteState& state, const BiteResult
     film.pressure_viscosity = s_.lubricant.pressure_viscosity;
     film.flow_stress = s_.strip.flow_stress;
     film.back_tension = state.back_tension;
-    xdot[film_index] = inlet_film_rate(s_.inlet_film, film);
+    return film;
+}
+
+Eigen::Matrix<double, bite_input_count, Eigen::Dynamic> StandBlock::bite_input_derivatives(
+    int size) const {
+    Eigen::Matrix<double, bite_input_count, Eigen::Dynamic> d =
+        Eigen::Matrix<double, bite_input_count, Eigen::Dynamic>::Zero(bite_input_count, size);
+    const int y2 = static_cast<int>(BiteInput::exit_thickness);
+    const int rate = static_cast<int>(BiteInput::gap_rate);
+    d(y2, offset_ + 2) = 1.0;  // the gap g = q3 - q4 (docs/model.md §5)
+    d(y2, offset_ + 3) = -1.0;
+    d(rate, offset_ + 8) = 1.0;
+    d(rate, offset_ + 9) = -1.0;
+    d(static_cast<int>(BiteInput::inlet_film), offset_ + film_index) = 1.0;
+    return d;
+}
+
+namespace {
+
+// The partial derivative of the inlet film rate in one of its inputs, by central differences of
+// inlet_film_rate alone (closed form, no bite solve).
+template <class Member>
+double film_rate_partial(InletFilmModel model, const InletFilmInputs& at, Member member,
+                         double step) {
+    InletFilmInputs lo = at, hi = at;
+    lo.*member -= step;
+    hi.*member += step;
+    return (inlet_film_rate(model, hi) - inlet_film_rate(model, lo)) / (hi.*member - lo.*member);
+}
+
+}  // namespace
+
+void StandBlock::jacobian_rows(
+    const BiteState& state, const BiteResult& bite,
+    const Eigen::Matrix<double, bite_output_count, Eigen::Dynamic>& outputs,
+    const Eigen::Matrix<double, bite_input_count, Eigen::Dynamic>& inputs,
+    Eigen::MatrixXd& jacobian) const {
+    const int n = static_cast<int>(jacobian.cols());
+    const int o = offset_;
+    jacobian.middleRows(o, state_size).setZero();
+    // q' = q' (rows 0..5)
+    for (int i = 0; i < 6; ++i) jacobian(o + i, o + 6 + i) = 1.0;
+
+    // q'' = M^-1 (b (F - F_ref) - C q' - K_s q) (rows 6..11): the stack analytic, the force
+    // through the bite (§5; k4 cancels)
+    const Vector6 mb = mass_inverse_ * gap_direction();
+    const Matrix6 mk = -mass_inverse_ * structure_.structural_stiffness;
+    const Matrix6 mc = -mass_inverse_ * structure_.damping;
+    const auto force = outputs.row(static_cast<int>(BiteOutput::force));
+    for (int i = 0; i < 6; ++i) {
+        for (int j = 0; j < n; ++j) jacobian(o + 6 + i, j) = mb(i) * force(j);
+        for (int j = 0; j < 6; ++j) {
+            jacobian(o + 6 + i, o + j) += mk(i, j);
+            jacobian(o + 6 + i, o + 6 + j) += mc(i, j);
+        }
+    }
+
+    // h0' = g(h0, theta, theta', dyc/dt, u1bar, s_b) of §2, theta' = -(dyc/dt) / (2 a theta):
+    // the chain rule through the bite's theta and u1 and the film's own partials
+    const InletFilmInputs film = film_inputs(state, bite);
+    const InletFilmModel model = s_.inlet_film;
+    const double theta = film.inlet_angle, a = film.roll_radius;
+    // steps: h0 and theta relative 1e-5 (h0 as the state Jacobian's); g is linear in theta',
+    // dyc/dt and u1bar, so any step is exact there; the tension 1 kPa as the span states'
+    const double g_h0 =
+        film_rate_partial(model, film, &InletFilmInputs::inlet_film, 1e-5 * film.inlet_film);
+    const double g_theta =
+        film_rate_partial(model, film, &InletFilmInputs::inlet_angle, 1e-5 * theta);
+    const double g_theta_rate = film_rate_partial(model, film, &InletFilmInputs::inlet_angle_rate,
+                                                  1e-3 / (2.0 * a * theta));
+    const double g_gap_rate = film_rate_partial(model, film, &InletFilmInputs::gap_rate, 1e-3);
+    const double g_speed = film_rate_partial(model, film, &InletFilmInputs::mean_inlet_speed,
+                                             1e-5 * film.mean_inlet_speed);
+    const double g_tension = film_rate_partial(model, film, &InletFilmInputs::back_tension, 1e3);
+
+    const auto d_theta = outputs.row(static_cast<int>(BiteOutput::inlet_angle));
+    const auto d_u1 = outputs.row(static_cast<int>(BiteOutput::entry_speed));
+    const auto d_h0 = inputs.row(static_cast<int>(BiteInput::inlet_film));
+    const auto d_rate = inputs.row(static_cast<int>(BiteInput::gap_rate));
+    const auto d_sb = inputs.row(static_cast<int>(BiteInput::back_tension));
+    for (int j = 0; j < n; ++j) {
+        const double d_theta_rate = -d_rate(j) / (2.0 * a * theta) +
+                                    state.gap_rate / (2.0 * a * theta * theta) * d_theta(j);
+        jacobian(o + film_index, j) = g_h0 * d_h0(j) + g_theta * d_theta(j) +
+                                      g_theta_rate * d_theta_rate + g_gap_rate * d_rate(j) +
+                                      g_speed * 0.5 * d_u1(j) + g_tension * d_sb(j);
+    }
 }
 
 namespace {
 bool same(const BiteState& a, const BiteState& b) {
-    return a.exit_thickness == b.exit_thickness && a.gap_rate == b.gap_rate &&
-           a.inlet_film == b.inlet_film && a.back_tension == b.back_tension &&
-           a.front_tension == b.front_tension && a.roll_radius == b.roll_radius;
+    return a.entry_thickness == b.entry_thickness && a.exit_thickness == b.exit_thickness &&
+           a.gap_rate == b.gap_rate && a.inlet_film == b.inlet_film &&
+           a.back_tension == b.back_tension && a.front_tension == b.front_tension &&
+           a.roll_radius == b.roll_radius;
 }
 }  // namespace
 
@@ -131,6 +223,7 @@ const BiteResult& StandBlock::solve_bite(const BiteState& state) const {
     memo_count_ = std::min(memo_count_ + 1, memo_size);
     slot.state = state;
     slot.bite = solve_roll_bite(s_, state, {false, last_neutral_point_});
+    ++bite_solves_;
     if (slot.bite.status == BiteStatus::ok) last_neutral_point_ = slot.bite.neutral_point;
     return slot.bite;
 }

@@ -8,7 +8,9 @@
 
 #include <Eigen/Dense>
 
+#include "core/bite_jacobian.h"
 #include "core/dynamic_model.h"
+#include "core/inlet_film.h"
 #include "core/stand_structure.h"
 #include "core/roll_bite.h"
 #include "core/scenario.h"
@@ -66,9 +68,29 @@ public:
     // The block's 13 rates for state z, whose bite inputs are `state` and bite `bite` (ok).
     void rates(const double* z, const BiteState& state, const BiteResult& bite, double* zdot) const;
 
+    // The derivatives of the bite's inputs with respect to z (rows BiteInput, one column per
+    // state of a model of `size` states), as far as this block moves them: y2 = y2_ref + q3 - q4,
+    // the gap rate q3' - q4', h0. The tensions and y1 are the model's to fill (span elements, the
+    // stand upstream); an input with a zero row is constant for the model (docs/model.md §6.1).
+    Eigen::Matrix<double, bite_input_count, Eigen::Dynamic> bite_input_derivatives(int size) const;
+
+    // The block's 13 rows of J = df/dz at a state whose bite inputs are `state` and bite `bite`
+    // (ok), assembled (docs/model.md §6.1) from the stack, analytic, and the bite outputs'
+    // derivatives `outputs` = J_b D with D = `inputs`, the bite inputs' derivatives (5 x n and
+    // 6 x n). The inlet film's own partials are central differences of inlet_film_rate. Writes
+    // the block's rows of `jacobian` (n x n) whole, and nothing else.
+    void jacobian_rows(const BiteState& state, const BiteResult& bite,
+                       const Eigen::Matrix<double, bite_output_count, Eigen::Dynamic>& outputs,
+                       const Eigen::Matrix<double, bite_input_count, Eigen::Dynamic>& inputs,
+                       Eigen::MatrixXd& jacobian) const;
+
+    // solve_roll_bite calls made for this block so far: memo misses and `count_bite_solves`.
+    long bite_solves() const { return bite_solves_; }
+    void count_bite_solves(long n) const { bite_solves_ += n; }
+
     // y1 - y2: contact is lost at zero.
     double contact_margin(const BiteState& state) const {
-        return s_.strip.entry_thickness - state.exit_thickness;
+        return state.entry_thickness_or(s_.strip.entry_thickness) - state.exit_thickness;
     }
 
     // docs/model.md §6, §7.3, by the block's own index: q 1e-7 m, q' 1e-3 m/s, h0 1e-5 h0;
@@ -86,6 +108,9 @@ public:
     const StructureMatrices& structure() const { return structure_; }
 
 private:
+    // The inlet film equation's inputs (§2) at bite inputs `state` and bite `bite`.
+    InletFilmInputs film_inputs(const BiteState& state, const BiteResult& bite) const;
+
     Scenario s_;
     ReferenceState ref_;
     Excitation excitation_;
@@ -101,6 +126,7 @@ private:
     static constexpr int memo_size = 8;
     mutable Memo memo_[memo_size];
     mutable int memo_count_ = 0, memo_next_ = 0;
+    mutable long bite_solves_ = 0;
 };
 
 }  // namespace rollgap::core
