@@ -254,7 +254,9 @@ int bench_sweep(const Config& cfg) {
     control.executor = pool.get();
     print_count("sweep_100.threads", control.thread_budget());
     const Timing t = time_it(heavy(cfg, 2), [&] {
-        const auto results = rollgap::core::sweep_critical_speed(scenarios, {}, control);
+        // As the sweep analysis runs it: no scans kept, each search to its first crossing.
+        const auto results =
+            rollgap::core::sweep_critical_speed(scenarios, {}, control, /*keep_scan=*/false);
         return results.front().critical_speed;
     });
     print_timing("sweep_100", t);
