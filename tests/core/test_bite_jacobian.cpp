@@ -19,50 +19,14 @@
 #include "core/stability.h"
 
 #include "support/compare.h"
+#include "support/dynamics_scenarios.h"
 
 namespace bite_jacobian_test {
 
 using namespace rollgap::core;
 using rollgap::test::rel;
 
-struct Named {
-    std::string name;
-    Scenario s;
-};
-
-// The dynamics' scenarios of the suite (test_coupled_model.cpp, test_stability.cpp) and a few
-// more operating points: another reduction, speed and tension, Rayleigh damping off, both spans,
-// the flattened rolls, Coulomb friction.
-std::vector<Named> scenarios() {
-    std::vector<Named> out;
-    out.push_back({"defaults (paper film, back span)", Scenario{}});
-    Scenario e;
-    e.inlet_film = InletFilmModel::eulerian;
-    out.push_back({"eulerian film", e});
-    Scenario c;
-    c.tensions.back.mode = TensionMode::constant;
-    out.push_back({"constant back tension", c});
-    Scenario f;
-    f.tensions.front.mode = TensionMode::span;
-    f.tensions.front.stress = 5e6;
-    out.push_back({"back and front spans", f});
-    Scenario r;
-    r.strip.reduction = 0.25;
-    r.rolls.speed = 30.0;
-    r.tensions.back.stress = 40e6;
-    out.push_back({"25 % reduction, 30 m/s, 40 MPa back tension", r});
-    Scenario n;
-    n.structure.rayleigh = false;
-    n.rolls.speed = 8.0;
-    out.push_back({"no Rayleigh damping, 8 m/s", n});
-    Scenario h;
-    h.rolls.flattening = RollFlattening::hitchcock;
-    out.push_back({"hitchcock flattening", h});
-    Scenario k;
-    k.friction.model = FrictionModel::coulomb;
-    out.push_back({"coulomb friction", k});
-    return out;
-}
+using Named = rollgap::test::NamedScenario;
 
 // A model as the analyses build it (docs/model.md §7.3).
 struct Built {
@@ -100,6 +64,22 @@ BiteResult solved(const Scenario& s, const BiteState& st) {
     const BiteResult b = solve_roll_bite(s, st, {false});
     REQUIRE(b.status == BiteStatus::ok);
     return b;
+}
+
+// J_b at the bite state of z0 with the gap moving at `gap_rate` (m/s).
+struct Linearised {
+    BiteState at;
+    BiteResult bite;
+    BiteJacobian jb;
+};
+Linearised linearised_at(const Built& d, const Eigen::VectorXd& z0, double gap_rate) {
+    Linearised out;
+    out.at = d.model.bite_state(0.0, z0.data());
+    out.at.gap_rate = gap_rate;
+    out.bite = solved(d.s, out.at);
+    out.jb = bite_jacobian(d.s, out.at, out.bite);
+    REQUIRE(out.jb.status == BiteStatus::ok);
+    return out;
 }
 
 // The same model, seen only through its right-hand side: its jacobian() is the interface's
@@ -193,11 +173,10 @@ TEST_CASE("bite Jacobian: each column lies between the forward and backward diff
     const Eigen::VectorXd z0 = d.model.equilibrium();
     for (const double gap_rate : {0.0, 2e-3}) {
         CAPTURE(gap_rate);
-        BiteState at = d.model.bite_state(0.0, z0.data());
-        at.gap_rate = gap_rate;
-        const BiteResult bite = solved(d.s, at);
-        const BiteJacobian jb = bite_jacobian(d.s, at, bite);
-        REQUIRE(jb.status == BiteStatus::ok);
+        const Linearised lin = linearised_at(d, z0, gap_rate);
+        const BiteState& at = lin.at;
+        const BiteResult& bite = lin.bite;
+        const BiteJacobian& jb = lin.jb;
         CHECK(jb.columns == all_bite_columns);
         CHECK(jb.bite_solves == 2 * bite_input_count);
         const BiteSteps steps;
@@ -244,11 +223,10 @@ TEST_CASE("bite Jacobian: identities of the bite") {
 
     for (const double gap_rate : {0.0, 2e-3, -2e-3}) {
         CAPTURE(gap_rate);
-        BiteState at = d.model.bite_state(0.0, z0.data());
-        at.gap_rate = gap_rate;
-        const BiteResult bite = solved(d.s, at);
-        const BiteJacobian jb = bite_jacobian(d.s, at, bite);
-        REQUIRE(jb.status == BiteStatus::ok);
+        const Linearised lin = linearised_at(d, z0, gap_rate);
+        const BiteState& at = lin.at;
+        const BiteResult& bite = lin.bite;
+        const BiteJacobian& jb = lin.jb;
         const double a = bite.roll_radius, theta = bite.inlet_angle, y2 = at.exit_thickness;
         const double xw = bite.contact_length, u1 = bite.entry_speed, u2 = bite.exit_speed;
 
@@ -376,7 +354,7 @@ TEST_CASE("bite Jacobian: a perturbed bite that fails is a status") {
 }
 
 TEST_CASE("assembled Jacobian: equal to central differences of the right-hand side") {
-    for (const Named& v : scenarios()) {
+    for (const Named& v : rollgap::test::dynamics_scenarios(/*more=*/true)) {
         CAPTURE(v.name);
         const Built d(v.s);
         REQUIRE(d.ref.status == BiteStatus::ok);
@@ -436,7 +414,7 @@ TEST_CASE("assembled Jacobian: a perturbed state that fails is the status the di
 }
 
 TEST_CASE("assembled Jacobian: the eigenvalues equal those of the finite differences") {
-    for (const Named& v : scenarios()) {
+    for (const Named& v : rollgap::test::dynamics_scenarios(/*more=*/true)) {
         CAPTURE(v.name);
         const Built d(v.s);
         REQUIRE(d.ref.status == BiteStatus::ok);

@@ -17,6 +17,7 @@
 #include "core/time_integration.h"
 
 #include "support/compare.h"
+#include "support/dynamics_scenarios.h"
 
 namespace {
 
@@ -47,26 +48,8 @@ void visit_elsewhere(const CoupledModel& model) {
     }
 }
 
-struct Variant {
-    std::string name;
-    Scenario s;
-};
-
-std::vector<Variant> variants() {
-    std::vector<Variant> out;
-    out.push_back({"defaults (paper film, back span)", Scenario{}});
-    Scenario e;
-    e.inlet_film = InletFilmModel::eulerian;
-    out.push_back({"eulerian film", e});
-    Scenario c;
-    c.tensions.back.mode = TensionMode::constant;
-    out.push_back({"constant back tension", c});
-    Scenario f;
-    f.tensions.front.mode = TensionMode::span;
-    f.tensions.front.stress = 5e6;
-    out.push_back({"back and front spans", f});
-    return out;
-}
+using Variant = rollgap::test::NamedScenario;
+std::vector<Variant> variants() { return rollgap::test::dynamics_scenarios(); }
 
 }  // namespace
 
