@@ -185,6 +185,33 @@ std::vector<DampingBranch> track_branches(const std::vector<SpeedStability>& sca
     return branches;
 }
 
+// What the first `n` speeds of a scan say: the lowest speed with a steady state (`n` if none)
+// and the first pair of neighbouring speeds, both with a steady state, that goes from stable to
+// unstable (its upper index; -1 if none). The outcome is decided once the lowest usable speed is
+// unstable or such a pair exists: no speed above it changes the search (§7.3).
+struct ScanReading {
+    int first_usable = 0;
+    int crossing = -1;
+    bool decided = false;
+};
+
+ScanReading read_scan(const std::vector<SpeedStability>& scan, int n) {
+    ScanReading reading;
+    while (reading.first_usable < n &&
+           !usable(scan[static_cast<std::size_t>(reading.first_usable)]))
+        ++reading.first_usable;
+    if (reading.first_usable == n) return reading;
+    reading.decided = !scan[static_cast<std::size_t>(reading.first_usable)].stable;
+    if (reading.decided) return reading;
+    for (int i = reading.first_usable + 1; i < n && reading.crossing < 0; ++i) {
+        const SpeedStability& previous = scan[static_cast<std::size_t>(i - 1)];
+        const SpeedStability& p = scan[static_cast<std::size_t>(i)];
+        if (usable(previous) && usable(p) && previous.stable && !p.stable) reading.crossing = i;
+    }
+    reading.decided = reading.crossing >= 0;
+    return reading;
+}
+
 }  // namespace
 
 Eigen::VectorXcd balanced_eigenvalues(const Eigen::MatrixXd& jacobian) {
@@ -243,7 +270,7 @@ CriticalSpeedResult critical_speed_search(const StabilityAtSpeed& analyse_at,
                                           const Control& control) {
     CriticalSpeedResult result;
     const double step = std::min(options.speed_step, 0.5);
-    int count = std::max(
+    const int count = std::max(
         2, static_cast<int>(std::ceil((options.speed_max - options.speed_min) / step - 1e-9)) + 1);
     std::vector<double> speeds(static_cast<std::size_t>(count));
     for (int i = 0; i < count; ++i) {
@@ -274,24 +301,13 @@ CriticalSpeedResult critical_speed_search(const StabilityAtSpeed& analyse_at,
         if (control.should_stop()) break;
         scanned = end;
         if (!options.stop_at_crossing) break;
-        int first_usable = 0;
-        while (first_usable < scanned &&
-               !usable(result.scan[static_cast<std::size_t>(first_usable)]))
-            ++first_usable;
-        if (first_usable == scanned) continue;
-        if (!result.scan[static_cast<std::size_t>(first_usable)].stable) decided = true;
-        for (int i = first_usable + 1; i < scanned && !decided; ++i) {
-            const SpeedStability& previous = result.scan[static_cast<std::size_t>(i - 1)];
-            const SpeedStability& p = result.scan[static_cast<std::size_t>(i)];
-            if (usable(previous) && usable(p) && previous.stable && !p.stable) decided = true;
-        }
+        decided = read_scan(result.scan, scanned).decided;
     }
     if (control.should_stop()) {
         result.status = CriticalSpeedStatus::cancelled;
         return result;
     }
     result.scan.resize(static_cast<std::size_t>(scanned));
-    count = scanned;
     result.branches = track_branches(result.scan);
 
     // The lowest speed with a steady state decides whether the range starts stable; then the
@@ -300,9 +316,9 @@ CriticalSpeedResult critical_speed_search(const StabilityAtSpeed& analyse_at,
     auto strip_modes = [&] {
         for (auto& point : result.scan) point.oscillatory.clear();
     };
-    int first = 0;
-    while (first < count && !usable(result.scan[static_cast<std::size_t>(first)])) ++first;
-    if (first == count) {
+    const ScanReading reading = read_scan(result.scan, scanned);
+    const int first = reading.first_usable, crossing = reading.crossing;
+    if (first == scanned) {
         result.status = CriticalSpeedStatus::no_steady_state;
         strip_modes();
         return result;
@@ -312,12 +328,6 @@ CriticalSpeedResult critical_speed_search(const StabilityAtSpeed& analyse_at,
         result.unstable_mode = result.scan[static_cast<std::size_t>(first)].least_damped;
         strip_modes();
         return result;
-    }
-    int crossing = -1;
-    for (int i = first + 1; i < count && crossing < 0; ++i) {
-        const SpeedStability& previous = result.scan[static_cast<std::size_t>(i - 1)];
-        const SpeedStability& p = result.scan[static_cast<std::size_t>(i)];
-        if (usable(previous) && usable(p) && previous.stable && !p.stable) crossing = i;
     }
     if (crossing < 0) {
         result.status = CriticalSpeedStatus::stable_in_range;
