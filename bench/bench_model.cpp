@@ -179,6 +179,28 @@ int bench_linearisation(const Config& cfg) {
         });
         print_timing(name, t);
     }
+    // J_b alone at the reference bite, the columns a default stand moves (y2, gap rate, h0, back
+    // tension), by each method (docs/model.md §6.1)
+    const core::CoupledModel model(s, ref);
+    const Eigen::VectorXd z0 = model.equilibrium();
+    const core::BiteState at = model.bite_state(0.0, z0.data());
+    const unsigned columns = core::bite_column(core::BiteInput::exit_thickness) |
+                             core::bite_column(core::BiteInput::gap_rate) |
+                             core::bite_column(core::BiteInput::inlet_film) |
+                             core::bite_column(core::BiteInput::back_tension);
+    for (const bool sensitivities : {true, false}) {
+        const std::string name =
+            sensitivities ? "bite_jacobian.sensitivities" : "bite_jacobian.differences";
+        const auto jb = [&] {
+            return sensitivities ? core::bite_jacobian(s, at, ref.bite, columns)
+                                 : core::bite_jacobian_differences(s, at, ref.bite, columns);
+        };
+        if (jb().status != core::BiteStatus::ok) {
+            std::fprintf(stderr, "%s: %s\n", name.c_str(), jb().message);
+            return 1;
+        }
+        print_timing(name, time_it(cfg, [&] { return jb().derivative(0, 1); }));
+    }
     return 0;
 }
 
@@ -235,7 +257,10 @@ int bench_amplitude(const Config& cfg) {
         return 1;
     }
     print_figure("amplitude_1s.upper_roll", check.upper_roll * 1e6, "um");
+    print_count("amplitude_1s.steps", check.steps);
     print_count("amplitude_1s.rhs_evaluations", check.rhs_evaluations);
+    print_count("amplitude_1s.jacobian_evaluations", check.jacobian_evaluations);
+    print_count("amplitude_1s.jacobian_rhs_evaluations", check.jacobian_rhs_evaluations);
     const Timing t = time_it(heavy(cfg, 5), [&] {
         return rollgap::core::vibration_amplitude(scenario, options).upper_roll;
     });

@@ -116,6 +116,8 @@ AmplitudeResult vibration_amplitude(const Scenario& s, const AmplitudeOptions& o
     out.end_time = run.end_time;
     out.steps = run.steps;
     out.rhs_evaluations = run.rhs_evaluations;
+    out.jacobian_evaluations = run.jacobian_evaluations;
+    out.jacobian_rhs_evaluations = run.jacobian_rhs_evaluations;
 
     for (int w = 0; w < window_count; ++w) {
         out.windows.push_back({options.window * w / window_count,

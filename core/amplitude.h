@@ -60,6 +60,8 @@ struct AmplitudeResult {
 
     long steps = 0;
     long rhs_evaluations = 0;
+    long jacobian_evaluations = 0;      // the integrator's Jacobians (docs/model.md §6.1)
+    long jacobian_rhs_evaluations = 0;  // right-hand sides those took
 };
 
 AmplitudeResult vibration_amplitude(const Scenario& s, const AmplitudeOptions& options = {},

@@ -2,8 +2,10 @@
 // The bite linearisation of docs/model.md §6.1: J_b, the derivatives of the roll bite's outputs
 // that the dynamics use (force F, entry and exit speeds u1 and u2, inlet angle theta, torque) with
 // respect to its dynamic inputs (entry and exit thickness y1 and y2, gap rate, inlet film h0, back
-// and front tension), by central differences of solve_roll_bite in each input. A stand's Jacobian
-// is assembled from it and the analytic stack (core/stand_block.h); a mill reuses it as it is.
+// and front tension). Two methods: forward sensitivities carried through one pass of the bite
+// kernel at the solved neutral point (the one the dynamics use), and central differences of
+// solve_roll_bite in each input (the reference it is checked against). A stand's Jacobian is
+// assembled from it and the analytic stack (core/stand_block.h); a mill reuses it as it is.
 
 #include <Eigen/Dense>
 
@@ -52,19 +54,30 @@ struct BiteJacobian {
     // d(output)/d(input), SI units; the columns not asked for are zero.
     Eigen::Matrix<double, bite_output_count, bite_input_count> derivative =
         Eigen::Matrix<double, bite_output_count, bite_input_count>::Zero();
-    unsigned columns = 0;  // the columns computed
-    int bite_solves = 0;   // solve_roll_bite calls made (two per column)
+    unsigned columns = 0;   // the columns computed
+    int bite_solves = 0;    // solve_roll_bite calls made (differences: two per column)
+    int kernel_passes = 0;  // dual-number passes of the bite kernel (sensitivities: one)
 
     double operator()(BiteOutput output, BiteInput input) const {
         return derivative(static_cast<int>(output), static_cast<int>(input));
     }
 };
 
-// J_b at the bite state `at`, whose solved bite (status ok) is `bite`: central differences of
-// solve_roll_bite (no distributions) in each input whose bit is set in `columns`, warm-started
-// at `bite`'s neutral point, the other inputs held. The inlet film must be a given one
-// (at.inlet_film > 0) when its column is asked for: a steady film (<= 0) moves with the others.
+// J_b at the bite state `at`, whose solved bite (status ok) is `bite`, by forward sensitivities
+// (docs/model.md §6.1): the kernel of solve_roll_bite run once more at `bite`'s neutral point x_n
+// in dual numbers, seeded in the inputs whose bit is set in `columns` and in x_n; the neutral
+// point's own motion follows from the residual staying zero (implicit function theorem). The
+// exact derivative of the discrete bite that solve_roll_bite solves, at the cost of about three
+// of its integrations and no bite solve. The inlet film must be a given one (at.inlet_film > 0)
+// when its column is asked for: a steady film (<= 0) moves with the others.
 BiteJacobian bite_jacobian(const Scenario& s, const BiteState& at, const BiteResult& bite,
-                           unsigned columns = all_bite_columns, const BiteSteps& steps = {});
+                           unsigned columns = all_bite_columns);
+
+// The same J_b by central differences of solve_roll_bite (no distributions) in each input asked
+// for, warm-started at `bite`'s neutral point, the other inputs held: two bite solves a column.
+// A perturbed bite that does not solve is its status (the derivatives are then not given).
+BiteJacobian bite_jacobian_differences(const Scenario& s, const BiteState& at,
+                                       const BiteResult& bite, unsigned columns = all_bite_columns,
+                                       const BiteSteps& steps = {});
 
 }  // namespace rollgap::core

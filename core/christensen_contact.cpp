@@ -139,4 +139,25 @@ double contact_ratio(ContactModel model, double film_ratio) {
     return christensen_contact_ratio(film_ratio);
 }
 
+ContactRatioAndSlope contact_ratio_and_slope(ContactModel model, double H) {
+    if (model == ContactModel::paper_fit) {
+        const double A = paper_fit_contact_ratio(H);
+        if (H < 0.5 || H > 3.0 || A <= 0.0 || A >= 1.0) return {A, 0.0};
+        const double slope =
+            H <= 1.5 ? -2.4398 + H * (2 * 6.2049 +
+                                      H * (3 * -11.8410 +
+                                           H * (4 * 12.5350 + H * (5 * -6.6134 + H * 6 * 1.3618))))
+                     : -1.1982 + H * (2 * 0.7614 +
+                                      H * (3 * -0.3394 +
+                                           H * (4 * 0.1116 + H * (5 * -0.0220 + H * 6 * 0.0018))));
+        return {A, slope};
+    }
+    if (H >= 3.0) return {0.0, 0.0};
+    if (!(H > 0.0)) return {1.0, 0.0};
+    const double Z = christensen_separation(H);
+    const double w = 1.0 - Z * Z;
+    return {christensen_contact_ratio_of_separation(Z),
+            -(35.0 / 32.0) * w * w * w / (3.0 * one_minus_contact(Z))};
+}
+
 }  // namespace rollgap::core

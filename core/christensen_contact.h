@@ -29,4 +29,13 @@ double paper_fit_contact_ratio(double film_ratio);
 // The contact ratio under the selected model.
 double contact_ratio(ContactModel model, double film_ratio);
 
+// dA/dH_t under the selected model, for the bite sensitivities (docs/model.md §6.1). Exact
+// inverse: dA/dH_t = A'(Z) / H_t'(Z) = -(35/32)(1 - Z^2)^3 / (3 (1 - A(Z))), 0 from H_t = 3 on.
+// Paper fit: the derivative of the branch H_t falls in, 0 where it is constant or clamped (at a
+// jump the branch the value takes).
+struct ContactRatioAndSlope {
+    double ratio, slope;  // A, dA/dH_t
+};
+ContactRatioAndSlope contact_ratio_and_slope(ContactModel model, double film_ratio);
+
 }  // namespace rollgap::core

@@ -144,15 +144,8 @@ Linearisation CoupledModel::jacobian(const Eigen::VectorXd& z, double t) const {
         if (inputs.row(k).cwiseAbs().maxCoeff() > 0.0)
             columns |= bite_column(static_cast<BiteInput>(k));
     }
-    // the steps the finite differences take on the states that move each input (§6.1, §7.3)
-    BiteSteps steps;
-    steps.exit_thickness = StandBlock::perturbation(2, 0.0);  // q3, the gap
-    steps.entry_thickness = steps.exit_thickness;
-    steps.gap_rate = StandBlock::perturbation(8, 0.0);                                  // q3'
-    steps.inlet_film_relative = StandBlock::perturbation(StandBlock::film_index, 1.0);  // of h0
-    steps.tension = SpanElement::perturbation;
-    const BiteJacobian jb = bite_jacobian(scenario(), state, bite, columns, steps);
-    stand_.count_bite_solves(jb.bite_solves);
+    // forward sensitivities of the bite: no bite solve beyond the reference one (§6.1)
+    const BiteJacobian jb = bite_jacobian(scenario(), state, bite, columns);
     if (jb.status != BiteStatus::ok) {
         out.status = from_bite(jb.status);
         return out;

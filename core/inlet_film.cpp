@@ -10,13 +10,6 @@ double inlet_pressure_factor(double pressure_viscosity, double flow_stress, doub
 
 namespace {
 
-// (1 - exp(-gamma p)) / gamma, which tends to p as gamma -> 0 (isoviscous inlet).
-double reduced_pressure_over_gamma(double pressure_viscosity, double pressure) {
-    const double gp = pressure_viscosity * pressure;
-    if (std::abs(gp) < 1e-8) return pressure * (1.0 - 0.5 * gp);
-    return -std::expm1(-gp) / pressure_viscosity;
-}
-
 // S(q) = artanh(sqrt q) / sqrt q for 0 < q < 1, atan(sqrt(-q)) / sqrt(-q) for q < 0.
 // one_minus_q is passed separately because near q = 1 (thin films) it is known exactly.
 double inverse_tanh_ratio(double q, double one_minus_q) {
@@ -32,9 +25,8 @@ double inverse_tanh_ratio(double q, double one_minus_q) {
 
 double wilson_walowit_film(double viscosity, double pressure_viscosity, double mean_inlet_speed,
                            double inlet_angle, double flow_stress, double back_tension) {
-    return 6.0 * viscosity * mean_inlet_speed /
-           (inlet_angle *
-            reduced_pressure_over_gamma(pressure_viscosity, flow_stress - back_tension));
+    return wilson_walowit_film_of(viscosity, pressure_viscosity, mean_inlet_speed, inlet_angle,
+                                  flow_stress, back_tension);
 }
 
 // With q = e / (a theta^2) = 1 - 2 h0 / (a theta^2), the model document's closed form becomes

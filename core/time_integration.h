@@ -25,7 +25,9 @@ struct IntegrationResult {
     const char* message = "";
     double end_time = 0.0;  // the last output time reached
     long steps = 0;
-    long rhs_evaluations = 0;
+    long rhs_evaluations = 0;           // CVODE's own (nfe), the Jacobian's not included
+    long jacobian_evaluations = 0;      // nje: the model's jacobian() (docs/model.md §6.1)
+    long jacobian_rhs_evaluations = 0;  // right-hand sides a Jacobian took (the fallback's)
 };
 
 // What an output sees: the state and its time derivative (interpolated by CVODE).

@@ -447,4 +447,39 @@ TEST_SUITE("christensen_contact") {
         CHECK(contact_ratio(ContactModel::paper_fit, 2.5) == 0.0);
     }
 
+    TEST_CASE("dA/dH_t (the bite sensitivities' slope) against central differences of A") {
+        // Exact model: against the quadrature reference A(H_t) (a bisection inverse on the
+        // quadrature), step d = 1e-5: truncation d^2 |A3| / 6 (A3 the third derivative, ~1e3 at
+        // H_t = 0.05, where A ~ 1 - c H_t^(4/5): ~2e-8) and the reference's rounding ~1e-14 / d
+        // = 1e-9; 1e-7 covers both. Paper fit: its own polynomials, away from the jumps at 0.5
+        // and 1.5 and the clamp from 2.35.
+        const double d = 1e-5;
+        double worst = 0.0;
+        for (int k = 1; k < 59; ++k) {
+            const double H = 0.05 * k;
+            CAPTURE(H);
+            const ContactRatioAndSlope exact =
+                contact_ratio_and_slope(ContactModel::christensen_exact, H);
+            CHECK(exact.ratio == christensen_contact_ratio(H));
+            const double fd = (ref_contact_of_film(H + d) - ref_contact_of_film(H - d)) / (2 * d);
+            worst = std::max(worst, std::abs(exact.slope - fd));
+            CHECK(std::abs(exact.slope - fd) <= 1e-7);
+            CHECK(exact.slope < 0.0);  // contact falls as the film thickens
+            const ContactRatioAndSlope fit = contact_ratio_and_slope(ContactModel::paper_fit, H);
+            CHECK(fit.ratio == paper_fit_contact_ratio(H));
+            const bool smooth = std::abs(H - 0.5) > 2 * d && std::abs(H - 1.5) > 2 * d && H < 2.3;
+            if (smooth && H > 0.5) {
+                const double fit_fd =
+                    (paper_fit_contact_ratio(H + d) - paper_fit_contact_ratio(H - d)) / (2 * d);
+                CHECK(std::abs(fit.slope - fit_fd) <= 1e-6);
+            }
+            if (H < 0.5 || H > 2.4) CHECK(fit.slope == 0.0);  // constant or clamped there
+        }
+        MESSAGE("max |dA/dH_t - central difference of the quadrature A| = " << worst);
+        // beyond the range: no contact, no slope; at H_t <= 0 full contact
+        CHECK(contact_ratio_and_slope(ContactModel::christensen_exact, 3.5).ratio == 0.0);
+        CHECK(contact_ratio_and_slope(ContactModel::christensen_exact, 3.5).slope == 0.0);
+        CHECK(contact_ratio_and_slope(ContactModel::christensen_exact, 0.0).ratio == 1.0);
+    }
+
 }  // TEST_SUITE

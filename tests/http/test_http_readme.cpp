@@ -18,6 +18,10 @@
 #include <string_view>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
+#include "service/cli.h"
+
 #include "support/http_test.h"
 #include "support/repository.h"
 
@@ -220,6 +224,20 @@ TEST_CASE("README and docs: every curl example is a marked block that a test run
     CHECK(marked == std::size(marked_blocks));
 }
 
+// What the command line prints for `request` (the facade the service shares, docs/cli.md).
+std::string cli_answer(const std::string& request, bool csv) {
+    std::vector<std::string_view> arguments{"run"};
+    if (csv) {
+        arguments.push_back("--format");
+        arguments.push_back("csv");
+    }
+    arguments.push_back("-");
+    std::istringstream in(request);
+    std::ostringstream out, err;
+    REQUIRE(rollgap::service::run_cli(arguments, in, out, err) == 0);
+    return out.str();
+}
+
 TEST_CASE("README: the quick-start curl examples run against the service") {
     if (!have_curl()) return;
     TestServer server;
@@ -227,15 +245,33 @@ TEST_CASE("README: the quick-start curl examples run against the service") {
     const std::string shown = output.substr(0, 3000);
     CAPTURE(shown);
     CHECK(status == 0);
-    for (const char* expected : {
-             R"("analysis":"stability")",                       // 1. the critical speed
-             R"("critical_speed_m_per_s":20.096652224627647)",  // its value
-             R"("parameter":"/lubricant/viscosity_Pa_s")",      // 2. the sweep
-             R"("critical_speed_m_per_s":12.02872305098603)",   // at 1.2 mPa s
-             "value_Pa_s,status,critical_speed_m_per_s,frequency_Hz,chatter_type,chatter_band\r\n"
-             "0.0003,found,29.17578872899184,106.53143498466052,third_octave,third_octave\r\n"
-             "0.00055,found,20.096652224627647,104.05060461209732,third_octave,third_octave\r\n",
-             // 3. the CSV
+    // the figures the command line gives for the same requests (the README shows them too,
+    // checked by test_readme_cli.cpp): the service answers what the CLI answers
+    const nlohmann::json stability = nlohmann::json::parse(
+        cli_answer(R"({"analysis":"stability","options":{"detail":"summary"}})", false));
+    const nlohmann::json sweep = nlohmann::json::parse(
+        cli_answer(R"({"analysis":"sweep","options":{"parameter":"/lubricant/viscosity_Pa_s",)"
+                   R"("values":[0.0003,0.00055,0.0008,0.0012]}})",
+                   false));
+    const std::string csv =
+        cli_answer(R"({"analysis":"sweep","options":{"parameter":"/lubricant/viscosity_Pa_s",)"
+                   R"("values":[0.0003,0.00055]}})",
+                   true);
+    const auto figure = [](const char* name, const nlohmann::json& value) {
+        return "\"" + std::string(name) + "\":" + value.dump();
+    };
+    REQUIRE(stability["result"]["critical_speed"]["status"] == "found");
+    REQUIRE(sweep["result"]["points"].size() == 4);
+    for (const std::string& expected : {
+             std::string(R"("analysis":"stability")"),  // 1. the critical speed
+             figure("critical_speed_m_per_s",
+                    stability["result"]["critical_speed"]["critical_speed_m_per_s"]),
+             std::string(R"("parameter":"/lubricant/viscosity_Pa_s")"),  // 2. the sweep
+             figure("critical_speed_m_per_s",                            // at 1.2 mPa s
+                    sweep["result"]["points"][3]["critical_speed_m_per_s"]),
+             std::string("value_Pa_s,status,critical_speed_m_per_s,frequency_Hz,chatter_type,"
+                         "chatter_band\r\n"),
+             csv,  // 3. the CSV, whole
          }) {
         CAPTURE(expected);
         CHECK(output.find(expected) != std::string::npos);
