@@ -162,6 +162,9 @@ struct SideResult {
     bool finite = true;
     T end_pressure = 0.0;
     T integral_p = 0.0, integral_tau = 0.0, integral_abs_tau = 0.0;
+    // The pressure fell below zero somewhere on the side: the strip has left the roll there (a
+    // contact pressure cannot pull), a state outside the model (docs/model.md §4).
+    bool pressure_negative = false;
 };
 
 template <class T>
@@ -174,7 +177,8 @@ struct Trial {
 // value with the double operations, in the same order).
 template <int N>
 SideResult<double> values_of(const SideResult<Dual<N>>& r) {
-    return {r.finite, r.end_pressure.v, r.integral_p.v, r.integral_tau.v, r.integral_abs_tau.v};
+    return {r.finite,         r.end_pressure.v,     r.integral_p.v,
+            r.integral_tau.v, r.integral_abs_tau.v, r.pressure_negative};
 }
 template <int N>
 Trial<double> values_of(const Trial<Dual<N>>& t) {
@@ -290,6 +294,7 @@ public:
         using std::isfinite;
         SideResult<T> r;
         T p = p_start;
+        if (p < 0.0) r.pressure_negative = true;  // a tension above the flow stress
         auto emit = [&](const SidePoint<T>& pt, const T& pressure) {
             if constexpr (std::is_same_v<T, double>) {
                 if (!record) return;
@@ -353,6 +358,7 @@ public:
                     step * (abs(t1) + 2.0 * abs(t2) + 2.0 * abs(t3) + abs(t4)) / 6.0;
 
                 p += step * (k1 + 2.0 * k2 + 2.0 * k3 + k4) / 6.0;
+                if (p < 0.0) r.pressure_negative = true;
                 left = right;
                 emit(left, p);
             }

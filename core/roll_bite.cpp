@@ -153,9 +153,12 @@ RootResult newton_root(const Bite<double>& b, RememberingResidual& memo, double 
         const double a = std::abs(step);
         if (k > 0 && a * a * a <= tolerance * previous_step * previous_step) {
             const auto side_at = [&](const SideResult<D>& side) {
-                return SideResult<double>{true, at(side.end_pressure, step),
-                                          at(side.integral_p, step), at(side.integral_tau, step),
-                                          at(side.integral_abs_tau, step)};
+                return SideResult<double>{true,
+                                          at(side.end_pressure, step),
+                                          at(side.integral_p, step),
+                                          at(side.integral_tau, step),
+                                          at(side.integral_abs_tau, step),
+                                          side.pressure_negative};
             };
             memo.remember(next, {next, at(t.entry_speed, step), at(t.inlet_film, step), true},
                           side_at(exit), side_at(entry));
@@ -275,6 +278,14 @@ BiteResult solve_roll_bite(const Scenario& s, const BiteState& state, const Bite
               : solver.entry_side(t, options.distributions ? &entry_points : nullptr);
     if (!exit.finite || !entry.finite)
         return failure(result, "the bite equations gave non-finite values");
+    // Tensions near the flow stress with little friction: the pressure that starts at sigma - s
+    // at the bite's ends can fall through zero inside it. A contact pressure cannot pull, so the
+    // strip would leave the roll there; the model (docs/model.md §4) has no such state.
+    if (exit.pressure_negative || entry.pressure_negative)
+        return failure(result,
+                       "the pressure falls below zero inside the bite (tensions near the flow "
+                       "stress with little friction): the strip would leave the roll, a state "
+                       "outside the model");
 
     // Mass flow through a gap that closes fast enough can put the strip's entry (or exit) speed
     // at or below zero: the strip would have to enter (or leave) the bite backwards, which is no

@@ -4,6 +4,7 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include "core/inlet_film.h"
@@ -358,4 +359,36 @@ TEST_CASE("failure states are values: contact lost, skidding, solver failure") {
         const BiteResult r = solve_roll_bite(s, state);
         CHECK(r.status != BiteStatus::ok);
     }
+}
+
+TEST_CASE("a pressure that falls through zero inside the bite is no rolling state") {
+    // Found by the fuzzer (fuzz/corpus/fuzz_roll_bite/negative-pressure-under-near-yield-tensions):
+    // tensions near the flow stress start the pressure near zero at both ends, and a heavy pass
+    // with rough strip lets it fall below zero inside the bite. A contact pressure cannot pull:
+    // the strip would leave the roll, so the solver says it has no answer (docs/model.md §4)
+    // instead of a negative force and mean friction.
+    Scenario s;
+    s.friction.contact = ContactModel::paper_fit;
+    s.roughness.strip_rq = 50e-6;
+    s.strip.flow_stress = 3000e6;
+    s.strip.reduction = 0.7;
+    BiteState state = steady_bite_state(s);
+    state.exit_thickness = 0.575256e-3;
+    state.gap_rate = -0.019;
+    state.inlet_film = 9.62934e-05;
+    state.back_tension = 0.999 * s.strip.flow_stress;
+    state.front_tension = 0.7258 * s.strip.flow_stress;
+    for (bool distributions : {false, true}) {
+        const BiteResult r = solve_roll_bite(s, state, {distributions});
+        CHECK(r.status == BiteStatus::solver_failure);
+        CHECK(std::string(r.message).find("below zero") != std::string::npos);
+    }
+    // the same bite with the tensions at a third of the flow stress: an answer, every pressure
+    // positive, and so a force and a mean friction that are
+    state.back_tension = state.front_tension = s.strip.flow_stress / 3.0;
+    const BiteResult r = solve_roll_bite(s, state, {true});
+    REQUIRE(r.status == BiteStatus::ok);
+    for (const BitePoint& p : r.distribution) CHECK(p.pressure > 0.0);
+    CHECK(r.force > 0.0);
+    CHECK(r.mean_friction_coefficient > 0.0);
 }
