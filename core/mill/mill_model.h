@@ -1,0 +1,75 @@
+#pragma once
+// The mill's dynamics with the thickness transport frozen (docs/model.md §12.4): each stand a
+// stand block (core/stand_block.h, 13 states) on its steady state, the spans' strip forces per
+// width T (N/m) as states, y1 of every stand held at its steady value. Its eigenvalues are the
+// mill's frozen stability (tension coupling only); its Jacobian A0 is the frozen part of the
+// regenerative analysis. State: the stands' blocks in order, then the spans: the entry span (if
+// a span), the N - 1 interstand spans, the exit span (if a span).
+//   stand i sees s_b = T_back / y1_i and s_f = T_front / y2_i(t) (a boundary held at a constant
+//   stress gives that stress);
+//   T_i' = (E ybar_i / L_i) ((u1_{i+1} - u1_{i+1,ref}) - (u2_i - u2_i,ref)) between stands,
+//   T_0' = (E y1_1 / L_0)(u1_1 - u1_1,ref), T_N' = (E y2_N / L_N)(u2_N,ref - u2_N).
+
+#include <vector>
+
+#include <Eigen/Dense>
+
+#include "core/dynamic_model.h"
+#include "core/mill/mill.h"
+#include "core/stand_block.h"
+
+namespace rollgap::core {
+
+class MillModel final : public DynamicModel {
+public:
+    // `steady` must be ok (mill_steady_state of `mill`); each stand's dynamics run on its
+    // dynamics scenario at its solved roll speed (the reference bites re-solved with
+    // numerics.dynamics_bite_intervals: the speeds the spans compare with are those bites').
+    MillModel(const Mill& mill, const MillSteadyState& steady);
+
+    int size() const override { return size_; }
+    Eigen::VectorXd equilibrium() const override;
+    DynamicsStatus rhs(double t, const double* z, double* zdot) const override;
+    Linearisation jacobian(const Eigen::VectorXd& z, double t) const override;
+    double perturbation(int index, const Eigen::VectorXd& z) const override;
+    double absolute_tolerance(int index) const override;
+    int margin_count() const override;
+    void limit_margins(double t, const double* z, double* margins) const override;
+    DynamicsStatus margin_status(int index) const override;
+    int stand_count() const override { return static_cast<int>(stands_.size()); }
+    int displacement_index(int stand) const override {
+        return stands_[static_cast<std::size_t>(stand)].offset();
+    }
+
+    // The reference states the stand blocks were built on: ok for every stand unless `status`
+    // says otherwise (a stand whose dynamics bite does not solve).
+    BiteStatus status() const { return status_; }
+    int failed_stand() const { return failed_stand_; }
+
+    // The state index of the span behind (back) and ahead of (front) stand i, -1 for a constant
+    // boundary.
+    int back_span(int stand) const;
+    int front_span(int stand) const;
+
+    // The bite inputs of stand i at state z.
+    BiteState bite_state(int stand, const double* z) const;
+
+private:
+    struct Span {
+        int index = -1;
+        double thickness = 0.0;  // ybar, m
+        double stiffness = 0.0;  // E ybar / L, N/m per m/s... (N/m)/m
+        int upstream = -1;       // the stand delivering into it, -1: the entry bridle
+        int downstream = -1;     // the stand taking from it, -1: the exit coiler
+    };
+
+    std::vector<StandBlock> stands_;
+    std::vector<Span> spans_;
+    std::vector<int> back_span_, front_span_;         // per stand, an index into spans_ or -1
+    std::vector<double> back_stress_, front_stress_;  // constant boundaries, Pa
+    int size_ = 0;
+    BiteStatus status_ = BiteStatus::ok;
+    int failed_stand_ = -1;
+};
+
+}  // namespace rollgap::core

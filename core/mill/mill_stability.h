@@ -1,0 +1,27 @@
+#pragma once
+// The mill's frozen stability (docs/model.md §12.4-12.5): the eigenvalues of A0, the mill
+// linearised with the thickness transport frozen (tension coupling only), at one mill speed, and
+// the frozen critical speed over a range of mill speeds (the single stand's search, §7.3, with
+// each speed re-solving the schedule).
+
+#include "core/control.h"
+#include "core/mill/mill.h"
+#include "core/stability.h"
+
+namespace rollgap::core {
+
+struct MillStability {
+    MillSteadyState steady;
+    // the eigenvalues and modes of A0 (speed = the mill speed; steady_status ok only when the
+    // whole schedule solved; the modes' shapes by stand, read on the stand that moves most)
+    SpeedStability frozen;
+};
+
+MillStability mill_frozen_stability(const Mill& mill);
+
+// The frozen critical speed: the lowest mill speed V in the range where A0 turns unstable.
+CriticalSpeedResult mill_frozen_critical_speed(const Mill& mill,
+                                               const CriticalSpeedOptions& options = {},
+                                               const Control& control = {});
+
+}  // namespace rollgap::core

@@ -1,0 +1,247 @@
+// The tandem mill's steady state and frozen dynamics (docs/model.md §12), against the identities
+// of its specification: a mill of one stand is the single stand (state, Jacobian's eigenvalues,
+// critical speed); the schedule carries one mass flow through every stand; with very long
+// interstand spans the frozen mill falls apart into its stands, each with a constant front force,
+// plus one near-zero root per interstand span; the assembled Jacobian is the rates' differences.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <vector>
+
+#include "core/coupled_model.h"
+#include "core/mill/mill.h"
+#include "core/mill/mill_model.h"
+#include "core/mill/mill_stability.h"
+#include "core/stability.h"
+
+#include "support/compare.h"
+
+namespace mill_test {
+
+using namespace rollgap::core;
+using rollgap::test::rel;
+
+// The single-stand defaults as a mill of one stand: entry span 5 m at 18 MPa, the exit at the
+// single stand's constant front tension (0).
+Mill one_stand_mill(const Scenario& s = Scenario{}) {
+    Mill m;
+    m.stands = {s};
+    m.thickness = {s.strip.entry_thickness, exit_thickness(s)};
+    m.width = s.strip.width;
+    m.youngs_modulus = s.strip.youngs_modulus;
+    m.entry = MillBoundary::span;
+    m.entry_span_length = s.tensions.back.span_length;
+    m.entry_tension = s.tensions.back.stress;
+    m.exit = MillBoundary::constant;
+    m.exit_tension = s.tensions.front.stress;
+    m.speed = s.rolls.speed;
+    return m;
+}
+
+// The largest distance from an eigenvalue of `a` to the nearest of `b`, relative to its size.
+double worst_nearest(const std::vector<std::complex<double>>& a,
+                     const std::vector<std::complex<double>>& b) {
+    double worst = 0.0;
+    for (const auto& x : a) {
+        double nearest = std::abs(b.front() - x);
+        for (const auto& y : b) nearest = std::min(nearest, std::abs(y - x));
+        worst = std::max(worst, nearest / std::abs(x));
+    }
+    return worst;
+}
+
+TEST_CASE("mill identity: one stand with its exit held is the single stand") {
+    const Scenario s;
+    const Mill m = one_stand_mill(s);
+    const MillSteadyState steady = mill_steady_state(m);
+    REQUIRE(steady.status == MillSteadyStatus::ok);
+    const BiteResult single = solve_roll_bite(s, steady_bite_state(s), {false});
+    REQUIRE(single.status == BiteStatus::ok);
+    const MillStandState& st = steady.stands.front();
+    CHECK(st.roll_speed == s.rolls.speed);
+    CHECK(st.force == single.force);  // the same bite, bit for bit
+    CHECK(st.forward_slip == single.forward_slip);
+    CHECK(steady.mass_flow ==
+          doctest::Approx(single.exit_speed * exit_thickness(s)).epsilon(1e-15));
+
+    // the frozen mill's Jacobian is the single stand's up to the span state's scale (T = s_b y1):
+    // the same eigenvalues
+    const MillStability mill = mill_frozen_stability(m);
+    const SpeedStability alone = stability_at(s);
+    REQUIRE(mill.frozen.status == DynamicsStatus::ok);
+    REQUIRE(alone.status == DynamicsStatus::ok);
+    REQUIRE(mill.frozen.eigenvalues.size() == alone.eigenvalues.size());
+    const double worst = std::max(worst_nearest(mill.frozen.eigenvalues, alone.eigenvalues),
+                                  worst_nearest(alone.eigenvalues, mill.frozen.eigenvalues));
+    MESSAGE("one-stand mill vs single stand: worst relative eigenvalue distance " << worst);
+    CHECK(worst <= 1e-9);
+    CHECK(rel(mill.frozen.least_damped.frequency_Hz, alone.least_damped.frequency_Hz) <= 1e-9);
+
+    // and its frozen critical speed is the single stand's (20.0967 m/s at 104.05 Hz)
+    CriticalSpeedOptions options;
+    options.stop_at_crossing = true;
+    const CriticalSpeedResult a = mill_frozen_critical_speed(m, options);
+    const CriticalSpeedResult b = critical_speed(s, options);
+    REQUIRE(b.status == CriticalSpeedStatus::found);
+    CHECK(a.status == b.status);
+    MESSAGE("critical speed: mill of one stand "
+            << a.critical_speed << " m/s at " << a.unstable_mode.frequency_Hz
+            << " Hz, single stand " << b.critical_speed << " m/s at "
+            << b.unstable_mode.frequency_Hz << " Hz");
+    CHECK(rel(a.critical_speed, b.critical_speed) <= 1e-9);
+    CHECK(rel(a.unstable_mode.frequency_Hz, b.unstable_mode.frequency_Hz) <= 1e-9);
+}
+
+TEST_CASE(
+    "mill schedule: one mass flow through every stand, each stand's entry speed the exit "
+    "speed of the stand before") {
+    const Mill m = default_mill();
+    const MillSteadyState steady = mill_steady_state(m);
+    REQUIRE(steady.status == MillSteadyStatus::ok);
+    REQUIRE(steady.stands.size() == 5);
+    CHECK(steady.mass_flow_residual <= 1e-10);
+    CHECK(steady.stands.back().roll_speed == m.speed);
+    for (int i = 0; i < 5; ++i) {
+        const MillStandState& st = steady.stands[static_cast<std::size_t>(i)];
+        CAPTURE(i);
+        // u2 y2 = Q and, through the bite's own mass flow, u1 y1 = Q
+        CHECK(rel(st.exit_speed * m.thickness[static_cast<std::size_t>(i + 1)], steady.mass_flow) <=
+              1e-10);
+        CHECK(rel(st.entry_speed * m.thickness[static_cast<std::size_t>(i)], steady.mass_flow) <=
+              1e-10);
+        if (i > 0)
+            CHECK(rel(st.entry_speed, steady.stands[static_cast<std::size_t>(i - 1)].exit_speed) <=
+                  1e-10);
+        CHECK(st.forward_slip > 0.0);  // every stand drives its strip
+        CHECK(st.back_tension == back_tension_stress(m, i));
+        CHECK(st.front_tension == front_tension_stress(m, i));
+        MESSAGE("stand " << i + 1 << ": roll speed " << st.roll_speed << " m/s, slip "
+                         << st.forward_slip << ", force " << st.force / 1e3 << " kN, "
+                         << st.bite_solves << " bite solves");
+    }
+    // roll speeds rise down the mill as the strip thins
+    for (int i = 1; i < 5; ++i)
+        CHECK(steady.stands[static_cast<std::size_t>(i)].roll_speed >
+              steady.stands[static_cast<std::size_t>(i - 1)].roll_speed);
+}
+
+TEST_CASE(
+    "mill schedule: a stand without a steady state is named, a description that is no mill "
+    "is refused") {
+    Mill m = default_mill();
+    m.thickness[3] = m.thickness[2];  // stand 3 would not reduce
+    CHECK(mill_steady_state(m).status == MillSteadyStatus::invalid);
+    CHECK(std::string(mill_defect(m)).find("thinner") != std::string::npos);
+    Mill too_many = default_mill();
+    too_many.stands.resize(7);
+    CHECK(mill_steady_state(too_many).status == MillSteadyStatus::invalid);
+
+    // a very heavy first pass at very low friction skids
+    Mill skid = default_mill();
+    skid.stands[0].friction.model = FrictionModel::coulomb;
+    skid.stands[0].friction.coulomb_coefficient = 0.005;
+    const MillSteadyState st = mill_steady_state(skid);
+    CHECK(st.status == MillSteadyStatus::no_steady_state);
+    CHECK(st.stand == 0);
+    CHECK(st.stands[0].status == BiteStatus::skidding);
+}
+
+// Stand i of `m` alone as a mill of one stand at its steady roll speed: its back side as the
+// big mill's (the entry span for the first, else the constant back stress that a frozen span
+// force over a fixed entry thickness is), its front side the big mill's span of the same
+// length (a force T over the stand's own y2(t)) or the held exit stress for the last.
+Mill stand_alone(const Mill& m, int i, double roll_speed) {
+    const auto k = static_cast<std::size_t>(i);
+    Mill one = m;
+    one.stands = {m.stands[k]};
+    one.thickness = {m.thickness[k], m.thickness[k + 1]};
+    one.span_length.clear();
+    one.interstand_tension.clear();
+    if (i > 0) {
+        one.entry = MillBoundary::constant;
+        one.entry_tension = back_tension_stress(m, i);
+    }
+    if (i + 1 < m.size()) {
+        one.exit = MillBoundary::span;
+        one.exit_span_length = m.span_length[k];
+        one.exit_tension = front_tension_stress(m, i);
+    }
+    one.speed = roll_speed;
+    return one;
+}
+
+TEST_CASE("mill frozen: very long interstand spans leave the stands each with a constant force") {
+    // L -> infinity: E ybar / L -> 0, the span forces stop moving, and the frozen mill falls
+    // apart into its stands. A span carries a force, so a stand's front stress is still T / y2(t):
+    // the stands' limit is each stand with a constant front force (the exit span of a
+    // one-stand mill of the same length), not a constant front stress (docs/model.md §12.4).
+    Mill m = default_mill();
+    m.stands.resize(3);
+    m.thickness.resize(4);
+    m.span_length.assign(2, 1e7);  // E ybar / L: 5e-7 of a 5 m span's stiffness
+    m.interstand_tension.resize(2);
+    m.exit = MillBoundary::constant;
+    const MillStability mill = mill_frozen_stability(m);
+    REQUIRE(mill.frozen.status == DynamicsStatus::ok);
+
+    std::vector<std::complex<double>> stands;
+    for (int i = 0; i < m.size(); ++i) {
+        const double v = mill.steady.stands[static_cast<std::size_t>(i)].roll_speed;
+        const MillStability alone = mill_frozen_stability(stand_alone(m, i, v));
+        REQUIRE(alone.frozen.status == DynamicsStatus::ok);
+        // the same bite: the stand's steady state does not depend on its neighbours
+        CHECK(rel(alone.steady.stands[0].force,
+                  mill.steady.stands[static_cast<std::size_t>(i)].force) < 1e-12);
+        stands.insert(stands.end(), alone.frozen.eigenvalues.begin(),
+                      alone.frozen.eigenvalues.end());
+    }
+    // one state per stand block, the entry span, two interstand spans against the two exit spans
+    REQUIRE(mill.frozen.eigenvalues.size() == stands.size());
+    // The spans' own roots are near zero (a rate E ybar / L times a speed's slope in T): the
+    // interstand span's feels both its stands' speeds, the exit span's one, so those two pairs
+    // differ; they are counted, the stands' roots compared.
+    const auto split = [](const std::vector<std::complex<double>>& roots,
+                          std::vector<std::complex<double>>& stand_roots) {
+        int near_zero = 0;
+        for (const auto& x : roots) {
+            if (std::abs(x) < 1e-2) ++near_zero;
+            else stand_roots.push_back(x);
+        }
+        return near_zero;
+    };
+    std::vector<std::complex<double>> in_mill, alone;
+    CHECK(split(mill.frozen.eigenvalues, in_mill) == 2);
+    CHECK(split(stands, alone) == 2);
+    const double worst = std::max(worst_nearest(alone, in_mill), worst_nearest(in_mill, alone));
+    MESSAGE("stands alone vs the mill with 1e7 m spans: worst relative distance " << worst);
+    CHECK(worst <= 1e-6);
+}
+
+TEST_CASE("mill frozen: the assembled Jacobian is the finite differences of the mill's rates") {
+    const Mill m = default_mill();
+    const MillSteadyState steady = mill_steady_state(m);
+    REQUIRE(steady.status == MillSteadyStatus::ok);
+    const MillModel model(m, steady);
+    const Eigen::VectorXd z0 = model.equilibrium();
+    const Linearisation assembled = model.jacobian(z0, 0.0);
+    const Linearisation differences = finite_difference_jacobian(model, z0, 0.0);
+    REQUIRE(assembled.status == DynamicsStatus::ok);
+    REQUIRE(differences.status == DynamicsStatus::ok);
+    // column by column, relative to the column's size (the differences' noise ~1e-7 of it)
+    double worst = 0.0;
+    for (int k = 0; k < model.size(); ++k) {
+        const double scale = differences.jacobian.col(k).norm();
+        if (scale == 0.0) {
+            CHECK(assembled.jacobian.col(k).norm() == 0.0);
+            continue;
+        }
+        worst = std::max(worst,
+                         (assembled.jacobian.col(k) - differences.jacobian.col(k)).norm() / scale);
+    }
+    MESSAGE("5-stand frozen Jacobian, assembled vs central differences: worst column " << worst);
+    CHECK(worst < 1e-5);
+}
+
+}  // namespace mill_test
