@@ -27,6 +27,10 @@
 #include "core/amplitude.h"
 #include "core/control.h"
 #include "core/coupled_model.h"
+#include "core/mill/mill.h"
+#include "core/mill/mill_model.h"
+#include "core/mill/mill_regenerative.h"
+#include "core/mill/mill_stability.h"
 #include "service/worker_pool.h"
 #include "core/roll_bite.h"
 #include "core/scenario.h"
@@ -288,6 +292,72 @@ int bench_sweep(const Config& cfg) {
     return 0;
 }
 
+// The default 5-stand mill (docs/model.md §12) at 15 m/s: the schedule's steady state; the
+// stability at one speed (schedule, A0 and B assembled, eigenvalues, M in the modal basis, the
+// regenerative margin), and its parts; the frozen critical speed on all cores.
+int bench_mill(const Config& cfg) {
+    namespace core = rollgap::core;
+    const core::Mill mill = core::default_mill();
+    const core::MillSteadyState check = core::mill_steady_state(mill);
+    if (check.status != core::MillSteadyStatus::ok) {
+        std::fprintf(stderr, "mill: no steady state (%s)\n", check.message);
+        return 1;
+    }
+    int solves = 0;
+    for (const auto& stand : check.stands) solves += stand.bite_solves;
+    print_count("mill_steady.bite_solves", solves);
+    print_timing("mill_steady",
+                 time_it(cfg, [&] { return core::mill_steady_state(mill).mass_flow; }));
+
+    const auto stability = [&](bool margin) {
+        const core::MillSteadyState steady = core::mill_steady_state(mill);
+        const core::MillModel model(mill, steady);
+        const core::MillLinearisation lin = model.linearise(model.equilibrium());
+        const core::TransportTransfer transfer = core::transport_transfer(lin);
+        if (!margin) return transfer.frozen_max_real_part;
+        return core::regenerative_margin(transfer).margin;
+    };
+    const core::MillSteadyState steady = core::mill_steady_state(mill);
+    const core::MillModel model(mill, steady);
+    const core::MillLinearisation lin = model.linearise(model.equilibrium());
+    const core::TransportTransfer transfer = core::transport_transfer(lin);
+    const core::RegenerativeMargin margin = core::regenerative_margin(transfer);
+    print_count("mill_stability.states", model.size());
+    print_figure("mill_stability.margin", margin.margin, "1");
+    print_figure("mill_stability.margin_frequency", margin.frequency_Hz, "Hz");
+    print_count("mill_stability.margin_evaluations", margin.evaluations);
+    print_timing("mill_stability.linearise", time_it(heavy(cfg, 200), [&] {
+                     return model.linearise(model.equilibrium()).jacobian(0, 0);
+                 }));
+    print_timing("mill_stability.modal_basis", time_it(heavy(cfg, 200), [&] {
+                     return core::transport_transfer(lin).frozen_max_real_part;
+                 }));
+    print_timing("mill_stability.transfer_at", time_it(cfg, [&] {
+                     return std::abs(transfer.at({0.0, 650.0})(0, 0));
+                 }));
+    print_timing("mill_stability.margin", time_it(heavy(cfg, 200), [&] {
+                     return core::regenerative_margin(transfer).margin;
+                 }));
+    print_timing("mill_stability.frozen",
+                 time_it(heavy(cfg, 100), [&] { return stability(false); }));
+    print_timing("mill_stability.frozen_and_margin",
+                 time_it(heavy(cfg, 100), [&] { return stability(true); }));
+
+    const auto pool = rollgap::service::local_pool();
+    core::Control control;
+    control.executor = pool.get();
+    core::CriticalSpeedOptions options;
+    options.stop_at_crossing = true;
+    const core::CriticalSpeedResult frozen =
+        core::mill_frozen_critical_speed(mill, options, control);
+    print_figure("mill_frozen_critical_speed.speed", frozen.critical_speed, "m/s");
+    print_count("mill_frozen_critical_speed.threads", control.thread_budget());
+    print_timing("mill_frozen_critical_speed", time_it(heavy(cfg, 3), [&] {
+                     return core::mill_frozen_critical_speed(mill, options, control).critical_speed;
+                 }));
+    return 0;
+}
+
 struct Bench {
     const char* name;
     int (*run)(const Config&);
@@ -300,6 +370,7 @@ constexpr Bench kBenches[] = {
     {"critical_speed", bench_critical_speed},
     {"amplitude", bench_amplitude},
     {"sweep", bench_sweep},
+    {"mill", bench_mill},
 };
 
 [[noreturn]] void usage(const char* argv0, int code) {

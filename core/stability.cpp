@@ -69,11 +69,7 @@ Eigen::VectorXd balancing_scales(Eigen::MatrixXd& A) {
     return scale;
 }
 
-struct Eigensystem {
-    bool ok = false;
-    Eigen::VectorXcd values;
-    Eigen::MatrixXcd vectors;  // in the original (unbalanced) coordinates
-};
+}  // namespace
 
 Eigensystem eigensystem(const Eigen::MatrixXd& jacobian) {
     Eigensystem out;
@@ -82,10 +78,14 @@ Eigensystem eigensystem(const Eigen::MatrixXd& jacobian) {
     Eigen::EigenSolver<Eigen::MatrixXd> solver(balanced);
     if (solver.info() != Eigen::Success) return out;
     out.values = solver.eigenvalues();
-    out.vectors = scale.cast<std::complex<double>>().asDiagonal() * solver.eigenvectors();
+    out.balanced_vectors = solver.eigenvectors();
+    out.vectors = scale.cast<std::complex<double>>().asDiagonal() * out.balanced_vectors;
+    out.scale = scale;
     out.ok = true;
     return out;
 }
+
+namespace {
 
 // `stands` holds the eigenvector's part at each stand's six displacements (the output map). The
 // shapes and displacements of all stands share one scale, so that they compare across stands; the

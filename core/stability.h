@@ -25,6 +25,19 @@ Linearisation linearise(const DynamicModel& model, const Eigen::VectorXd& z, dou
 // Empty when the eigenvalue iteration fails.
 Eigen::VectorXcd balanced_eigenvalues(const Eigen::MatrixXd& jacobian);
 
+// Eigenvalues and right eigenvectors (columns, in the original coordinates) of a Jacobian after
+// the same balancing. ok false when the iteration fails.
+struct Eigensystem {
+    bool ok = false;
+    Eigen::VectorXcd values;
+    Eigen::MatrixXcd vectors;
+    // the balancing: vectors = scale .* balanced_vectors, the eigenvectors of S^-1 J S, whose
+    // inverse is well conditioned where the original's rows span 27 decades
+    Eigen::VectorXd scale;
+    Eigen::MatrixXcd balanced_vectors;
+};
+Eigensystem eigensystem(const Eigen::MatrixXd& jacobian);
+
 struct Eigenmode {
     std::complex<double> eigenvalue;  // 1/s
     double frequency_Hz = 0.0;        // Im / 2 pi

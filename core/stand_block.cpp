@@ -81,7 +81,7 @@ BiteState StandBlock::bite_state(double t, const double* z, double back_tension,
 }
 
 void StandBlock::rates(const double* z, const BiteState& state, const BiteResult& bite,
-                       double* zdot) const {
+                       double* zdot, double entry_rate) const {
     const double* x = z + offset_;
     double* xdot = zdot + offset_;
     Eigen::Map<const Vector6> q(x), qdot(x + 6);
@@ -93,15 +93,18 @@ void StandBlock::rates(const double* z, const BiteState& state, const BiteResult
         xdot[6 + i] = qddot(i);
     }
 
-    xdot[film_index] = inlet_film_rate(s_.inlet_film, film_inputs(state, bite));
+    xdot[film_index] = inlet_film_rate(s_.inlet_film, film_inputs(state, bite, entry_rate));
 }
 
-InletFilmInputs StandBlock::film_inputs(const BiteState& state, const BiteResult& bite) const {
+InletFilmInputs StandBlock::film_inputs(const BiteState& state, const BiteResult& bite,
+                                        double entry_rate) const {
     InletFilmInputs film;
     film.inlet_film = state.inlet_film;
     film.inlet_angle = bite.inlet_angle;
     film.gap_rate = state.gap_rate;
-    film.inlet_angle_rate = -state.gap_rate / (2.0 * bite.roll_radius * bite.inlet_angle);
+    // theta = sqrt((y1 - y2) / a): theta' = (y1' - y2') / (2 a theta), y2' the gap rate
+    film.inlet_angle_rate =
+        (entry_rate - state.gap_rate) / (2.0 * bite.roll_radius * bite.inlet_angle);
     film.mean_inlet_speed = 0.5 * (bite.entry_speed + s_.rolls.speed);
     film.roll_radius = bite.roll_radius;
     film.viscosity = s_.lubricant.viscosity;
@@ -145,7 +148,6 @@ void StandBlock::jacobian_rows(
     const Eigen::Matrix<double, bite_output_count, Eigen::Dynamic>& outputs,
     const Eigen::Matrix<double, bite_input_count, Eigen::Dynamic>& inputs,
     Eigen::MatrixXd& jacobian) const {
-    const int n = static_cast<int>(jacobian.cols());
     const int o = offset_;
     jacobian.middleRows(o, state_size).setZero();
     // q' = q' (rows 0..5)
@@ -153,19 +155,31 @@ void StandBlock::jacobian_rows(
 
     // q'' = M^-1 (b (F - F_ref) - C q' - K_s q) (rows 6..11): the stack analytic, the force
     // through the bite (§5; k4 cancels)
-    const Vector6 mb = mass_inverse_ * gap_direction();
     const Matrix6 mk = -mass_inverse_ * structure_.structural_stiffness;
     const Matrix6 mc = -mass_inverse_ * structure_.damping;
-    const auto force = outputs.row(static_cast<int>(BiteOutput::force));
     for (int i = 0; i < 6; ++i) {
-        for (int j = 0; j < n; ++j) jacobian(o + 6 + i, j) = mb(i) * force(j);
         for (int j = 0; j < 6; ++j) {
             jacobian(o + 6 + i, o + j) += mk(i, j);
             jacobian(o + 6 + i, o + 6 + j) += mc(i, j);
         }
     }
+    add_bite_columns(state, bite, outputs, inputs, Eigen::RowVectorXd(), jacobian);
+}
 
-    // h0' = g(h0, theta, theta', dyc/dt, u1bar, s_b) of §2, theta' = -(dyc/dt) / (2 a theta):
+void StandBlock::add_bite_columns(
+    const BiteState& state, const BiteResult& bite,
+    const Eigen::Matrix<double, bite_output_count, Eigen::Dynamic>& outputs,
+    const Eigen::Matrix<double, bite_input_count, Eigen::Dynamic>& inputs,
+    const Eigen::RowVectorXd& entry_rates, Eigen::MatrixXd& columns) const {
+    const int n = static_cast<int>(columns.cols());
+    const int o = offset_;
+    const Vector6 mb = mass_inverse_ * gap_direction();
+    const auto force = outputs.row(static_cast<int>(BiteOutput::force));
+    for (int i = 0; i < 6; ++i) {
+        for (int j = 0; j < n; ++j) columns(o + 6 + i, j) += mb(i) * force(j);
+    }
+
+    // h0' = g(h0, theta, theta', dyc/dt, u1bar, s_b) of §2, theta' = (y1' - dyc/dt) / (2 a theta):
     // the chain rule through the bite's theta and u1 and the film's own partials
     const InletFilmInputs film = film_inputs(state, bite);
     const InletFilmModel model = s_.inlet_film;
@@ -188,10 +202,12 @@ void StandBlock::jacobian_rows(
     const auto d_h0 = inputs.row(static_cast<int>(BiteInput::inlet_film));
     const auto d_rate = inputs.row(static_cast<int>(BiteInput::gap_rate));
     const auto d_sb = inputs.row(static_cast<int>(BiteInput::back_tension));
+    // (the state's own y1' is taken as zero: the mill is linearised about its steady state)
     for (int j = 0; j < n; ++j) {
-        const double d_theta_rate = -d_rate(j) / (2.0 * a * theta) +
+        const double entry_rate = entry_rates.size() > 0 ? entry_rates(j) : 0.0;
+        const double d_theta_rate = (entry_rate - d_rate(j)) / (2.0 * a * theta) +
                                     state.gap_rate / (2.0 * a * theta * theta) * d_theta(j);
-        jacobian(o + film_index, j) = g_h0 * d_h0(j) + g_theta * d_theta(j) +
+        columns(o + film_index, j) += g_h0 * d_h0(j) + g_theta * d_theta(j) +
                                       g_theta_rate * d_theta_rate + g_gap_rate * d_rate(j) +
                                       g_speed * 0.5 * d_u1(j) + g_tension * d_sb(j);
     }

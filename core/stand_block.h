@@ -66,7 +66,10 @@ public:
     void remember(const BiteState& state, const BiteResult& bite) const;
 
     // The block's 13 rates for state z, whose bite inputs are `state` and bite `bite` (ok).
-    void rates(const double* z, const BiteState& state, const BiteResult& bite, double* zdot) const;
+    // `entry_rate` is dy1/dt, the rate of the entering thickness (a mill stand fed by the stand
+    // before it, docs/model.md §12.2); it moves the inlet angle's rate in the film equation only.
+    void rates(const double* z, const BiteState& state, const BiteResult& bite, double* zdot,
+               double entry_rate = 0.0) const;
 
     // The derivatives of the bite's inputs with respect to z (rows BiteInput, one column per
     // state of a model of `size` states), as far as this block moves them: y2 = y2_ref + q3 - q4,
@@ -83,6 +86,16 @@ public:
                        const Eigen::Matrix<double, bite_output_count, Eigen::Dynamic>& outputs,
                        const Eigen::Matrix<double, bite_input_count, Eigen::Dynamic>& inputs,
                        Eigen::MatrixXd& jacobian) const;
+
+    // The bite's part of the block's rows for input columns of any kind: `outputs` = J_b D and
+    // D = `inputs` (5 x m, 6 x m), `entry_rates` (1 x m or empty) the columns' dy1/dt. Adds to
+    // rows offset..offset+12 of `columns` (the force through the stack's M^-1 b, the film by the
+    // chain rule); the stack's own terms are jacobian_rows'. The mill's delayed thickness inputs
+    // (docs/model.md §12.5) are such columns.
+    void add_bite_columns(const BiteState& state, const BiteResult& bite,
+                          const Eigen::Matrix<double, bite_output_count, Eigen::Dynamic>& outputs,
+                          const Eigen::Matrix<double, bite_input_count, Eigen::Dynamic>& inputs,
+                          const Eigen::RowVectorXd& entry_rates, Eigen::MatrixXd& columns) const;
 
     // solve_roll_bite calls made for this block so far: memo misses and `count_bite_solves`.
     long bite_solves() const { return bite_solves_; }
@@ -109,7 +122,8 @@ public:
 
 private:
     // The inlet film equation's inputs (§2) at bite inputs `state` and bite `bite`.
-    InletFilmInputs film_inputs(const BiteState& state, const BiteResult& bite) const;
+    InletFilmInputs film_inputs(const BiteState& state, const BiteResult& bite,
+                                double entry_rate = 0.0) const;
 
     Scenario s_;
     ReferenceState ref_;

@@ -40,6 +40,7 @@ MillModel::MillModel(const Mill& mill, const MillSteadyState& steady) {
     if (mill.entry == MillBoundary::span)
         add_span(-1, 0, mill.thickness.front(), mill.entry_span_length);
     else back_stress_.front() = mill.entry_tension;
+    span_length_ = mill.span_length;
     for (int i = 0; i + 1 < n; ++i)
         add_span(i, i + 1, mill.thickness[static_cast<std::size_t>(i + 1)],
                  mill.span_length[static_cast<std::size_t>(i)]);
@@ -80,19 +81,26 @@ int MillModel::front_span(int stand) const {
     return k < 0 ? -1 : spans_[static_cast<std::size_t>(k)].index;
 }
 
-BiteState MillModel::bite_state(int i, const double* z) const {
+BiteState MillModel::bite_state(int i, const double* z, double entry_deviation) const {
     const StandBlock& stand = stands_[static_cast<std::size_t>(i)];
     const double* q = z + stand.offset();
-    const double y1 = stand.scenario().strip.entry_thickness;  // transport frozen
+    const double y1 = stand.scenario().strip.entry_thickness + entry_deviation;
     const double y2 = stand.reference().exit_thickness + (q[2] - q[3]);
     const int back = back_span(i), front = front_span(i);
     const double back_stress = back >= 0 ? z[back] / y1 : back_stress_[static_cast<std::size_t>(i)];
     const double front_stress =
         front >= 0 ? z[front] / y2 : front_stress_[static_cast<std::size_t>(i)];
-    return stand.bite_state(0.0, z, back_stress, front_stress);
+    BiteState state = stand.bite_state(0.0, z, back_stress, front_stress);
+    state.entry_thickness = y1;
+    return state;
 }
 
-DynamicsStatus MillModel::rhs(double, const double* z, double* zdot) const {
+DynamicsStatus MillModel::rhs(double t, const double* z, double* zdot) const {
+    return rhs_with_transport(t, z, nullptr, nullptr, zdot);
+}
+
+DynamicsStatus MillModel::rhs_with_transport(double, const double* z, const double* entry_deviation,
+                                             const double* entry_rate, double* zdot) const {
     if (status_ != BiteStatus::ok) return from_bite(status_);
     for (const Span& span : spans_) {
         if (!(z[span.index] > 0.0)) return DynamicsStatus::slack_strip;
@@ -101,13 +109,14 @@ DynamicsStatus MillModel::rhs(double, const double* z, double* zdot) const {
     std::vector<double> du1(n), du2(n);  // the strip speeds' deviations from the reference
     for (std::size_t i = 0; i < n; ++i) {
         const StandBlock& stand = stands_[i];
-        const BiteState state = bite_state(static_cast<int>(i), z);
+        const BiteState state =
+            bite_state(static_cast<int>(i), z, entry_deviation ? entry_deviation[i] : 0.0);
         if (state.back_tension < 0.0 || state.front_tension < 0.0)
             return DynamicsStatus::slack_strip;
         if (!(state.inlet_film > 0.0)) return DynamicsStatus::solver_failure;
         const BiteResult& bite = stand.solve_bite(state);
         if (bite.status != BiteStatus::ok) return from_bite(bite.status);
-        stand.rates(z, state, bite, zdot);
+        stand.rates(z, state, bite, zdot, entry_rate ? entry_rate[i] : 0.0);
         du1[i] = bite.entry_speed - stand.reference().bite.entry_speed;
         du2[i] = bite.exit_speed - stand.reference().bite.exit_speed;
     }
@@ -124,77 +133,131 @@ DynamicsStatus MillModel::rhs(double, const double* z, double* zdot) const {
 }
 
 Linearisation MillModel::jacobian(const Eigen::VectorXd& z, double) const {
+    MillLinearisation assembled;
+    assemble(z, false, assembled);
     Linearisation out;
+    out.status = assembled.status;
+    if (out.status == DynamicsStatus::ok) out.jacobian = std::move(assembled.jacobian);
+    return out;
+}
+
+MillLinearisation MillModel::linearise(const Eigen::VectorXd& z) const {
+    MillLinearisation out;
+    assemble(z, true, out);
+    return out;
+}
+
+void MillModel::assemble(const Eigen::VectorXd& z, bool transport, MillLinearisation& out) const {
+    out.status = DynamicsStatus::solver_failure;
     if (status_ != BiteStatus::ok) {
         out.status = from_bite(status_);
-        return out;
+        return;
     }
     for (const Span& span : spans_) {
         if (!(z(span.index) > 0.0)) {
             out.status = DynamicsStatus::slack_strip;
-            return out;
+            return;
         }
     }
     const int n = size_;
-    out.jacobian = Eigen::MatrixXd::Zero(n, n);
     const std::size_t count = stands_.size();
+    // the delayed inputs: the thickness entering stands 2..N, one column each
+    const int p = transport ? static_cast<int>(count) - 1 : 0;
+    // A0 and B: the same chain rule, B on p more input columns
+    Eigen::MatrixXd a0 = Eigen::MatrixXd::Zero(n, n);
+    Eigen::MatrixXd input_columns = Eigen::MatrixXd::Zero(n, p);
+    Eigen::MatrixXd rate_columns = Eigen::MatrixXd::Zero(n, p);
     std::vector<Eigen::RowVectorXd> du1(count), du2(count);
     constexpr int u1_row = static_cast<int>(BiteOutput::entry_speed);
     constexpr int u2_row = static_cast<int>(BiteOutput::exit_speed);
+    constexpr int y1_row = static_cast<int>(BiteInput::entry_thickness);
+    constexpr int back_row = static_cast<int>(BiteInput::back_tension);
+    constexpr int front_row = static_cast<int>(BiteInput::front_tension);
+    constexpr int y2_row = static_cast<int>(BiteInput::exit_thickness);
     for (std::size_t i = 0; i < count; ++i) {
         const StandBlock& stand = stands_[i];
         const BiteState state = bite_state(static_cast<int>(i), z.data());
         if (state.back_tension < 0.0 || state.front_tension < 0.0) {
             out.status = DynamicsStatus::slack_strip;
-            return out;
+            return;
         }
-        if (!(state.inlet_film > 0.0)) return out;  // solver_failure
+        if (!(state.inlet_film > 0.0)) return;  // solver_failure
         const BiteResult& bite = stand.solve_bite(state);
         if (bite.status != BiteStatus::ok) {
             out.status = from_bite(bite.status);
-            return out;
+            return;
         }
-        // D = d(bite inputs)/dz: the block's own rows, and the tensions s = T / y
+        // D = d(bite inputs)/d(z, u): the block's own rows, and the tensions s = T / y
         Eigen::Matrix<double, bite_input_count, Eigen::Dynamic> inputs =
-            stand.bite_input_derivatives(n);
-        constexpr int back_row = static_cast<int>(BiteInput::back_tension);
-        constexpr int front_row = static_cast<int>(BiteInput::front_tension);
-        constexpr int y2_row = static_cast<int>(BiteInput::exit_thickness);
+            Eigen::Matrix<double, bite_input_count, Eigen::Dynamic>::Zero(bite_input_count, n + p);
+        inputs.leftCols(n) = stand.bite_input_derivatives(n);
         const int back = back_span(static_cast<int>(i)), front = front_span(static_cast<int>(i));
-        if (back >= 0) inputs(back_row, back) = 1.0 / stand.scenario().strip.entry_thickness;
+        const double y1 = state.entry_thickness_or(stand.scenario().strip.entry_thickness);
+        if (back >= 0) inputs(back_row, back) = 1.0 / y1;
         if (front >= 0) {
             const double y2 = state.exit_thickness;
             inputs.row(front_row) = (-z(front) / (y2 * y2)) * inputs.row(y2_row);
             inputs(front_row, front) += 1.0 / y2;
         }
-        unsigned columns = 0;
+        const int input = static_cast<int>(i) - 1;  // stand i's entering thickness, i >= 1
+        if (transport && input >= 0) {
+            inputs(y1_row, n + input) = 1.0;
+            if (back >= 0) inputs(back_row, n + input) = -z(back) / (y1 * y1);  // s_b = T / y1
+        }
+        unsigned bite_columns = 0;
         for (int k = 0; k < bite_input_count; ++k) {
             if (inputs.row(k).cwiseAbs().maxCoeff() > 0.0)
-                columns |= bite_column(static_cast<BiteInput>(k));
+                bite_columns |= bite_column(static_cast<BiteInput>(k));
         }
-        const BiteJacobian jb = bite_jacobian(stand.scenario(), state, bite, columns);
+        const BiteJacobian jb = bite_jacobian(stand.scenario(), state, bite, bite_columns);
         if (jb.status != BiteStatus::ok) {
             out.status = from_bite(jb.status);
-            return out;
+            return;
         }
         const Eigen::Matrix<double, bite_output_count, Eigen::Dynamic> outputs =
             jb.derivative * inputs;
-        stand.jacobian_rows(state, bite, outputs, inputs, out.jacobian);
+        // the stand's rows of A0 (the stack's own terms), then the bite's part on every column
+        stand.jacobian_rows(state, bite, outputs.leftCols(n), inputs.leftCols(n), a0);
+        if (transport && input >= 0) {
+            stand.add_bite_columns(state, bite, outputs.rightCols(p), inputs.rightCols(p),
+                                   Eigen::RowVectorXd::Zero(p), input_columns);
+            // y1' moves only the inlet angle's rate in the film equation (§12.2)
+            Eigen::RowVectorXd rates = Eigen::RowVectorXd::Zero(p);
+            rates(input) = 1.0;
+            stand.add_bite_columns(
+                state, bite,
+                Eigen::Matrix<double, bite_output_count, Eigen::Dynamic>::Zero(bite_output_count,
+                                                                               p),
+                Eigen::Matrix<double, bite_input_count, Eigen::Dynamic>::Zero(bite_input_count, p),
+                rates, rate_columns);
+        }
         du1[i] = outputs.row(u1_row);
         du2[i] = outputs.row(u2_row);
     }
     for (const Span& span : spans_) {
-        Eigen::RowVectorXd row = Eigen::RowVectorXd::Zero(n);
+        Eigen::RowVectorXd row = Eigen::RowVectorXd::Zero(n + p);
         if (span.downstream >= 0) row += du1[static_cast<std::size_t>(span.downstream)];
         if (span.upstream >= 0) row -= du2[static_cast<std::size_t>(span.upstream)];
-        out.jacobian.row(span.index) = span.stiffness * row;
+        a0.row(span.index) = span.stiffness * row.head(n);
+        if (transport) input_columns.row(span.index) = span.stiffness * row.tail(p);
     }
-    if (!out.jacobian.allFinite()) {
-        out.jacobian.resize(0, 0);
-        return out;  // solver_failure
+    if (!a0.allFinite() || !input_columns.allFinite() || !rate_columns.allFinite())
+        return;  // solver_failure
+    out.jacobian = std::move(a0);
+    if (transport) {
+        out.input = std::move(input_columns);
+        out.input_rate = std::move(rate_columns);
+        out.output = Eigen::MatrixXd::Zero(p, n);
+        out.delay.resize(static_cast<std::size_t>(p));
+        for (int i = 0; i < p; ++i) {
+            const StandBlock& stand = stands_[static_cast<std::size_t>(i)];
+            out.output(i, stand.offset() + 2) = 1.0;  // y2 = y2_ref + q3 - q4 (§5)
+            out.output(i, stand.offset() + 3) = -1.0;
+            out.delay[static_cast<std::size_t>(i)] =
+                span_length_[static_cast<std::size_t>(i)] / stand.reference().bite.exit_speed;
+        }
     }
     out.status = DynamicsStatus::ok;
-    return out;
 }
 
 double MillModel::perturbation(int index, const Eigen::VectorXd& z) const {

@@ -20,6 +20,19 @@
 
 namespace rollgap::core {
 
+// The mill linearised about its steady state with the thickness transport as inputs
+// (docs/model.md §12.5): z' = A0 z + sum_i (B_i u_i + B'_i u_i'), u_i = delta y1_{i+1}, the
+// thickness entering stand i+1 (i = 0..N-2), fed back as u_i(t) = y_i(t - tau_i) with
+// y_i = C_i z = delta y2_i, stand i's exit thickness.
+struct MillLinearisation {
+    DynamicsStatus status = DynamicsStatus::solver_failure;
+    Eigen::MatrixXd jacobian;    // A0, n x n
+    Eigen::MatrixXd input;       // B, n x p: df/d(y1 of stand i+1)
+    Eigen::MatrixXd input_rate;  // B', n x p: df/d(y1' of stand i+1), the inlet film's theta'
+    Eigen::MatrixXd output;      // C, p x n: delta y2 of stand i
+    std::vector<double> delay;   // tau_i = L_i / u2_i,ref, s
+};
+
 class MillModel final : public DynamicModel {
 public:
     // `steady` must be ok (mill_steady_state of `mill`); each stand's dynamics run on its
@@ -51,10 +64,23 @@ public:
     int back_span(int stand) const;
     int front_span(int stand) const;
 
-    // The bite inputs of stand i at state z.
-    BiteState bite_state(int stand, const double* z) const;
+    // The bite inputs of stand i at state z, its entering thickness moved by `entry_deviation`
+    // from the steady one (the transport; zero when frozen).
+    BiteState bite_state(int stand, const double* z, double entry_deviation = 0.0) const;
+
+    // z' with the thickness transport as inputs: stand i enters at y1_i + entry_deviation[i]
+    // with rate entry_rate[i] (N values each; stand 0's are the mill's entry, zero here).
+    DynamicsStatus rhs_with_transport(double t, const double* z, const double* entry_deviation,
+                                      const double* entry_rate, double* zdot) const;
+
+    // A0, B, B', C and the delays at z (the steady state z0 for the stability analyses).
+    MillLinearisation linearise(const Eigen::VectorXd& z) const;
 
 private:
+    // The assembly of jacobian() and linearise(): A0 into out.jacobian, and with `transport`
+    // B and B' (the entering thickness of stands 2..N as extra input columns).
+    void assemble(const Eigen::VectorXd& z, bool transport, MillLinearisation& out) const;
+
     struct Span {
         int index = -1;
         double thickness = 0.0;  // ybar, m
@@ -67,6 +93,7 @@ private:
     std::vector<Span> spans_;
     std::vector<int> back_span_, front_span_;         // per stand, an index into spans_ or -1
     std::vector<double> back_stress_, front_stress_;  // constant boundaries, Pa
+    std::vector<double> span_length_;                 // the interstand spans' L_i, m
     int size_ = 0;
     BiteStatus status_ = BiteStatus::ok;
     int failed_stand_ = -1;

@@ -245,3 +245,61 @@ TEST_CASE("mill frozen: the assembled Jacobian is the finite differences of the 
 }
 
 }  // namespace mill_test
+
+namespace mill_test {
+
+TEST_CASE("mill transport inputs: B and B' are the differences of the rates in y1 and y1'") {
+    const Mill m = default_mill();
+    const MillSteadyState steady = mill_steady_state(m);
+    REQUIRE(steady.status == MillSteadyStatus::ok);
+    const MillModel model(m, steady);
+    const Eigen::VectorXd z0 = model.equilibrium();
+    const MillLinearisation lin = model.linearise(z0);
+    REQUIRE(lin.status == DynamicsStatus::ok);
+    const int n = model.size(), p = m.size() - 1;
+    REQUIRE(lin.input.rows() == n);
+    REQUIRE(lin.input.cols() == p);
+    REQUIRE(lin.output.rows() == p);
+    CHECK((lin.jacobian - model.jacobian(z0, 0.0).jacobian).norm() == 0.0);
+
+    const auto rates = [&](int stand, double dy1, double dy1_rate) {
+        std::vector<double> deviation(static_cast<std::size_t>(m.size()), 0.0);
+        std::vector<double> rate(deviation);
+        deviation[static_cast<std::size_t>(stand)] = dy1;
+        rate[static_cast<std::size_t>(stand)] = dy1_rate;
+        Eigen::VectorXd zdot(n);
+        REQUIRE(model.rhs_with_transport(0.0, z0.data(), deviation.data(), rate.data(),
+                                         zdot.data()) == DynamicsStatus::ok);
+        return zdot;
+    };
+    double worst_b = 0.0, worst_rate = 0.0;
+    for (int i = 0; i < p; ++i) {
+        // central differences in the entering thickness of stand i + 1, 1e-7 m as q's
+        const double h = 1e-7;
+        const Eigen::VectorXd b = (rates(i + 1, h, 0.0) - rates(i + 1, -h, 0.0)) / (2.0 * h);
+        worst_b = std::max(worst_b, (lin.input.col(i) - b).norm() / b.norm());
+        // only stand i + 1's block and the spans it touches move
+        for (int s = 0; s < m.size(); ++s) {
+            if (s == i + 1) continue;
+            CHECK(lin.input.col(i).segment(model.displacement_index(s), 13).norm() == 0.0);
+        }
+        // y1' enters the film equation linearly (theta' = (y1' - y2') / (2 a theta))
+        const double r = 1e-3;
+        const Eigen::VectorXd b_rate = (rates(i + 1, 0.0, r) - rates(i + 1, 0.0, -r)) / (2.0 * r);
+        worst_rate = std::max(worst_rate, (lin.input_rate.col(i) - b_rate).norm() / b_rate.norm());
+        // C picks stand i's exit thickness y2 = y2_ref + q3 - q4; the delay is L / u2
+        const BiteState state = model.bite_state(i, z0.data());
+        Eigen::VectorXd dz = Eigen::VectorXd::Zero(n);
+        dz(model.displacement_index(i) + 2) = 1e-6;
+        CHECK(lin.output.row(i).dot(dz) == doctest::Approx(1e-6).epsilon(1e-12));
+        CHECK(rel(lin.delay[static_cast<std::size_t>(i)] *
+                      steady.stands[static_cast<std::size_t>(i)].exit_speed,
+                  m.span_length[static_cast<std::size_t>(i)]) < 1e-7);
+        CHECK(state.exit_thickness > 0.0);
+    }
+    MESSAGE("B against differences: worst column " << worst_b << "; B' " << worst_rate);
+    CHECK(worst_b < 1e-5);
+    CHECK(worst_rate < 1e-9);
+}
+
+}  // namespace mill_test
