@@ -28,6 +28,7 @@
 #include "core/control.h"
 #include "core/coupled_model.h"
 #include "core/mill/mill.h"
+#include "core/mill/mill_delay.h"
 #include "core/mill/mill_model.h"
 #include "core/mill/mill_regenerative.h"
 #include "core/mill/mill_stability.h"
@@ -309,13 +310,16 @@ int bench_mill(const Config& cfg) {
     print_timing("mill_steady",
                  time_it(cfg, [&] { return core::mill_steady_state(mill).mass_flow; }));
 
-    const auto stability = [&](bool margin) {
+    // 0: the frozen eigenvalues' rightmost real part; 1: and rho; 2: and the nominal count
+    const auto stability = [&](int level) {
         const core::MillSteadyState steady = core::mill_steady_state(mill);
         const core::MillModel model(mill, steady);
         const core::MillLinearisation lin = model.linearise(model.equilibrium());
         const core::TransportTransfer transfer = core::transport_transfer(lin);
-        if (!margin) return transfer.frozen_max_real_part;
-        return core::regenerative_margin(transfer).margin;
+        if (level == 0) return transfer.frozen_max_real_part;
+        const double rho = core::regenerative_margin(transfer).margin;
+        if (level == 1) return rho;
+        return rho + core::nominal_delay_root_count(transfer, 0.0).count;
     };
     const core::MillSteadyState steady = core::mill_steady_state(mill);
     const core::MillModel model(mill, steady);
@@ -338,10 +342,27 @@ int bench_mill(const Config& cfg) {
     print_timing("mill_stability.margin", time_it(heavy(cfg, 200), [&] {
                      return core::regenerative_margin(transfer).margin;
                  }));
-    print_timing("mill_stability.frozen",
-                 time_it(heavy(cfg, 100), [&] { return stability(false); }));
+    print_timing("mill_stability.frozen", time_it(heavy(cfg, 100), [&] { return stability(0); }));
     print_timing("mill_stability.frozen_and_margin",
-                 time_it(heavy(cfg, 100), [&] { return stability(true); }));
+                 time_it(heavy(cfg, 100), [&] { return stability(1); }));
+    const core::DelayRootCount count = core::nominal_delay_root_count(transfer, 0.0);
+    print_count("mill_stability.nominal_count", count.count);
+    print_count("mill_stability.nominal_count_evaluations", count.evaluations);
+    print_timing("mill_stability.nominal_count", time_it(heavy(cfg, 50), [&] {
+                     return core::nominal_delay_root_count(transfer, 0.0).winding;
+                 }));
+    const core::RightmostDelayRoot right = core::rightmost_delay_root(transfer, count);
+    print_figure("mill_stability.rightmost_growth_rate", right.root.s.real(), "1/s");
+    print_figure("mill_stability.rightmost_frequency", right.root.s.imag() / (2.0 * M_PI), "Hz");
+    print_count("mill_stability.rightmost_starts", right.starts);
+    print_timing("mill_stability.rightmost", time_it(heavy(cfg, 50), [&] {
+                     return core::rightmost_delay_root(transfer, count).root.s.real();
+                 }));
+    print_timing("mill_stability.frozen_margin_count",
+                 time_it(heavy(cfg, 50), [&] { return stability(2); }));
+    print_timing("mill_stability.at_speed", time_it(heavy(cfg, 50), [&] {
+                     return core::mill_stability_at(mill).margin.margin;
+                 }));
 
     const auto pool = rollgap::service::local_pool();
     core::Control control;

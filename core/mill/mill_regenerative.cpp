@@ -119,6 +119,12 @@ double structured_bound(const Eigen::MatrixXcd& m, Eigen::VectorXd* scaling) {
     return p == 0 ? 0.0 : scaled(m, x);
 }
 
+double balanced_bound(const Eigen::MatrixXcd& m) {
+    if (m.rows() == 0) return 0.0;
+    if (m.rows() == 1) return std::abs(m(0, 0));
+    return scaled(m, osborne(m, 10));
+}
+
 RegenerativeMargin regenerative_margin(const TransportTransfer& transfer,
                                        const RegenerativeOptions& options) {
     RegenerativeMargin out;
@@ -134,9 +140,7 @@ RegenerativeMargin regenerative_margin(const TransportTransfer& transfer,
     // bound, microseconds); the optimised bound is taken at the best candidates.
     const auto scan_bound = [&](double f) {
         ++out.evaluations;
-        const Eigen::MatrixXcd m = transfer.at({0.0, two_pi * f});
-        if (m.rows() == 1) return std::abs(m(0, 0));
-        return scaled(m, osborne(m, 10));
+        return balanced_bound(transfer.at({0.0, two_pi * f}));
     };
     std::vector<double> frequencies;
     const int grid = std::max(options.grid, 2);

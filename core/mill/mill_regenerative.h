@@ -41,6 +41,10 @@ TransportTransfer transport_transfer(const MillLinearisation& linearisation);
 // log d_i. `scaling` (optional) receives D (d_0 = 1).
 double structured_bound(const Eigen::MatrixXcd& m, Eigen::VectorXd* scaling = nullptr);
 
+// sigma(D M D^-1) with D from Osborne's balancing of |M| alone: an upper bound of the same
+// structured singular value (any D gives one), microseconds.
+double balanced_bound(const Eigen::MatrixXcd& m);
+
 struct RegenerativeOptions {
     double frequency_min_Hz = 1.0;
     double frequency_max_Hz = 2000.0;

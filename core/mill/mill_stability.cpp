@@ -29,6 +29,26 @@ MillStability mill_frozen_stability(const Mill& mill) {
     return out;
 }
 
+MillSpeedStability mill_stability_at(const Mill& mill, const RegenerativeOptions& options) {
+    MillSpeedStability out;
+    const MillStability frozen = mill_frozen_stability(mill);
+    out.steady = frozen.steady;
+    out.frozen = frozen.frozen;
+    if (out.frozen.status != DynamicsStatus::ok) return out;
+    const MillModel model(mill, out.steady);
+    const MillLinearisation lin = model.linearise(model.equilibrium());
+    if (lin.status != DynamicsStatus::ok) return out;
+    out.delay = lin.delay;
+    const TransportTransfer transfer = transport_transfer(lin);
+    out.margin = regenerative_margin(transfer, options);
+    out.nominal = nominal_delay_root_count(transfer, 0.0);
+    if (out.nominal.ok) out.rightmost = rightmost_delay_root(transfer, out.nominal);
+    out.nominal_stable = out.nominal.ok && out.nominal.count == 0;
+    out.delay_independent_stable =
+        out.margin.ok && out.margin.frozen_stable && out.margin.margin < 1.0;
+    return out;
+}
+
 CriticalSpeedResult mill_frozen_critical_speed(const Mill& mill,
                                                const CriticalSpeedOptions& options,
                                                const Control& control) {

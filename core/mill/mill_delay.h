@@ -1,0 +1,69 @@
+#pragma once
+// The mill with its nominal transport delays (docs/model.md §12.6): the roots of
+//   chi(s) = det(sI - A0) det(I - M(s) E(s)),   E(s) = diag(exp(-s tau_i)),
+// counted to the right of Re s = alpha by the argument principle on F = det(I - M E) (exact: no
+// rational approximation of the delays), and found one by one by Newton's method on F.
+
+#include <complex>
+#include <vector>
+
+#include <Eigen/Dense>
+
+#include "core/mill/mill_regenerative.h"
+
+namespace rollgap::core {
+
+// F(s) = det(I - M(s) E(s)).
+std::complex<double> delay_characteristic(const TransportTransfer& transfer,
+                                          std::complex<double> s);
+
+struct DelayRootCount {
+    bool ok = false;
+    const char* message = "";
+    int count = 0;               // roots of chi with Re s > alpha
+    double alpha = 0.0;          // the line used (moved off A0's poles when one sits on it)
+    int frozen_right = 0;        // eigenvalues of A0 with Re > alpha
+    double winding = 0.0;        // -(change of arg F along the line from 0 to +i inf) / pi
+    double integer_error = 0.0;  // |frozen_right + winding - count|: the count's own accuracy
+    int evaluations = 0;         // F evaluated
+    // Where |F| dips along the followed parts of the line (local minima, the 16 smallest): the
+    // roots nearest the line lie beneath them, Newton's starts for the rightmost root.
+    std::vector<std::complex<double>> dips;
+};
+
+// The argument principle on the line s = alpha + i omega, omega from 0 to infinity (F is real on
+// the real axis, so the other half mirrors it): where sigma(M) max_i exp(-alpha tau_i) < 1/2 the
+// eigenvalues of I - M E stay within 1/2 of 1 and arg F is their principal arguments' sum, so no
+// delay phase need be followed there; elsewhere arg F is followed with steps of at most a quarter
+// of 1/tau_max and of the distance to A0's nearest pole, halved until each increment is under
+// pi/4.
+DelayRootCount nominal_delay_root_count(const TransportTransfer& transfer, double alpha = 0.0);
+
+struct DelayRoot {
+    bool converged = false;
+    std::complex<double> s;  // 1/s
+    double residual = 0.0;   // |F(s)|
+    int iterations = 0;
+};
+
+struct RightmostDelayRoot {
+    bool found = false;
+    bool verified = false;  // the count right of it is zero
+    DelayRoot root;
+    int starts = 0;  // Newton runs
+    int counts = 0;  // counts taken to verify
+};
+
+// The rightmost root: Newton's from the count's dips and from A0's oscillatory poles with
+// frequencies in (0, 2000] Hz, the largest real part among the converged (|F| < 1e-8); then
+// the count just right of it (Re s > Re r + max(1e-3, 1e-9 |r|)) says whether any root lies
+// further right, and if one does, Newton again from that count's dips, which lie beside it; up
+// to eight rounds.
+RightmostDelayRoot rightmost_delay_root(const TransportTransfer& transfer,
+                                        const DelayRootCount& count);
+
+// Newton's method on F from `start` (the derivative by central differences, F analytic), to
+// |step| <= 1e-12 |s|.
+DelayRoot delay_root(const TransportTransfer& transfer, std::complex<double> start);
+
+}  // namespace rollgap::core
