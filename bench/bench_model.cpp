@@ -28,6 +28,7 @@
 #include "core/control.h"
 #include "core/coupled_model.h"
 #include "core/mill/mill.h"
+#include "core/mill/mill_critical_speed.h"
 #include "core/mill/mill_delay.h"
 #include "core/mill/mill_model.h"
 #include "core/mill/mill_regenerative.h"
@@ -367,6 +368,32 @@ int bench_mill(const Config& cfg) {
     const auto pool = rollgap::service::local_pool();
     core::Control control;
     control.executor = pool.get();
+
+    // the three critical speeds: two stands (the default mill's last two, 5 m span) and five
+    const auto print_speeds = [&](const std::string& name, const core::Mill& m, long reps) {
+        const core::MillCriticalSpeeds speeds = core::mill_critical_speeds(m, {}, control);
+        for (const core::MillCrossing* c :
+             {&speeds.frozen, &speeds.delay_independent, &speeds.nominal_delay}) {
+            const std::string kind = core::to_string(c->kind);
+            print_figure(name + "." + kind + ".speed", c->speed, "m/s");
+            print_figure(name + "." + kind + ".frequency", c->frequency_Hz, "Hz");
+            print_count(name + "." + kind + ".moving_stand", c->moving_stand + 1);
+            print_count(name + "." + kind + ".valid", c->validity.valid() ? 1 : 0);
+        }
+        print_count(name + ".headline", speeds.headline);
+        print_timing(name, time_it(heavy(cfg, reps), [&] {
+                         return core::mill_critical_speeds(m, {}, control).frozen.speed;
+                     }));
+    };
+    core::Mill two = mill;
+    two.stands = {mill.stands[3], mill.stands[4]};
+    two.thickness = {mill.thickness[3], mill.thickness[4], mill.thickness[5]};
+    two.span_length = {mill.span_length[3]};
+    two.interstand_tension = {mill.interstand_tension[3]};
+    two.entry_tension = mill.interstand_tension[2];
+    print_speeds("mill_critical_speeds_2", two, 5);
+    print_speeds("mill_critical_speeds_5", mill, 1);
+
     core::CriticalSpeedOptions options;
     options.stop_at_crossing = true;
     const core::CriticalSpeedResult frozen =

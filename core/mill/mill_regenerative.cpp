@@ -22,6 +22,7 @@ TransportTransfer transport_transfer(const MillLinearisation& lin) {
     out.output = lin.output.cast<std::complex<double>>() *
                  eig.scale.cast<std::complex<double>>().asDiagonal() * eig.balanced_vectors;
     out.poles = eig.values;
+    out.modes = eig.vectors;
     out.delay = lin.delay;
     out.frozen_max_real_part = eig.values.real().maxCoeff();
     out.ok = out.input.allFinite() && out.input_rate.allFinite() && out.output.allFinite();
@@ -36,6 +37,30 @@ Eigen::MatrixXcd TransportTransfer::at(std::complex<double> s) const {
         right.row(k) = r * (input.row(k) + s * input_rate.row(k));
     }
     return output * right;
+}
+
+Eigen::VectorXcd delay_root_vector(const TransportTransfer& transfer, std::complex<double> s) {
+    const Eigen::Index n = transfer.poles.size(), p = transfer.spans();
+    if (p == 0) return Eigen::VectorXcd::Zero(n);
+    Eigen::VectorXcd e(p);
+    for (Eigen::Index j = 0; j < p; ++j)
+        e(j) = std::exp(-s * transfer.delay[static_cast<std::size_t>(j)]);
+    const Eigen::MatrixXcd loop =
+        Eigen::MatrixXcd::Identity(p, p) - transfer.at(s) * e.asDiagonal();
+    const Eigen::JacobiSVD<Eigen::MatrixXcd> svd(loop, Eigen::ComputeFullV);
+    Eigen::VectorXcd z = transport_response(transfer, s, e.asDiagonal() * svd.matrixV().col(p - 1));
+    const double norm = z.norm();
+    if (norm > 0.0) z /= norm;
+    return z;
+}
+
+Eigen::VectorXcd transport_response(const TransportTransfer& transfer, std::complex<double> s,
+                                    const Eigen::VectorXcd& u) {
+    const Eigen::Index n = transfer.poles.size();
+    const Eigen::VectorXcd forcing = (transfer.input + s * transfer.input_rate) * u;
+    Eigen::VectorXcd modal(n);
+    for (Eigen::Index k = 0; k < n; ++k) modal(k) = forcing(k) / (s - transfer.poles(k));
+    return transfer.modes * modal;
 }
 
 namespace {

@@ -26,6 +26,7 @@ struct TransportTransfer {
     Eigen::MatrixXcd input;       // V^-1 B, n x p
     Eigen::MatrixXcd input_rate;  // V^-1 B', n x p
     std::vector<double> delay;    // tau_i, s
+    Eigen::MatrixXcd modes;       // V, A0's right eigenvectors in the mill's coordinates
     double frozen_max_real_part = 0.0;
 
     int spans() const { return static_cast<int>(input.cols()); }
@@ -33,6 +34,16 @@ struct TransportTransfer {
 };
 
 TransportTransfer transport_transfer(const MillLinearisation& linearisation);
+
+// The frozen mill's state response to the entering thicknesses u at s:
+// z = (sI - A0)^-1 (B + sB') u, in the modal basis.
+Eigen::VectorXcd transport_response(const TransportTransfer& transfer, std::complex<double> s,
+                                    const Eigen::VectorXcd& u);
+
+// The mill's state vector of a root s of det(I - M(s) E(s)) = 0: z = (sI - A0)^-1 (B + sB') E u
+// with u the loop's null vector (the right singular vector of I - M E for its smallest singular
+// value), scaled to |z| = 1.
+Eigen::VectorXcd delay_root_vector(const TransportTransfer& transfer, std::complex<double> s);
 
 // min over positive diagonal D of the largest singular value of D M D^-1: an upper bound of the
 // structured singular value of M for independent complex scalars (the delays' phases), exact for

@@ -1,0 +1,288 @@
+#include "core/mill/mill_critical_speed.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "core/chatter_type.h"
+#include "core/mill/mill_delay.h"
+#include "core/mill/mill_model.h"
+#include "core/mill/mill_regenerative.h"
+#include "core/parallel_for.h"
+
+namespace rollgap::core {
+
+std::vector<double> mill_participation(const Mill& mill, const Eigen::VectorXcd& z) {
+    std::vector<double> shares(static_cast<std::size_t>(mill.size()), 0.0);
+    double total = 0.0;
+    for (int i = 0; i < mill.size(); ++i) {
+        const auto& masses = mill.stands[static_cast<std::size_t>(i)].structure.mass;
+        double energy = 0.0;
+        for (int k = 0; k < 6; ++k) {
+            const Eigen::Index at = StandBlock::state_size * i + k;
+            if (at < z.size()) energy += masses[static_cast<std::size_t>(k)] * std::norm(z(at));
+        }
+        shares[static_cast<std::size_t>(i)] = energy;
+        total += energy;
+    }
+    if (total > 0.0)
+        for (double& share : shares) share /= total;
+    return shares;
+}
+
+CrossingValidity crossing_validity(const Mill& mill, const MillSteadyState& steady,
+                                   double frequency_Hz) {
+    CrossingValidity out;
+    const double omega = 2.0 * std::numbers::pi * frequency_Hz;
+    const double c = std::sqrt(mill.youngs_modulus / mill.strip_density);
+    for (double length : mill.span_length) {
+        const double x = omega * length / c;
+        out.span_wave_number.push_back(x);
+        const double error = x > 0.0 ? 1.0 - x / std::tan(x) : 0.0;
+        out.spring_law_error.push_back(error);
+        // beyond x = pi/2 the spring's sign is wrong (tan < 0): outside as well
+        if (!(error <= 0.25) || x >= 0.5 * std::numbers::pi) out.spring_law_valid = false;
+    }
+    for (const MillStandState& stand : steady.stands) {
+        const double ratio = stand.entry_speed > 0.0
+                                 ? stand.bite.contact_length / stand.entry_speed * frequency_Hz
+                                 : 0.0;
+        out.bite_transit_ratio.push_back(ratio);
+        if (ratio > 0.2) out.quasi_static_bite_valid = false;
+    }
+    return out;
+}
+
+const char* to_string(MillCrossingKind kind) {
+    switch (kind) {
+        case MillCrossingKind::frozen: return "frozen";
+        case MillCrossingKind::delay_independent: return "delay_independent";
+        case MillCrossingKind::nominal_delay: return "nominal_delay";
+    }
+    return "frozen";
+}
+
+namespace {
+
+Mill at_speed(const Mill& mill, double speed) {
+    Mill m = mill;
+    m.speed = speed;
+    return m;
+}
+
+// Frequency, moving stand, band and validity of a crossing at `speed`, from a state vector z.
+void describe(MillCrossing& crossing, const Mill& mill, double frequency_Hz,
+              const Eigen::VectorXcd& z) {
+    crossing.frequency_Hz = frequency_Hz;
+    crossing.band = chatter_band(frequency_Hz);
+    crossing.participation = mill_participation(mill, z);
+    crossing.moving_stand = static_cast<int>(
+        std::max_element(crossing.participation.begin(), crossing.participation.end()) -
+        crossing.participation.begin());
+    const MillSteadyState steady = mill_steady_state(at_speed(mill, crossing.speed));
+    crossing.validity = crossing_validity(mill, steady, frequency_Hz);
+}
+
+struct Linearised {
+    bool ok = false;
+    MillSteadyState steady;
+    TransportTransfer transfer;
+};
+
+Linearised linearised(const Mill& mill) {
+    Linearised out;
+    out.steady = mill_steady_state(mill);
+    if (out.steady.status != MillSteadyStatus::ok) return out;
+    const MillModel model(mill, out.steady);
+    if (model.status() != BiteStatus::ok) return out;
+    const MillLinearisation lin = model.linearise(model.equilibrium());
+    if (lin.status != DynamicsStatus::ok) return out;
+    out.transfer = transport_transfer(lin);
+    out.ok = out.transfer.ok;
+    return out;
+}
+
+// The frozen response to the loop's worst input at the margin's frequency: u = D^-1 v, v the
+// top right singular vector of D M D^-1.
+Eigen::VectorXcd margin_response(const TransportTransfer& transfer,
+                                 const RegenerativeMargin& margin) {
+    const Eigen::Index p = transfer.spans();
+    if (p == 0 || margin.transfer.rows() != p) return Eigen::VectorXcd::Zero(transfer.poles.size());
+    const Eigen::VectorXd d =
+        margin.scaling.size() == p ? margin.scaling : Eigen::VectorXd::Ones(p);
+    const Eigen::MatrixXcd scaled = d.cast<std::complex<double>>().asDiagonal() * margin.transfer *
+                                    d.cwiseInverse().cast<std::complex<double>>().asDiagonal();
+    const Eigen::JacobiSVD<Eigen::MatrixXcd> svd(scaled, Eigen::ComputeFullV);
+    const Eigen::VectorXcd u =
+        d.cwiseInverse().cast<std::complex<double>>().asDiagonal() * svd.matrixV().col(0);
+    return transport_response(transfer, {0.0, 2.0 * std::numbers::pi * margin.frequency_Hz}, u);
+}
+
+}  // namespace
+
+MillCriticalSpeeds mill_critical_speeds(const Mill& mill, const CriticalSpeedOptions& options,
+                                        const Control& control) {
+    MillCriticalSpeeds out;
+    CriticalSpeedOptions search = options;
+    search.stop_at_crossing = true;
+
+    // frozen: A0 alone
+    {
+        MillCrossing& c = out.frozen;
+        c.kind = MillCrossingKind::frozen;
+        const CriticalSpeedResult r = mill_frozen_critical_speed(mill, search, control);
+        c.status = r.status;
+        if (r.status == CriticalSpeedStatus::found) {
+            c.speed = r.critical_speed;
+            const Linearised l = linearised(at_speed(mill, c.speed));
+            // the crossing eigenvector: A0's eigenvalue nearest the crossing mode's
+            Eigen::VectorXcd z = Eigen::VectorXcd::Zero(1);
+            if (l.ok) {
+                Eigen::Index best = 0;
+                for (Eigen::Index k = 1; k < l.transfer.poles.size(); ++k)
+                    if (std::abs(l.transfer.poles(k) - r.unstable_mode.eigenvalue) <
+                        std::abs(l.transfer.poles(best) - r.unstable_mode.eigenvalue))
+                        best = k;
+                z = l.transfer.modes.col(best);
+            }
+            describe(c, mill, r.unstable_mode.frequency_Hz, z);
+        }
+    }
+
+    // delay-independent: g = rho - 1 while A0 is stable
+    {
+        MillCrossing& c = out.delay_independent;
+        c.kind = MillCrossingKind::delay_independent;
+        const auto at = [&mill](double speed, bool) {
+            SpeedStability p;
+            p.speed = speed;
+            const Linearised l = linearised(at_speed(mill, speed));
+            p.steady_status =
+                l.steady.status == MillSteadyStatus::ok ? BiteStatus::ok : BiteStatus::skidding;
+            if (!l.ok) return p;  // status solver_failure: not usable
+            p.status = DynamicsStatus::ok;
+            if (l.transfer.frozen_max_real_part >= 0.0) {
+                p.max_real_part = 1.0;
+            } else {
+                const RegenerativeMargin margin = regenerative_margin(l.transfer);
+                p.max_real_part = margin.margin - 1.0;
+                p.least_damped.frequency_Hz = margin.frequency_Hz;
+                p.least_damped.eigenvalue = {0.0, 2.0 * std::numbers::pi * margin.frequency_Hz};
+            }
+            p.stable = p.max_real_part < 0.0;
+            return p;
+        };
+        const CriticalSpeedResult r = critical_speed_search(at, search, control);
+        c.status = r.status;
+        if (r.status == CriticalSpeedStatus::found) {
+            c.speed = r.critical_speed;
+            const Linearised l = linearised(at_speed(mill, c.speed));
+            if (l.ok) {
+                const RegenerativeMargin margin = regenerative_margin(l.transfer);
+                describe(c, mill, margin.frequency_Hz, margin_response(l.transfer, margin));
+            }
+        }
+    }
+
+    // nominal delays: from the delay-independent speed up, in half lobe periods
+    {
+        MillCrossing& c = out.nominal_delay;
+        c.kind = MillCrossingKind::nominal_delay;
+        const MillCrossing& di = out.delay_independent;
+        if (di.status == CriticalSpeedStatus::stable_in_range ||
+            di.status == CriticalSpeedStatus::no_steady_state ||
+            di.status == CriticalSpeedStatus::cancelled) {
+            c.status = di.status;  // stable for every delay, or nothing to start from
+        } else {
+            const double start =
+                di.status == CriticalSpeedStatus::found ? di.speed : options.speed_min;
+            const auto count_at = [&mill](double speed) {
+                const Linearised l = linearised(at_speed(mill, speed));
+                if (!l.ok) return -1;
+                const DelayRootCount n = nominal_delay_root_count(l.transfer, 0.0);
+                return n.ok ? n.count : -1;
+            };
+            const Linearised first = linearised(at_speed(mill, start));
+            double tau_max = 0.0;
+            for (double tau : first.transfer.delay) tau_max = std::max(tau_max, tau);
+            const double f = di.frequency_Hz > 0.0 ? di.frequency_Hz : 100.0;
+            const double lobe = start / (f * std::max(tau_max, 1e-9));
+            c.lobe_period = lobe;
+            const double step = 0.5 * lobe;
+            // blocks of speeds in parallel, in order, until a root crosses
+            const int block = std::max(2, control.thread_budget());
+            constexpr int max_steps = 400;
+            double stable_speed = -1.0, unstable_speed = -1.0;
+            for (int begin = 0; begin < max_steps && unstable_speed < 0.0; begin += block) {
+                if (control.should_stop()) {
+                    c.status = CriticalSpeedStatus::cancelled;
+                    return out;
+                }
+                std::vector<int> counts(static_cast<std::size_t>(block), -1);
+                parallel_for(block, control, [&](int k) {
+                    const double v = start + (begin + k) * step;
+                    if (v <= options.speed_max) counts[static_cast<std::size_t>(k)] = count_at(v);
+                });
+                for (int k = 0; k < block; ++k) {
+                    const double v = start + (begin + k) * step;
+                    if (v > options.speed_max) break;
+                    const int n = counts[static_cast<std::size_t>(k)];
+                    if (n == 0) {
+                        stable_speed = v;
+                    } else if (n > 0) {
+                        unstable_speed = v;
+                        break;
+                    }
+                }
+                if (start + (begin + block) * step > options.speed_max) break;
+            }
+            if (unstable_speed < 0.0) {
+                c.status = CriticalSpeedStatus::stable_in_range;
+            } else if (stable_speed < 0.0 || stable_speed > unstable_speed) {
+                c.status = CriticalSpeedStatus::unstable_at_lower_bound;
+                c.speed = unstable_speed;
+            } else {
+                double lo = stable_speed, hi = unstable_speed;
+                while (hi - lo > options.relative_tolerance * lo) {
+                    const double mid = 0.5 * (lo + hi);
+                    const int n = count_at(mid);
+                    if (n == 0) lo = mid;
+                    else hi = mid;
+                }
+                c.status = CriticalSpeedStatus::found;
+                c.speed = hi;
+            }
+            if (c.status == CriticalSpeedStatus::found ||
+                c.status == CriticalSpeedStatus::unstable_at_lower_bound) {
+                const Linearised l = linearised(at_speed(mill, c.speed));
+                if (l.ok) {
+                    const DelayRootCount n = nominal_delay_root_count(l.transfer, 0.0);
+                    const RightmostDelayRoot r = rightmost_delay_root(l.transfer, n);
+                    if (r.found) {
+                        describe(c, mill, r.root.s.imag() / (2.0 * std::numbers::pi),
+                                 delay_root_vector(l.transfer, r.root.s));
+                    }
+                }
+            }
+        }
+    }
+
+    // the headline: the lowest found crossing inside the model's range
+    const MillCrossing* crossings[] = {&out.frozen, &out.delay_independent, &out.nominal_delay};
+    double lowest = std::numeric_limits<double>::infinity();
+    for (int k = 0; k < 3; ++k) {
+        const MillCrossing& c = *crossings[k];
+        if (c.status == CriticalSpeedStatus::found && c.validity.valid() && c.speed < lowest) {
+            lowest = c.speed;
+            out.headline = k;
+        }
+    }
+    for (int k = 0; k < 3; ++k) {
+        const MillCrossing& c = *crossings[k];
+        if (c.status == CriticalSpeedStatus::found && !c.validity.valid() && c.speed < lowest)
+            out.outside_range_below.push_back(c.kind);
+    }
+    return out;
+}
+
+}  // namespace rollgap::core

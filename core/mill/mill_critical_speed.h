@@ -1,0 +1,69 @@
+#pragma once
+// The mill's three critical speeds (docs/model.md §12.7): `frozen` (A0 turns unstable: the
+// tension path alone), `delay_independent` (A0 unstable or rho >= 1: the first speed at which
+// some set of transport delays destabilises the mill, the robust limit) and `nominal_delay` (the
+// first root with the actual delays crossing the axis), each with its frequency, the stand that
+// moves, the band, and the validity of the spring law and the quasi-static bite there; the
+// headline is the lowest whose crossing lies inside the model's range.
+
+#include <vector>
+
+#include "core/control.h"
+#include "core/mill/mill.h"
+#include "core/mill/mill_stability.h"
+#include "core/stability.h"
+
+namespace rollgap::core {
+
+// Per-stand shares of a mill state vector's motion, mass-weighted over the six masses of each
+// stand (sum_k m_k |q_k|^2, normalised to sum 1): the stand that moves is the largest.
+std::vector<double> mill_participation(const Mill& mill, const Eigen::VectorXcd& z);
+
+// Whether a crossing at `frequency_Hz` lies inside the model's range (docs/model.md §12.7):
+// per span omega L / c and the spring law's stiffness error 1 - x / tan x (x = omega L / c; the
+// law is outside its range above 0.25), per stand the bite transit time x_w / u1 over the period
+// (the quasi-static bite is outside its range above 0.2).
+struct CrossingValidity {
+    std::vector<double> span_wave_number;    // omega L_i / c, interstand spans
+    std::vector<double> spring_law_error;    // 1 - x / tan x
+    std::vector<double> bite_transit_ratio;  // (x_w / u1) f per stand
+    bool spring_law_valid = true;
+    bool quasi_static_bite_valid = true;
+    bool valid() const { return spring_law_valid && quasi_static_bite_valid; }
+};
+CrossingValidity crossing_validity(const Mill& mill, const MillSteadyState& steady,
+                                   double frequency_Hz);
+
+enum class MillCrossingKind { frozen, delay_independent, nominal_delay };
+const char* to_string(MillCrossingKind);
+
+struct MillCrossing {
+    MillCrossingKind kind = MillCrossingKind::frozen;
+    CriticalSpeedStatus status = CriticalSpeedStatus::no_steady_state;
+    double speed = 0.0;         // m/s, when found
+    double frequency_Hz = 0.0;  // of the crossing root (delay_independent: where rho peaks)
+    int moving_stand = -1;      // 0-based: the largest participation
+    std::vector<double> participation;
+    ChatterType band = ChatterType::other;
+    CrossingValidity validity;
+    // nominal_delay: the lobe period Delta V ~ V / (f tau_max) beside it, m/s
+    double lobe_period = 0.0;
+};
+
+struct MillCriticalSpeeds {
+    MillCrossing frozen, delay_independent, nominal_delay;
+    // the lowest found crossing inside the model's range; -1 if none is
+    int headline = -1;  // 0 frozen, 1 delay_independent, 2 nominal_delay
+    // found crossings below the headline (or all, when none is valid) that lie outside the range
+    std::vector<MillCrossingKind> outside_range_below;
+};
+
+// frozen: the single stand's search on A0 (§7.3); delay_independent: the same search on
+// g = rho - 1 while A0 is stable (+1 where it is not; rho grows without bound as A0 nears
+// instability, so g crosses zero first); nominal_delay: from the delay-independent speed (below
+// it every set of delays is stable) upwards in steps of half a lobe period until a root crosses,
+// at most 400 steps, then bisection on "a root right of the axis" to the search's tolerance.
+MillCriticalSpeeds mill_critical_speeds(const Mill& mill, const CriticalSpeedOptions& options = {},
+                                        const Control& control = {});
+
+}  // namespace rollgap::core

@@ -1,0 +1,135 @@
+// The mill's three critical speeds (docs/model.md §12.7) on two stands (a 5-stand search costs
+// tens of seconds; the benchmark reports it): the ordering the theory demands (every set of
+// delays is stable below the delay-independent speed, and rho grows without bound as A0 nears
+// instability), the one-span identity (the nominal crossing within one lobe period of the speed
+// where rho = 1), each speed's own defining condition on either side of it, the validity
+// figures against the specification's, and the headline rule.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <string>
+
+#include "core/mill/mill.h"
+#include "core/mill/mill_critical_speed.h"
+#include "core/mill/mill_delay.h"
+#include "core/mill/mill_model.h"
+#include "core/mill/mill_regenerative.h"
+
+namespace mill_critical_speed_test {
+
+using namespace rollgap::core;
+
+Mill two_stand_mill(double span) {
+    const Mill d = default_mill();
+    Mill m = d;
+    m.stands = {d.stands[3], d.stands[4]};
+    m.thickness = {d.thickness[3], d.thickness[4], d.thickness[5]};
+    m.span_length = {span};
+    m.interstand_tension = {d.interstand_tension[3]};
+    m.entry_tension = d.interstand_tension[2];
+    return m;
+}
+
+struct AtSpeed {
+    double rho = 0.0;
+    int count = -1;
+    bool frozen_stable = false;
+};
+
+AtSpeed at_speed(Mill m, double speed) {
+    m.speed = speed;
+    AtSpeed out;
+    const MillSteadyState steady = mill_steady_state(m);
+    REQUIRE(steady.status == MillSteadyStatus::ok);
+    const MillModel model(m, steady);
+    const TransportTransfer transfer = transport_transfer(model.linearise(model.equilibrium()));
+    REQUIRE(transfer.ok);
+    out.frozen_stable = transfer.frozen_max_real_part < 0.0;
+    out.rho = regenerative_margin(transfer).margin;
+    const DelayRootCount count = nominal_delay_root_count(transfer, 0.0);
+    REQUIRE(count.ok);
+    out.count = count.count;
+    return out;
+}
+
+TEST_CASE("mill critical speeds: ordered, each on its own condition, one span within a lobe") {
+    const Mill m = two_stand_mill(5.0);
+    const MillCriticalSpeeds speeds = mill_critical_speeds(m);
+    const MillCrossing &frozen = speeds.frozen, &di = speeds.delay_independent,
+                       &nominal = speeds.nominal_delay;
+    for (const MillCrossing* c : {&frozen, &di, &nominal}) {
+        MESSAGE(std::string(to_string(c->kind))
+                << ": " << std::string(to_string(c->status)) << " at " << c->speed << " m/s, "
+                << c->frequency_Hz << " Hz, stand " << c->moving_stand + 1
+                << " moves, inside the model's range " << c->validity.valid());
+        REQUIRE(c->status == CriticalSpeedStatus::found);
+    }
+    // below the delay-independent speed every set of delays is stable: no other speed lower
+    CHECK(di.speed <= frozen.speed);
+    CHECK(di.speed <= nominal.speed * (1.0 + 1e-4));
+    // one span: the nominal crossing lies within one lobe period of the speed where rho = 1
+    MESSAGE("lobe period " << nominal.lobe_period << " m/s; nominal - delay-independent "
+                           << nominal.speed - di.speed << " m/s");
+    CHECK(nominal.speed - di.speed <= nominal.lobe_period);
+
+    // each speed's own condition on both sides (the searches' tolerance is 1e-4 of the speed)
+    const AtSpeed below_di = at_speed(m, di.speed * (1.0 - 1e-3));
+    const AtSpeed above_di = at_speed(m, di.speed * (1.0 + 1e-3));
+    CHECK(below_di.frozen_stable);
+    CHECK(below_di.rho < 1.0);
+    CHECK(above_di.rho >= 1.0);
+    CHECK(below_di.count == 0);
+    const AtSpeed below_nominal = at_speed(m, nominal.speed * (1.0 - 2e-4));
+    const AtSpeed at_nominal = at_speed(m, nominal.speed);
+    CHECK(below_nominal.count == 0);
+    CHECK(at_nominal.count > 0);
+    const AtSpeed below_frozen = at_speed(m, frozen.speed * (1.0 - 1e-3));
+    const AtSpeed above_frozen = at_speed(m, frozen.speed * (1.0 + 1e-3));
+    CHECK(below_frozen.frozen_stable);
+    CHECK_FALSE(above_frozen.frozen_stable);
+
+    // participation: shares of one
+    double total = 0.0;
+    for (double share : nominal.participation) total += share;
+    CHECK(total == doctest::Approx(1.0).epsilon(1e-12));
+
+    // the headline: the lowest crossing inside the model's range, lower ones outside named
+    REQUIRE(speeds.headline >= 0);
+    const MillCrossing* crossings[] = {&frozen, &di, &nominal};
+    const MillCrossing& headline = *crossings[speeds.headline];
+    CHECK(headline.validity.valid());
+    for (const MillCrossing* c : crossings) {
+        if (c->speed < headline.speed) {
+            CHECK_FALSE(c->validity.valid());
+            CHECK(std::find(speeds.outside_range_below.begin(), speeds.outside_range_below.end(),
+                            c->kind) != speeds.outside_range_below.end());
+        }
+    }
+}
+
+TEST_CASE(
+    "crossing validity: the spring law's error and the bite's transit against their formulas") {
+    Mill m = two_stand_mill(5.0);
+    const MillSteadyState steady = mill_steady_state(m);
+    REQUIRE(steady.status == MillSteadyStatus::ok);
+    // TANDEM: 14 % at 105 Hz on 5 m (c = sqrt(E / rho) = 5172 m/s)
+    const CrossingValidity at_105 = crossing_validity(m, steady, 105.0);
+    REQUIRE(at_105.spring_law_error.size() == 1);
+    CHECK(at_105.spring_law_error[0] == doctest::Approx(0.141).epsilon(0.01));
+    CHECK(at_105.spring_law_valid);
+    // x = omega L / c = pi / 4: 1 - (pi / 4) / tan(pi / 4)
+    const double c = std::sqrt(m.youngs_modulus / m.strip_density);
+    const double f = (std::numbers::pi / 4.0) * c / (2.0 * std::numbers::pi * 5.0);
+    CHECK(crossing_validity(m, steady, f).spring_law_error[0] ==
+          doctest::Approx(1.0 - std::numbers::pi / 4.0).epsilon(1e-12));
+    // the span's first mode with both ends held, c / 2L = 517 Hz, is far outside
+    CHECK_FALSE(crossing_validity(m, steady, c / 10.0).spring_law_valid);
+    // transit: x_w / u1 times f, per stand
+    const double ratio = steady.stands[0].bite.contact_length / steady.stands[0].entry_speed;
+    CHECK(at_105.bite_transit_ratio[0] == doctest::Approx(ratio * 105.0).epsilon(1e-12));
+    CHECK(crossing_validity(m, steady, 0.21 / ratio).quasi_static_bite_valid == false);
+}
+
+}  // namespace mill_critical_speed_test
