@@ -378,6 +378,7 @@ int bench_mill(const Config& cfg) {
             print_figure(name + "." + kind + ".speed", c->speed, "m/s");
             print_figure(name + "." + kind + ".frequency", c->frequency_Hz, "Hz");
             print_count(name + "." + kind + ".moving_stand", c->moving_stand + 1);
+            print_count(name + "." + kind + ".feeding_stand", c->feeding_stand + 1);
             print_count(name + "." + kind + ".valid", c->validity.valid() ? 1 : 0);
         }
         print_count(name + ".headline", speeds.headline);

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
+#include <limits>
 #include <numbers>
 
 #include "core/chatter_type.h"
@@ -70,36 +72,60 @@ Mill at_speed(const Mill& mill, double speed) {
     return m;
 }
 
-// Frequency, moving stand, band and validity of a crossing at `speed`, from a state vector z.
-void describe(MillCrossing& crossing, const Mill& mill, double frequency_Hz,
-              const Eigen::VectorXcd& z) {
-    crossing.frequency_Hz = frequency_Hz;
-    crossing.band = chatter_band(frequency_Hz);
-    crossing.participation = mill_participation(mill, z);
-    crossing.moving_stand = static_cast<int>(
-        std::max_element(crossing.participation.begin(), crossing.participation.end()) -
-        crossing.participation.begin());
-    const MillSteadyState steady = mill_steady_state(at_speed(mill, crossing.speed));
-    crossing.validity = crossing_validity(mill, steady, frequency_Hz);
-}
-
 struct Linearised {
     bool ok = false;
     MillSteadyState steady;
     TransportTransfer transfer;
 };
 
-Linearised linearised(const Mill& mill) {
+Linearised linearised(const Mill& mill, std::vector<double> gains = {}) {
     Linearised out;
     out.steady = mill_steady_state(mill);
     if (out.steady.status != MillSteadyStatus::ok) return out;
-    const MillModel model(mill, out.steady);
+    MillModel model(mill, out.steady);
     if (model.status() != BiteStatus::ok) return out;
+    model.set_bite_gains(std::move(gains));
     const MillLinearisation lin = model.linearise(model.equilibrium());
     if (lin.status != DynamicsStatus::ok) return out;
     out.transfer = transport_transfer(lin);
     out.ok = out.transfer.ok;
     return out;
+}
+
+// Frequency, moving and feeding stands, band and validity of a crossing at its speed, from a
+// state vector z; `growth` measures the crossing on a transfer (its root's real part, or rho),
+// differentiated in each stand's bite gain by central differences (kappa = +-1e-3).
+void describe(MillCrossing& crossing, const Mill& mill, double frequency_Hz,
+              const Eigen::VectorXcd& z,
+              const std::function<double(const TransportTransfer&)>& growth) {
+    crossing.frequency_Hz = frequency_Hz;
+    crossing.band = chatter_band(frequency_Hz);
+    crossing.participation = mill_participation(mill, z);
+    crossing.moving_stand = static_cast<int>(
+        std::max_element(crossing.participation.begin(), crossing.participation.end()) -
+        crossing.participation.begin());
+    const Mill m = at_speed(mill, crossing.speed);
+    const MillSteadyState steady = mill_steady_state(m);
+    crossing.validity = crossing_validity(mill, steady, frequency_Hz);
+    constexpr double kappa = 1e-3;
+    for (int i = 0; i < mill.size(); ++i) {
+        double value[2] = {0.0, 0.0};
+        for (int side = 0; side < 2; ++side) {
+            std::vector<double> gains(static_cast<std::size_t>(mill.size()), 1.0);
+            gains[static_cast<std::size_t>(i)] += side == 0 ? kappa : -kappa;
+            const Linearised l = linearised(m, std::move(gains));
+            value[side] = l.ok ? growth(l.transfer) : std::nan("");
+        }
+        crossing.feeding_sensitivity.push_back((value[0] - value[1]) / (2.0 * kappa));
+    }
+    double best = -std::numeric_limits<double>::infinity();
+    for (int i = 0; i < mill.size(); ++i) {
+        const double x = crossing.feeding_sensitivity[static_cast<std::size_t>(i)];
+        if (x > best) {
+            best = x;
+            crossing.feeding_stand = i;
+        }
+    }
 }
 
 // The frozen response to the loop's worst input at the margin's frequency: u = D^-1 v, v the
@@ -145,7 +171,13 @@ MillCriticalSpeeds mill_critical_speeds(const Mill& mill, const CriticalSpeedOpt
                         best = k;
                 z = l.transfer.modes.col(best);
             }
-            describe(c, mill, r.unstable_mode.frequency_Hz, z);
+            const std::complex<double> root = r.unstable_mode.eigenvalue;
+            describe(c, mill, r.unstable_mode.frequency_Hz, z, [root](const TransportTransfer& t) {
+                Eigen::Index best = 0;
+                for (Eigen::Index k = 1; k < t.poles.size(); ++k)
+                    if (std::abs(t.poles(k) - root) < std::abs(t.poles(best) - root)) best = k;
+                return t.poles(best).real();
+            });
         }
     }
 
@@ -179,7 +211,9 @@ MillCriticalSpeeds mill_critical_speeds(const Mill& mill, const CriticalSpeedOpt
             const Linearised l = linearised(at_speed(mill, c.speed));
             if (l.ok) {
                 const RegenerativeMargin margin = regenerative_margin(l.transfer);
-                describe(c, mill, margin.frequency_Hz, margin_response(l.transfer, margin));
+                const std::complex<double> at{0.0, 2.0 * std::numbers::pi * margin.frequency_Hz};
+                describe(c, mill, margin.frequency_Hz, margin_response(l.transfer, margin),
+                         [at](const TransportTransfer& t) { return structured_bound(t.at(at)); });
             }
         }
     }
@@ -259,8 +293,13 @@ MillCriticalSpeeds mill_critical_speeds(const Mill& mill, const CriticalSpeedOpt
                     const DelayRootCount n = nominal_delay_root_count(l.transfer, 0.0);
                     const RightmostDelayRoot r = rightmost_delay_root(l.transfer, n);
                     if (r.found) {
-                        describe(c, mill, r.root.s.imag() / (2.0 * std::numbers::pi),
-                                 delay_root_vector(l.transfer, r.root.s));
+                        const std::complex<double> root = r.root.s;
+                        describe(c, mill, root.imag() / (2.0 * std::numbers::pi),
+                                 delay_root_vector(l.transfer, root),
+                                 [root](const TransportTransfer& t) {
+                                     const DelayRoot moved = delay_root(t, root);
+                                     return moved.converged ? moved.s.real() : std::nan("");
+                                 });
                     }
                 }
             }

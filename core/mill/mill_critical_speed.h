@@ -44,6 +44,11 @@ struct MillCrossing {
     double frequency_Hz = 0.0;  // of the crossing root (delay_independent: where rho peaks)
     int moving_stand = -1;      // 0-based: the largest participation
     std::vector<double> participation;
+    // d(growth)/d kappa_i with J_b,i -> (1 + kappa_i) J_b,i, per stand: the crossing root's
+    // growth rate (1/s; delay_independent: rho itself, per unit kappa). The feeding stand, whose
+    // bite process feeds the vibration (where a change of its bite helps most), is the largest.
+    std::vector<double> feeding_sensitivity;
+    int feeding_stand = -1;
     ChatterType band = ChatterType::other;
     CrossingValidity validity;
     // nominal_delay: the lobe period Delta V ~ V / (f tau_max) beside it, m/s

@@ -11,9 +11,9 @@ namespace rollgap::core {
 
 namespace {
 
-using cd = std::complex<double>;
+using Complex = std::complex<double>;
 
-Eigen::MatrixXcd loop(const TransportTransfer& transfer, cd s) {
+Eigen::MatrixXcd loop(const TransportTransfer& transfer, Complex s) {
     Eigen::MatrixXcd m = transfer.at(s);
     for (Eigen::Index j = 0; j < m.cols(); ++j)
         m.col(j) *= std::exp(-s * transfer.delay[static_cast<std::size_t>(j)]);
@@ -32,7 +32,7 @@ double eigen_argument(const Eigen::MatrixXcd& x) {
 
 }  // namespace
 
-cd delay_characteristic(const TransportTransfer& transfer, cd s) {
+Complex delay_characteristic(const TransportTransfer& transfer, Complex s) {
     if (transfer.spans() == 0) return 1.0;
     return loop(transfer, s).partialPivLu().determinant();
 }
@@ -78,7 +78,7 @@ DelayRootCount nominal_delay_root_count(const TransportTransfer& transfer, doubl
     const auto pole_distance = [&](double omega) {
         double d = std::numeric_limits<double>::infinity();
         for (Eigen::Index k = 0; k < poles.size(); ++k)
-            d = std::min(d, std::abs(cd(alpha, omega) - poles(k)));
+            d = std::min(d, std::abs(Complex(alpha, omega) - poles(k)));
         return d;
     };
 
@@ -108,7 +108,7 @@ DelayRootCount nominal_delay_root_count(const TransportTransfer& transfer, doubl
 
     double theta = 0.0;                           // the change of arg F from omega = 0
     std::vector<std::pair<double, double>> dips;  // (|F|, omega) at local minima
-    cd previous = delay_characteristic(transfer, {alpha, 0.0});
+    Complex previous = delay_characteristic(transfer, {alpha, 0.0});
     ++out.evaluations;
     double before = std::abs(previous), at = before;  // |F| at the last two points followed
     double argument = 0.0, argument_at = -1.0;        // the eigenvalues' arguments' sum, and where
@@ -135,9 +135,9 @@ DelayRootCount nominal_delay_root_count(const TransportTransfer& transfer, doubl
         double omega = a;
         while (omega < b) {
             double h =
-                std::min({b - omega, 0.25 / std::max(tau_max, 1e-12), 0.25 * pole_distance(omega)});
+                std::min({b - omega, 1.0 / std::max(tau_max, 1e-12), 0.25 * pole_distance(omega)});
             for (;;) {
-                const cd next = delay_characteristic(transfer, {alpha, omega + h});
+                const Complex next = delay_characteristic(transfer, {alpha, omega + h});
                 ++out.evaluations;
                 if (out.evaluations > budget) {
                     out.message = "the argument principle needed more than 4e6 evaluations";
@@ -175,18 +175,18 @@ DelayRootCount nominal_delay_root_count(const TransportTransfer& transfer, doubl
     return out;
 }
 
-DelayRoot delay_root(const TransportTransfer& transfer, cd start) {
+DelayRoot delay_root(const TransportTransfer& transfer, Complex start) {
     DelayRoot out;
-    cd s = start;
+    Complex s = start;
     for (int k = 0; k < 60; ++k) {
         out.iterations = k + 1;
-        const cd f = delay_characteristic(transfer, s);
+        const Complex f = delay_characteristic(transfer, s);
         const double h = 1e-7 * std::max(1.0, std::abs(s));
-        const cd slope =
+        const Complex slope =
             (delay_characteristic(transfer, s + h) - delay_characteristic(transfer, s - h)) /
             (2.0 * h);
         if (!(std::abs(slope) > 0.0)) break;
-        const cd step = f / slope;
+        const Complex step = f / slope;
         s -= step;
         if (!std::isfinite(s.real()) || !std::isfinite(s.imag())) break;
         if (std::abs(step) <= 1e-12 * std::max(1.0, std::abs(s))) {
@@ -202,15 +202,15 @@ DelayRoot delay_root(const TransportTransfer& transfer, cd start) {
 RightmostDelayRoot rightmost_delay_root(const TransportTransfer& transfer,
                                         const DelayRootCount& count) {
     RightmostDelayRoot out;
-    std::vector<cd> starts = count.dips;
+    std::vector<Complex> starts = count.dips;
     for (Eigen::Index k = 0; k < transfer.poles.size(); ++k) {
-        const cd pole = transfer.poles(k);
+        const Complex pole = transfer.poles(k);
         // F has A0's poles: start a step to their right
         if (pole.imag() > 0.0 && pole.imag() <= 2.0 * std::numbers::pi * 2000.0)
             starts.push_back(pole + std::max(1.0, 0.1 * std::abs(pole.real())));
     }
     for (int round = 0; round < 8 && !starts.empty(); ++round) {
-        for (const cd& start : starts) {
+        for (const Complex& start : starts) {
             ++out.starts;
             const DelayRoot root = delay_root(transfer, start);
             if (!root.converged || !(root.residual < 1e-8) || root.s.imag() < 0.0) continue;

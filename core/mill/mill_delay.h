@@ -34,9 +34,9 @@ struct DelayRootCount {
 // The argument principle on the line s = alpha + i omega, omega from 0 to infinity (F is real on
 // the real axis, so the other half mirrors it): where sigma(M) max_i exp(-alpha tau_i) < 1/2 the
 // eigenvalues of I - M E stay within 1/2 of 1 and arg F is their principal arguments' sum, so no
-// delay phase need be followed there; elsewhere arg F is followed with steps of at most a quarter
-// of 1/tau_max and of the distance to A0's nearest pole, halved until each increment is under
-// pi/4.
+// delay phase need be followed there; elsewhere arg F is followed with steps of at most 1/tau_max
+// (no delay phase turns by more than a radian) and a quarter of the distance to A0's nearest
+// pole, halved until each increment is under pi/4.
 DelayRootCount nominal_delay_root_count(const TransportTransfer& transfer, double alpha = 0.0);
 
 struct DelayRoot {

@@ -215,7 +215,10 @@ void MillModel::assemble(const Eigen::VectorXd& z, bool transport, MillLinearisa
             return;
         }
         const Eigen::Matrix<double, bite_output_count, Eigen::Dynamic> outputs =
-            jb.derivative * inputs;
+            bite_gain_.empty()
+                ? Eigen::Matrix<double, bite_output_count, Eigen::Dynamic>(jb.derivative * inputs)
+                : Eigen::Matrix<double, bite_output_count, Eigen::Dynamic>(
+                      bite_gain_[i] * (jb.derivative * inputs));
         // the stand's rows of A0 (the stack's own terms), then the bite's part on every column
         stand.jacobian_rows(state, bite, outputs.leftCols(n), inputs.leftCols(n), a0);
         if (transport && input >= 0) {

@@ -10,6 +10,7 @@
 //   T_i' = (E ybar_i / L_i) ((u1_{i+1} - u1_{i+1,ref}) - (u2_i - u2_i,ref)) between stands,
 //   T_0' = (E y1_1 / L_0)(u1_1 - u1_1,ref), T_N' = (E y2_N / L_N)(u2_N,ref - u2_N).
 
+#include <utility>
 #include <vector>
 
 #include <Eigen/Dense>
@@ -76,6 +77,11 @@ public:
     // A0, B, B', C and the delays at z (the steady state z0 for the stability analyses).
     MillLinearisation linearise(const Eigen::VectorXd& z) const;
 
+    // J_b of stand i scaled by gains[i] in the linearisations (jacobian(), linearise()): the
+    // bite-gain sensitivity of a root, J_b,i -> (1 + kappa_i) J_b,i (docs/model.md §12.7).
+    // Empty: every gain 1. The rates (rhs) are not affected.
+    void set_bite_gains(std::vector<double> gains) { bite_gain_ = std::move(gains); }
+
 private:
     // The assembly of jacobian() and linearise(): A0 into out.jacobian, and with `transport`
     // B and B' (the entering thickness of stands 2..N as extra input columns).
@@ -93,6 +99,7 @@ private:
     std::vector<Span> spans_;
     std::vector<int> back_span_, front_span_;         // per stand, an index into spans_ or -1
     std::vector<double> back_stress_, front_stress_;  // constant boundaries, Pa
+    std::vector<double> bite_gain_;                   // per stand, empty: 1
     std::vector<double> span_length_;                 // the interstand spans' L_i, m
     int size_ = 0;
     BiteStatus status_ = BiteStatus::ok;

@@ -62,8 +62,9 @@ TEST_CASE("mill critical speeds: ordered, each on its own condition, one span wi
     for (const MillCrossing* c : {&frozen, &di, &nominal}) {
         MESSAGE(std::string(to_string(c->kind))
                 << ": " << std::string(to_string(c->status)) << " at " << c->speed << " m/s, "
-                << c->frequency_Hz << " Hz, stand " << c->moving_stand + 1
-                << " moves, inside the model's range " << c->validity.valid());
+                << c->frequency_Hz << " Hz, stand " << c->moving_stand + 1 << " moves, stand "
+                << c->feeding_stand + 1 << " feeds, inside the model's range "
+                << c->validity.valid());
         REQUIRE(c->status == CriticalSpeedStatus::found);
     }
     // below the delay-independent speed every set of delays is stable: no other speed lower
@@ -89,6 +90,34 @@ TEST_CASE("mill critical speeds: ordered, each on its own condition, one span wi
     const AtSpeed above_frozen = at_speed(m, frozen.speed * (1.0 + 1e-3));
     CHECK(below_frozen.frozen_stable);
     CHECK_FALSE(above_frozen.frozen_stable);
+
+    // the feeding sensitivity, d Re(s)/d kappa_i of the frozen crossing root: scaling every
+    // stand's J_b by (1 + kappa) at once moves the root by their sum (first order)
+    {
+        REQUIRE(frozen.feeding_sensitivity.size() == 2);
+        Mill at = m;
+        at.speed = frozen.speed;
+        const MillSteadyState steady = mill_steady_state(at);
+        REQUIRE(steady.status == MillSteadyStatus::ok);
+        const std::complex<double> crossing{0.0, 2.0 * std::numbers::pi * frozen.frequency_Hz};
+        const auto growth = [&](double gain) {
+            MillModel model(at, steady);
+            model.set_bite_gains({gain, gain});
+            const TransportTransfer t = transport_transfer(model.linearise(model.equilibrium()));
+            REQUIRE(t.ok);
+            Eigen::Index best = 0;
+            for (Eigen::Index k = 1; k < t.poles.size(); ++k)
+                if (std::abs(t.poles(k) - crossing) < std::abs(t.poles(best) - crossing)) best = k;
+            return t.poles(best).real();
+        };
+        const double kappa = 1e-3;
+        const double together = (growth(1.0 + kappa) - growth(1.0 - kappa)) / (2.0 * kappa);
+        const double sum = frozen.feeding_sensitivity[0] + frozen.feeding_sensitivity[1];
+        MESSAGE("frozen crossing: d Re s / d kappa by stand "
+                << frozen.feeding_sensitivity[0] << ", " << frozen.feeding_sensitivity[1]
+                << " 1/s; both at once " << together);
+        CHECK(std::abs(together - sum) <= 1e-3 * std::abs(together));
+    }
 
     // participation: shares of one
     double total = 0.0;
