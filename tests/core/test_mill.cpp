@@ -17,6 +17,7 @@
 #include "core/stability.h"
 
 #include "support/compare.h"
+#include "tools/verify_mill/lu2019.h"
 
 namespace mill_test {
 
@@ -300,6 +301,31 @@ TEST_CASE("mill transport inputs: B and B' are the differences of the rates in y
     MESSAGE("B against differences: worst column " << worst_b << "; B' " << worst_rate);
     CHECK(worst_b < 1e-5);
     CHECK(worst_rate < 1e-9);
+}
+
+}  // namespace mill_test
+
+namespace mill_test {
+
+TEST_CASE("Lu et al. 2019: the published schedule's own mass flow and forward slips") {
+    // Not a test of the model (docs/mill-verification.md compares it): the published entry
+    // speeds times entry thicknesses carry one mass flow, and every stand's exit speed (the next
+    // stand's entry speed) exceeds its roll speed.
+    namespace lu = rollgap::tools::lu2019;
+    double lo = 1e300, hi = 0.0;
+    for (int i = 0; i < lu::stands; ++i) {
+        const double q = lu::entry_speed[i] * lu::thickness_mm[i];
+        lo = std::min(lo, q);
+        hi = std::max(hi, q);
+    }
+    MESSAGE("published u1 h1 from " << lo << " to " << hi << " mm m/s: spread "
+                                    << (hi - lo) / hi * 100.0 << " %");
+    CHECK((hi - lo) / hi < 5e-3);
+    for (int i = 0; i + 1 < lu::stands; ++i) {
+        const double slip = lu::entry_speed[i + 1] / lu::roll_speed[i] - 1.0;
+        MESSAGE("stand " << i + 1 << ": published forward slip " << slip * 100.0 << " %");
+        CHECK(slip > 0.0);
+    }
 }
 
 }  // namespace mill_test
