@@ -242,7 +242,8 @@ void MillModel::assemble(const Eigen::VectorXd& z, bool transport, MillLinearisa
         if (span.downstream >= 0) row += du1[static_cast<std::size_t>(span.downstream)];
         if (span.upstream >= 0) row -= du2[static_cast<std::size_t>(span.upstream)];
         a0.row(span.index) = span.stiffness * row.head(n);
-        if (transport) input_columns.row(span.index) = span.stiffness * row.tail(p);
+        // (a mill of one stand has no delayed input: no zero-width block of an empty matrix)
+        if (p > 0) input_columns.row(span.index) = span.stiffness * row.tail(p);
     }
     if (!a0.allFinite() || !input_columns.allFinite() || !rate_columns.allFinite())
         return;  // solver_failure

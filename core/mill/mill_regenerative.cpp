@@ -13,6 +13,17 @@ TransportTransfer transport_transfer(const MillLinearisation& lin) {
     if (lin.status != DynamicsStatus::ok) return out;
     const Eigensystem eig = eigensystem(lin.jacobian);
     if (!eig.ok) return out;
+    out.poles = eig.values;
+    out.modes = eig.vectors;
+    out.delay = lin.delay;
+    out.frozen_max_real_part = eig.values.real().maxCoeff();
+    const Eigen::Index n = lin.jacobian.rows(), p = lin.input.cols();
+    if (p == 0) {  // one stand: no transport, M is 0 x 0
+        out.input = out.input_rate = Eigen::MatrixXcd::Zero(n, 0);
+        out.output = Eigen::MatrixXcd::Zero(0, n);
+        out.ok = true;
+        return out;
+    }
     // in balanced coordinates z = S zb: A0b = S^-1 A0 S, Bb = S^-1 B, Cb = C S
     const Eigen::PartialPivLU<Eigen::MatrixXcd> lu(eig.balanced_vectors);
     const Eigen::VectorXcd inverse_scale = eig.scale.cwiseInverse().cast<std::complex<double>>();
@@ -21,16 +32,13 @@ TransportTransfer transport_transfer(const MillLinearisation& lin) {
         lu.solve(inverse_scale.asDiagonal() * lin.input_rate.cast<std::complex<double>>());
     out.output = lin.output.cast<std::complex<double>>() *
                  eig.scale.cast<std::complex<double>>().asDiagonal() * eig.balanced_vectors;
-    out.poles = eig.values;
-    out.modes = eig.vectors;
-    out.delay = lin.delay;
-    out.frozen_max_real_part = eig.values.real().maxCoeff();
     out.ok = out.input.allFinite() && out.input_rate.allFinite() && out.output.allFinite();
     return out;
 }
 
 Eigen::MatrixXcd TransportTransfer::at(std::complex<double> s) const {
     const Eigen::Index n = poles.size(), p = input.cols();
+    if (p == 0) return Eigen::MatrixXcd(0, 0);
     Eigen::MatrixXcd right(n, p);
     for (Eigen::Index k = 0; k < n; ++k) {
         const std::complex<double> r = 1.0 / (s - poles(k));

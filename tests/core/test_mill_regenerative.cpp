@@ -9,6 +9,7 @@
 #include <complex>
 #include <numbers>
 #include <random>
+#include <vector>
 
 #include "core/mill/mill.h"
 #include "core/mill/mill_model.h"
@@ -149,11 +150,16 @@ TEST_CASE("regenerative margin of the default mill: the peak of the bound, brack
     const double lower = phase_lower_bound(margin.transfer);
     MESSAGE("there: sigma_max " << upper << ", largest rho(M Phi) over phases " << lower);
     CHECK(margin.margin >= lower * (1.0 - 1e-9));
-    // the peak: no frequency of a fine scan has a larger bound than the one reported (to the
-    // optimiser's own accuracy)
+    // the peak: no frequency of a finer scan has a larger bound than the one reported (to the
+    // optimiser's own accuracy): 401 log-spaced points over the range and 401 within 5 % of the
+    // reported peak (the whole range at the finer spacing costs 40 s under the sanitizers)
+    std::vector<double> frequencies;
+    for (int k = 0; k <= 400; ++k) {
+        frequencies.push_back(std::pow(2000.0, k / 400.0));
+        frequencies.push_back(margin.frequency_Hz * (0.95 + 0.1 * k / 400.0));
+    }
     double scanned = 0.0;
-    for (int k = 0; k <= 2000; ++k) {
-        const double f = 1.0 * std::pow(2000.0, k / 2000.0);
+    for (double f : frequencies) {
         scanned =
             std::max(scanned, structured_bound(transfer.at({0.0, 2.0 * std::numbers::pi * f})));
     }
