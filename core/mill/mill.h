@@ -47,7 +47,7 @@ struct Mill {
     int size() const { return static_cast<int>(stands.size()); }
 };
 
-// docs/model.md §12.6: 5 stands, 2.80 -> 2.25 -> 1.88 -> 1.60 -> 1.36 -> 1.20 mm (stand 4 is the
+// docs/model.md §12.3: 5 stands, 2.80 -> 2.25 -> 1.88 -> 1.60 -> 1.36 -> 1.20 mm (stand 4 is the
 // single-stand default bite), the single-stand defaults otherwise, spans of 5 m, tensions 18 /
 // 60 / 40 MPa, 15 m/s.
 Mill default_mill();
