@@ -16,21 +16,13 @@
 #include "core/mill/mill_delay.h"
 #include "core/mill/mill_model.h"
 #include "core/mill/mill_regenerative.h"
+#include "tools/verify_mill/mills.h"
 
 namespace mill_critical_speed_test {
 
 using namespace rollgap::core;
 
-Mill two_stand_mill(double span) {
-    const Mill d = default_mill();
-    Mill m = d;
-    m.stands = {d.stands[3], d.stands[4]};
-    m.thickness = {d.thickness[3], d.thickness[4], d.thickness[5]};
-    m.span_length = {span};
-    m.interstand_tension = {d.interstand_tension[3]};
-    m.entry_tension = d.interstand_tension[2];
-    return m;
-}
+using rollgap::tools::mills::two_stand_mill;
 
 struct AtSpeed {
     double rho = 0.0;

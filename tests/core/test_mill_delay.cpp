@@ -17,6 +17,7 @@
 #include "core/mill/mill_model.h"
 #include "core/mill/mill_stability.h"
 #include "core/stability.h"
+#include "tools/verify_mill/mills.h"
 
 namespace mill_delay_test {
 
@@ -24,17 +25,10 @@ using namespace rollgap::core;
 using cd = std::complex<double>;
 
 // The last two stands of the default mill with a short span (0.05 m: tau = 3.7 ms, omega tau
-// ~ 12 at the rightmost root's 515 Hz, so that 160 Padé sections resolve the delay to 1/s).
-Mill two_stand_mill(double span) {
-    const Mill d = default_mill();
-    Mill m = d;
-    m.stands = {d.stands[3], d.stands[4]};
-    m.thickness = {d.thickness[3], d.thickness[4], d.thickness[5]};
-    m.span_length = {span};
-    m.interstand_tension = {d.interstand_tension[3]};
-    m.entry_tension = d.interstand_tension[2];
-    return m;
-}
+// ~ 12 at the rightmost root's 515 Hz, so that 160 Padé sections resolve the delay to 1/s);
+// the cascades of tools/verify_mill/mills.h.
+using rollgap::tools::mills::pade_closed_loop;
+using rollgap::tools::mills::two_stand_mill;
 
 MillLinearisation linearised(const Mill& m) {
     const MillSteadyState steady = mill_steady_state(m);
@@ -43,38 +37,6 @@ MillLinearisation linearised(const Mill& m) {
     const MillLinearisation lin = model.linearise(model.equilibrium());
     REQUIRE(lin.status == DynamicsStatus::ok);
     return lin;
-}
-
-// The mill with each delay e^{-s tau} replaced by k sections (1 - s h / 2) / (1 + s h / 2),
-// h = tau / k: x' = (2/h)(in - x), out = 2x - in. The delayed rate u' is the same cascade on
-// y' = C A0 z (C B = C B' = 0: the exit thickness has no direct input), so the closed loop is
-// sZ = A0 Z + (B + s B') P(s) C Z exactly, plus the cascades' own poles at -2/h.
-Eigen::MatrixXd pade_closed_loop(const MillLinearisation& lin, int k) {
-    const Eigen::Index n = lin.jacobian.rows(), p = lin.input.cols();
-    const Eigen::Index size = n + 2 * k * p;
-    Eigen::MatrixXd a = Eigen::MatrixXd::Zero(size, size);
-    a.topLeftCorner(n, n) = lin.jacobian;
-    for (Eigen::Index i = 0; i < p; ++i) {
-        const double h = lin.delay[static_cast<std::size_t>(i)] / k;
-        for (int chain = 0; chain < 2; ++chain) {
-            const Eigen::Index first = n + (2 * i + chain) * k;
-            // the signal entering the cascade as a row over the whole state
-            Eigen::RowVectorXd in = Eigen::RowVectorXd::Zero(size);
-            in.head(n) = chain == 0 ? Eigen::RowVectorXd(lin.output.row(i))
-                                    : Eigen::RowVectorXd(lin.output.row(i) * lin.jacobian);
-            for (int j = 0; j < k; ++j) {
-                const Eigen::Index x = first + j;
-                a.row(x) += (2.0 / h) * in;
-                a(x, x) -= 2.0 / h;
-                Eigen::RowVectorXd out = -in;
-                out(x) += 2.0;
-                in = out;
-            }
-            const Eigen::VectorXd column = chain == 0 ? lin.input.col(i) : lin.input_rate.col(i);
-            a.topRows(n) += column * in;
-        }
-    }
-    return a;
 }
 
 TEST_CASE("nominal delays: the Padé cascades converge to the exact roots and count") {

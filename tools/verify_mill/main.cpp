@@ -30,9 +30,12 @@
 #include "core/stability.h"
 #include "service/worker_pool.h"
 #include "tools/verify_mill/lu2019.h"
+#include "tools/verify_mill/mills.h"
 
 namespace core = rollgap::core;
 namespace lu = rollgap::tools::lu2019;
+using rollgap::tools::mills::pade_closed_loop;
+using rollgap::tools::mills::two_stand_mill;
 
 namespace {
 
@@ -48,48 +51,10 @@ std::string sci(double value) {
     return buffer;
 }
 
-core::Mill two_stands(double span) {
-    const core::Mill d = core::default_mill();
-    core::Mill m = d;
-    m.stands = {d.stands[3], d.stands[4]};
-    m.thickness = {d.thickness[3], d.thickness[4], d.thickness[5]};
-    m.span_length = {span};
-    m.interstand_tension = {d.interstand_tension[3]};
-    m.entry_tension = d.interstand_tension[2];
-    return m;
-}
-
 core::MillLinearisation linearised(const core::Mill& m) {
     const core::MillSteadyState steady = core::mill_steady_state(m);
     const core::MillModel model(m, steady);
     return model.linearise(model.equilibrium());
-}
-
-// The delays replaced by k first-order Padé sections (as tests/core/test_mill_delay.cpp).
-Eigen::MatrixXd pade_closed_loop(const core::MillLinearisation& lin, int k) {
-    const Eigen::Index n = lin.jacobian.rows(), p = lin.input.cols();
-    const Eigen::Index size = n + 2 * k * p;
-    Eigen::MatrixXd a = Eigen::MatrixXd::Zero(size, size);
-    a.topLeftCorner(n, n) = lin.jacobian;
-    for (Eigen::Index i = 0; i < p; ++i) {
-        const double h = lin.delay[static_cast<std::size_t>(i)] / k;
-        for (int chain = 0; chain < 2; ++chain) {
-            Eigen::RowVectorXd in = Eigen::RowVectorXd::Zero(size);
-            in.head(n) = chain == 0 ? Eigen::RowVectorXd(lin.output.row(i))
-                                    : Eigen::RowVectorXd(lin.output.row(i) * lin.jacobian);
-            for (int j = 0; j < k; ++j) {
-                const Eigen::Index x = n + (2 * i + chain) * k + j;
-                a.row(x) += (2.0 / h) * in;
-                a(x, x) -= 2.0 / h;
-                Eigen::RowVectorXd out = -in;
-                out(x) += 2.0;
-                in = out;
-            }
-            const Eigen::VectorXd column = chain == 0 ? lin.input.col(i) : lin.input_rate.col(i);
-            a.topRows(n) += column * in;
-        }
-    }
-    return a;
 }
 
 void identities(std::ostream& md) {
@@ -132,7 +97,7 @@ void identities(std::ostream& md) {
     }
     // 5: one span, rho = 1 against the nominal crossing
     {
-        const core::MillCriticalSpeeds speeds = core::mill_critical_speeds(two_stands(5.0));
+        const core::MillCriticalSpeeds speeds = core::mill_critical_speeds(two_stand_mill(5.0));
         md << "| one span: rho = 1 within a lobe of the nominal crossing | delay-independent "
            << fixed(speeds.delay_independent.speed, 4) << " m/s, nominal-delay "
            << fixed(speeds.nominal_delay.speed, 4) << " m/s, lobe period "
@@ -141,7 +106,7 @@ void identities(std::ostream& md) {
     }
     // spring law
     {
-        const core::Mill m = two_stands(5.0);
+        const core::Mill m = two_stand_mill(5.0);
         const core::CrossingValidity v =
             core::crossing_validity(m, core::mill_steady_state(m), 105.0);
         md << "| spring law's stiffness error 1 − x/tan x at 105 Hz on 5 m | "
@@ -155,7 +120,7 @@ void identities(std::ostream& md) {
 }
 
 void pade_table(std::ostream& md) {
-    const core::MillLinearisation lin = linearised(two_stands(0.05));
+    const core::MillLinearisation lin = linearised(two_stand_mill(0.05));
     const core::TransportTransfer transfer = core::transport_transfer(lin);
     const core::DelayRootCount count = core::nominal_delay_root_count(transfer, 0.0);
     const core::RightmostDelayRoot right = core::rightmost_delay_root(transfer, count);
