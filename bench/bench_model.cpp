@@ -33,6 +33,7 @@
 #include "core/mill/mill_model.h"
 #include "core/mill/mill_regenerative.h"
 #include "core/mill/mill_stability.h"
+#include "core/mill/mill_time.h"
 #include "service/worker_pool.h"
 #include "core/roll_bite.h"
 #include "core/scenario.h"
@@ -407,6 +408,42 @@ int bench_mill(const Config& cfg) {
     return 0;
 }
 
+// The mill in the time domain (core/mill/mill_time.h): the default mill's last two stands (5 m
+// span) at 15 m/s, 1 s from a 0.1 um gap kick on the last stand, outputs every millisecond, the
+// thickness transport read off its history.
+int bench_mill_time(const Config& cfg) {
+    namespace core = rollgap::core;
+    const core::Mill d = core::default_mill();
+    core::Mill two = d;
+    two.stands = {d.stands[3], d.stands[4]};
+    two.thickness = {d.thickness[3], d.thickness[4], d.thickness[5]};
+    two.span_length = {d.span_length[3]};
+    two.interstand_tension = {d.interstand_tension[3]};
+    two.entry_tension = d.interstand_tension[2];
+    const core::MillSteadyState steady = core::mill_steady_state(two);
+    if (steady.status != core::MillSteadyStatus::ok) {
+        std::fprintf(stderr, "mill_time: no steady state (%s)\n", steady.message);
+        return 1;
+    }
+    core::MillKick kick;
+    kick.stand = 1;
+    kick.gap = 1e-7;
+    std::vector<double> times;
+    for (int i = 1; i <= 1000; ++i) times.push_back(1e-3 * i);
+    const core::MillTimeResult run = core::mill_time_domain(two, steady, kick, times);
+    if (run.status != core::MillTimeStatus::ok) {
+        std::fprintf(stderr, "mill_time: %s (%s)\n", core::to_string(run.status), run.message);
+        return 1;
+    }
+    print_count("mill_time_2.steps", run.steps);
+    print_count("mill_time_2.rhs_evaluations", run.rhs_evaluations);
+    print_count("mill_time_2.jacobian_evaluations", run.jacobian_evaluations);
+    print_timing("mill_time_2", time_it(heavy(cfg, 3), [&] {
+                     return core::mill_time_domain(two, steady, kick, times).end_time;
+                 }));
+    return 0;
+}
+
 struct Bench {
     const char* name;
     int (*run)(const Config&);
@@ -420,6 +457,7 @@ constexpr Bench kBenches[] = {
     {"amplitude", bench_amplitude},
     {"sweep", bench_sweep},
     {"mill", bench_mill},
+    {"mill_time", bench_mill_time},
 };
 
 [[noreturn]] void usage(const char* argv0, int code) {

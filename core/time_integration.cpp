@@ -1,13 +1,8 @@
 #include "core/time_integration.h"
 
-#include <cvode/cvode.h>
-#include <nvector/nvector_serial.h>
-#include <sundials/sundials_context.h>
-#include <sunlinsol/sunlinsol_dense.h>
-#include <sunmatrix/sunmatrix_dense.h>
-
-#include <memory>
 #include <vector>
+
+#include "core/cvode_support.h"
 
 namespace rollgap::core {
 
@@ -65,44 +60,6 @@ int limit_margins(sunrealtype t, N_Vector y, sunrealtype* margins, void* user_da
     return 0;
 }
 
-void silent_errors(int, const char*, const char*, char*, void*) {}
-
-// Owns the SUNDIALS objects of one run (one context per solver instance).
-struct Cvode {
-    SUNContext context = nullptr;
-    N_Vector y = nullptr, abstol = nullptr, ydot = nullptr;
-    SUNMatrix matrix = nullptr;
-    SUNLinearSolver solver = nullptr;
-    void* memory = nullptr;
-    ~Cvode() {
-        if (memory) CVodeFree(&memory);
-        if (solver) SUNLinSolFree(solver);
-        if (matrix) SUNMatDestroy(matrix);
-        if (y) N_VDestroy(y);
-        if (abstol) N_VDestroy(abstol);
-        if (ydot) N_VDestroy(ydot);
-        if (context) SUNContext_Free(&context);
-    }
-};
-
-// Why a run ended early, for the user: the physical limits and the one non-physical end, a state
-// where the model has no answer (the inlet film squeezed to nothing, a bite that does not solve).
-const char* end_message(DynamicsStatus status) {
-    switch (status) {
-        case DynamicsStatus::contact_lost:
-            return "the gap opened past the entry thickness: the rolls lost the strip";
-        case DynamicsStatus::skidding:
-            return "the rolls skid on the strip (no neutral point in the bite)";
-        case DynamicsStatus::slack_strip:
-            return "a strip tension fell to zero: the strip went slack";
-        case DynamicsStatus::solver_failure:
-            return "the model has no state here: the inlet film collapsed or the roll bite did not solve";
-        case DynamicsStatus::cancelled: return "cancelled";
-        case DynamicsStatus::ok: break;
-    }
-    return "ok";
-}
-
 }  // namespace
 
 IntegrationResult integrate(const DynamicModel& model, Eigen::VectorXd& z, double t0,
@@ -114,41 +71,15 @@ IntegrationResult integrate(const DynamicModel& model, Eigen::VectorXd& z, doubl
     const int n = model.size();
     RhsData data{&model};
 
-    Cvode cv;
-    if (SUNContext_Create(nullptr, &cv.context) != 0) {
-        result.message = "SUNDIALS context could not be created";
-        return result;
-    }
-    cv.y = N_VNew_Serial(n, cv.context);
-    cv.abstol = N_VNew_Serial(n, cv.context);
-    cv.ydot = N_VNew_Serial(n, cv.context);
-    cv.memory = CVodeCreate(CV_BDF, cv.context);
-    if (!cv.y || !cv.abstol || !cv.ydot || !cv.memory) {
-        result.message = "CVODE could not be allocated";
-        return result;
-    }
+    // docs/model.md §6: q 1e-10 m, q' 1e-7 m/s, h0 1e-12 m, tensions 1 Pa
+    std::vector<double> tolerances(static_cast<std::size_t>(n));
+    for (int i = 0; i < n; ++i)
+        tolerances[static_cast<std::size_t>(i)] = model.absolute_tolerance(i);
+    cvode::Cvode cv;
+    result.message = cvode::setup(cv, n, t0, z.data(), tolerances.data(),
+                                  options.relative_tolerance, right_hand_side, jacobian, &data);
+    if (*result.message != '\0') return result;
     double* y = N_VGetArrayPointer(cv.y);
-    double* tol = N_VGetArrayPointer(cv.abstol);
-    for (int i = 0; i < n; ++i) {
-        y[i] = z(i);
-        // docs/model.md §6: q 1e-10 m, q' 1e-7 m/s, h0 1e-12 m, tensions 1 Pa
-        tol[i] = model.absolute_tolerance(i);
-    }
-    CVodeSetErrHandlerFn(cv.memory, silent_errors, nullptr);
-    if (CVodeInit(cv.memory, right_hand_side, t0, cv.y) != CV_SUCCESS ||
-        CVodeSVtolerances(cv.memory, options.relative_tolerance, cv.abstol) != CV_SUCCESS) {
-        result.message = "CVODE initialisation failed";
-        return result;
-    }
-    cv.matrix = SUNDenseMatrix(n, n, cv.context);
-    cv.solver = SUNLinSol_Dense(cv.y, cv.matrix, cv.context);
-    if (!cv.matrix || !cv.solver ||
-        CVodeSetLinearSolver(cv.memory, cv.solver, cv.matrix) != CV_SUCCESS) {
-        result.message = "CVODE linear solver setup failed";
-        return result;
-    }
-    CVodeSetUserData(cv.memory, &data);
-    CVodeSetJacFn(cv.memory, jacobian);
     CVodeSetMaxNumSteps(cv.memory, options.max_steps);
     if (CVodeRootInit(cv.memory, model.margin_count(), limit_margins) != CV_SUCCESS) {
         result.message = "CVODE root finding setup failed";
@@ -176,7 +107,7 @@ IntegrationResult integrate(const DynamicModel& model, Eigen::VectorXd& z, doubl
             }
             if (result.status != DynamicsStatus::ok) {
                 result.end_time = t;
-                result.message = end_message(result.status);
+                result.message = cvode::end_message(result.status);
                 break;
             }
             // an upward crossing (a tension recovering) is no limit: go on to the output time
@@ -187,7 +118,7 @@ IntegrationResult integrate(const DynamicModel& model, Eigen::VectorXd& z, doubl
                                 ? data.last_failure
                                 : DynamicsStatus::solver_failure;
             result.message = data.last_failure != DynamicsStatus::ok
-                                 ? end_message(data.last_failure)
+                                 ? cvode::end_message(data.last_failure)
                                  : "CVODE could not continue (step size too small)";
             break;
         }

@@ -101,24 +101,60 @@ DynamicsStatus MillModel::rhs(double t, const double* z, double* zdot) const {
 
 DynamicsStatus MillModel::rhs_with_transport(double, const double* z, const double* entry_deviation,
                                              const double* entry_rate, double* zdot) const {
-    if (status_ != BiteStatus::ok) return from_bite(status_);
+    return evaluate_rates(z, entry_deviation, entry_rate, false, zdot, nullptr, nullptr);
+}
+
+DynamicsStatus MillModel::rhs_with_history(double, const double* z, const double* entry_deviation,
+                                           const double* entry_rate_per_speed, double* zdot,
+                                           double* exit_speed, MillFailure* failure) const {
+    return evaluate_rates(z, entry_deviation, entry_rate_per_speed, true, zdot, exit_speed,
+                          failure);
+}
+
+DynamicsStatus MillModel::evaluate_rates(const double* z, const double* entry_deviation,
+                                         const double* entry_rate, bool rate_per_speed,
+                                         double* zdot, double* exit_speed,
+                                         MillFailure* failure) const {
+    if (status_ != BiteStatus::ok) {
+        if (failure) failure->stand = failed_stand_;
+        return from_bite(status_);
+    }
+    const int count = stand_count();
+    // a span is numbered by the stand behind it: 0 the entry, N the exit (MillFailure)
+    const auto span_number = [count](const Span& span) {
+        return span.downstream >= 0 ? span.downstream : count;
+    };
     for (const Span& span : spans_) {
-        if (!(z[span.index] > 0.0)) return DynamicsStatus::slack_strip;
+        if (!(z[span.index] > 0.0)) {
+            if (failure) failure->span = span_number(span);
+            return DynamicsStatus::slack_strip;
+        }
     }
     const std::size_t n = stands_.size();
     std::vector<double> du1(n), du2(n);  // the strip speeds' deviations from the reference
+    double upstream_exit_speed = 0.0;    // u2 of the stand before, this evaluation's
     for (std::size_t i = 0; i < n; ++i) {
         const StandBlock& stand = stands_[i];
         const BiteState state =
             bite_state(static_cast<int>(i), z, entry_deviation ? entry_deviation[i] : 0.0);
-        if (state.back_tension < 0.0 || state.front_tension < 0.0)
+        if (state.back_tension < 0.0 || state.front_tension < 0.0) {
+            if (failure)
+                failure->span =
+                    state.back_tension < 0.0 ? static_cast<int>(i) : static_cast<int>(i) + 1;
             return DynamicsStatus::slack_strip;
+        }
+        if (failure) failure->stand = static_cast<int>(i);
         if (!(state.inlet_film > 0.0)) return DynamicsStatus::solver_failure;
         const BiteResult& bite = stand.solve_bite(state);
         if (bite.status != BiteStatus::ok) return from_bite(bite.status);
-        stand.rates(z, state, bite, zdot, entry_rate ? entry_rate[i] : 0.0);
+        if (failure) failure->stand = -1;
+        double rate = entry_rate ? entry_rate[i] : 0.0;
+        if (rate_per_speed) rate *= upstream_exit_speed;  // stand 0 has no stand upstream
+        stand.rates(z, state, bite, zdot, rate);
         du1[i] = bite.entry_speed - stand.reference().bite.entry_speed;
         du2[i] = bite.exit_speed - stand.reference().bite.exit_speed;
+        upstream_exit_speed = bite.exit_speed;
+        if (exit_speed) exit_speed[i] = bite.exit_speed;
     }
     for (const Span& span : spans_) {
         const double in =
@@ -141,9 +177,9 @@ Linearisation MillModel::jacobian(const Eigen::VectorXd& z, double) const {
     return out;
 }
 
-MillLinearisation MillModel::linearise(const Eigen::VectorXd& z) const {
+MillLinearisation MillModel::linearise(const Eigen::VectorXd& z, bool transport) const {
     MillLinearisation out;
-    assemble(z, true, out);
+    assemble(z, transport, out);
     return out;
 }
 
@@ -248,6 +284,9 @@ void MillModel::assemble(const Eigen::VectorXd& z, bool transport, MillLinearisa
     if (!a0.allFinite() || !input_columns.allFinite() || !rate_columns.allFinite())
         return;  // solver_failure
     out.jacobian = std::move(a0);
+    out.exit_speed = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(count), n);
+    for (std::size_t i = 0; i < count; ++i)
+        out.exit_speed.row(static_cast<Eigen::Index>(i)) = du2[i].head(n);
     if (transport) {
         out.input = std::move(input_columns);
         out.input_rate = std::move(rate_columns);

@@ -32,6 +32,17 @@ struct MillLinearisation {
     Eigen::MatrixXd input_rate;  // B', n x p: df/d(y1' of stand i+1), the inlet film's theta'
     Eigen::MatrixXd output;      // C, p x n: delta y2 of stand i
     std::vector<double> delay;   // tau_i = L_i / u2_i,ref, s
+    // N x n: d u2_i / dz, each stand's exit strip speed (the strip positions' rates of the time
+    // domain, core/mill/mill_time.h)
+    Eigen::MatrixXd exit_speed;
+};
+
+// Where a right-hand side of the mill found no state: the stand whose bite failed or lost
+// contact, or the span gone slack, numbered by the stand behind it (0: the entry span, N: the
+// exit span; span i + 1 joins stands i and i + 1).
+struct MillFailure {
+    int stand = -1;
+    int span = -1;
 };
 
 class MillModel final : public DynamicModel {
@@ -74,8 +85,23 @@ public:
     DynamicsStatus rhs_with_transport(double t, const double* z, const double* entry_deviation,
                                       const double* entry_rate, double* zdot) const;
 
-    // A0, B, B', C and the delays at z (the steady state z0 for the stability analyses).
-    MillLinearisation linearise(const Eigen::VectorXd& z) const;
+    // The time domain's right-hand side (docs/model.md §12.8, core/mill/mill_time.h): as
+    // rhs_with_transport, but stand i's entry rate is entry_rate_per_speed[i] times stand i-1's
+    // exit speed u2_{i-1}(t) at this state (the transport's dt_d/dt = u2(t) / u2(t_d) needs the
+    // upstream bite of the same evaluation); every stand's u2_i(t) goes to exit_speed (N values),
+    // and a failure says where in `failure` (optional).
+    DynamicsStatus rhs_with_history(double t, const double* z, const double* entry_deviation,
+                                    const double* entry_rate_per_speed, double* zdot,
+                                    double* exit_speed, MillFailure* failure = nullptr) const;
+
+    // A0, B, B', C, the exit speeds' rows and the delays at z (the steady state z0 for the
+    // stability analyses); without `transport`, A0 and the exit speeds' rows alone.
+    MillLinearisation linearise(const Eigen::VectorXd& z, bool transport = true) const;
+
+    // Stand i's block (its scenario, reference bite and bite memo) and span i's length (the
+    // interstand span after stand i), m.
+    const StandBlock& stand(int i) const { return stands_[static_cast<std::size_t>(i)]; }
+    double span_length(int i) const { return span_length_[static_cast<std::size_t>(i)]; }
 
     // J_b of stand i scaled by gains[i] in the linearisations (jacobian(), linearise()): the
     // bite-gain sensitivity of a root, J_b,i -> (1 + kappa_i) J_b,i (docs/model.md §12.7).
@@ -86,6 +112,10 @@ private:
     // The assembly of jacobian() and linearise(): A0 into out.jacobian, and with `transport`
     // B and B' (the entering thickness of stands 2..N as extra input columns).
     void assemble(const Eigen::VectorXd& z, bool transport, MillLinearisation& out) const;
+    // rhs_with_transport and rhs_with_history: `rate_per_speed` says which the rates are.
+    DynamicsStatus evaluate_rates(const double* z, const double* entry_deviation,
+                                  const double* entry_rate, bool rate_per_speed, double* zdot,
+                                  double* exit_speed, MillFailure* failure) const;
 
     struct Span {
         int index = -1;

@@ -1,0 +1,348 @@
+// The tandem mill in the time domain (core/mill/mill_time.h; docs/model.md §12.8, the
+// specification's §3, §7 and identities 7 and 8): the whole mill in CVODE with the thickness
+// transport read off a history at t_d, S(t) - S(t_d) = L, against the frequency-domain analyses
+// built independently of it: the rightmost root with the nominal delays (Newton on
+// det(I - M(s) E(s)), core/mill/mill_delay.h) and A0's eigenvalues (transport frozen). Each case
+// runs in well under a second in Release (a few seconds under the sanitizers).
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include <Eigen/Dense>
+
+#include "core/mill/mill.h"
+#include "core/mill/mill_delay.h"
+#include "core/mill/mill_model.h"
+#include "core/mill/mill_regenerative.h"
+#include "core/mill/mill_stability.h"
+#include "core/mill/mill_time.h"
+#include "core/stability.h"
+#include "tools/verify_mill/mills.h"
+
+namespace mill_time_test {
+
+using namespace rollgap::core;
+using rollgap::tools::mills::two_stand_mill;
+
+// The envelope's growth rate (least squares on the log of the positive peaks of g, each peak
+// refined by the parabola through its three samples) and the frequency (upward zero crossings)
+// over [from, to].
+struct Envelope {
+    double growth_rate = 0.0;  // 1/s
+    double frequency = 0.0;    // Hz
+    int peaks = 0;
+};
+
+Envelope envelope(const std::vector<double>& t, const std::vector<double>& g, double from,
+                  double to) {
+    double sx = 0, sy = 0, sxx = 0, sxy = 0;
+    Envelope e;
+    std::vector<double> crossings;
+    for (std::size_t i = 1; i + 1 < g.size(); ++i) {
+        if (t[i] < from || t[i] > to) continue;
+        if (g[i] > 0 && g[i] > g[i - 1] && g[i] >= g[i + 1]) {
+            const double curvature = g[i - 1] - 2 * g[i] + g[i + 1];
+            const double shift = 0.5 * (g[i - 1] - g[i + 1]) / curvature;  // in samples
+            const double peak = g[i] - 0.25 * (g[i - 1] - g[i + 1]) * shift;
+            const double tp = t[i] + shift * (t[i + 1] - t[i]);
+            const double y = std::log(peak);
+            sx += tp;
+            sy += y;
+            sxx += tp * tp;
+            sxy += tp * y;
+            ++e.peaks;
+        }
+        if (g[i - 1] < 0 && g[i] >= 0)
+            crossings.push_back(t[i - 1] + (t[i] - t[i - 1]) * (-g[i - 1]) / (g[i] - g[i - 1]));
+    }
+    e.growth_rate = (e.peaks * sxy - sx * sy) / (e.peaks * sxx - sx * sx);
+    if (crossings.size() > 1)
+        e.frequency =
+            static_cast<double>(crossings.size() - 1) / (crossings.back() - crossings.front());
+    return e;
+}
+
+std::vector<double> grid(double dt, double end) {
+    std::vector<double> times;
+    for (int i = 1; i * dt <= end + 1e-15; ++i) times.push_back(i * dt);
+    return times;
+}
+
+// Stand k's gap over the run.
+void gap_series(const MillTimeResult& run, int k, std::vector<double>& t, std::vector<double>& g) {
+    t.clear();
+    g.clear();
+    for (const MillTimeSample& s : run.samples) {
+        t.push_back(s.t);
+        g.push_back(s.stands[static_cast<std::size_t>(k)].gap);
+    }
+}
+
+TEST_CASE("mill time domain: a 1e-9 m kick grows at the rightmost delay root's rate (identity 8)") {
+    // Two stands with a 0.05 m span at 9 m/s (tau = 6.2 ms): the rightmost root (the
+    // regenerative loop at ~500 Hz) lies far right of every other, so after a few tens of
+    // milliseconds the response is that root alone.
+    Mill m = two_stand_mill(0.05);
+    m.speed = 9.0;
+    const MillSpeedStability at = mill_stability_at(m);
+    REQUIRE(at.rightmost.found);
+    REQUIRE(at.rightmost.verified);
+    const std::complex<double> root = at.rightmost.root.s;
+    const double frequency = root.imag() / (2.0 * std::numbers::pi);
+    // the separation the fit relies on: only the root and its conjugate right of Re s - 60 /s
+    // (the rest is e^-3 smaller at the fit's start, 0.05 s, and keeps shrinking)
+    const MillModel model(m, at.steady);
+    const TransportTransfer transfer = transport_transfer(model.linearise(model.equilibrium()));
+    REQUIRE(transfer.ok);
+    const DelayRootCount right = nominal_delay_root_count(transfer, root.real() - 60.0);
+    REQUIRE(right.ok);
+    REQUIRE(right.count == 2);
+
+    MillKick kick;
+    kick.stand = 0;
+    kick.gap = 1e-9;
+    MillTimeOptions options;
+    options.absolute_tolerance_scale = 1e-3;  // 1e-13 m on a motion of 1e-9 m
+    const double end = 0.1;
+    const MillTimeResult run =
+        mill_time_domain(m, at.steady, kick, grid(1.0 / (60.0 * frequency), end), options);
+    REQUIRE(run.status == MillTimeStatus::ok);
+    REQUIRE(run.max_step <= run.delay[0] / 4.0);
+    MESSAGE("rightmost root " << root << " 1/s (" << frequency << " Hz), " << run.steps
+                              << " steps");
+    for (int k = 0; k < 2; ++k) {
+        std::vector<double> t, g;
+        gap_series(run, k, t, g);
+        const Envelope e = envelope(t, g, 0.05, end);
+        MESSAGE("stand " << k + 1 << ": growth " << e.growth_rate << " /s over " << e.peaks
+                         << " peaks (root " << root.real() << ", error "
+                         << 100.0 * (e.growth_rate / root.real() - 1.0) << " %), frequency "
+                         << e.frequency << " Hz");
+        CHECK(e.peaks > 20);
+        CHECK(e.growth_rate == doctest::Approx(root.real()).epsilon(0.02));
+        CHECK(e.frequency == doctest::Approx(frequency).epsilon(0.005));
+        // still the linear response: the gap stays a thousandth of the strip
+        double largest = 0.0;
+        for (double x : g) largest = std::max(largest, std::abs(x));
+        CHECK(largest < 1e-3 * m.thickness[static_cast<std::size_t>(k + 1)]);
+    }
+}
+
+TEST_CASE("mill time domain: before the transport arrives the mill is the frozen mill") {
+    // Two stands with their 5 m span at 15 m/s: the strip takes tau = 0.37 s from stand 1 to
+    // stand 2, so over a shorter run y1 of stand 2 is steady and the response started on A0's
+    // least-damped mode decays at that eigenvalue's rate (the frozen mill, §12.4).
+    const Mill m = two_stand_mill(5.0);
+    const MillSteadyState steady = mill_steady_state(m);
+    REQUIRE(steady.status == MillSteadyStatus::ok);
+    const MillModel model(m, steady);
+    const Eigen::VectorXd z0 = model.equilibrium();
+    const Linearisation lin = model.jacobian(z0, 0.0);
+    REQUIRE(lin.status == DynamicsStatus::ok);
+    const Eigen::VectorXcd values = balanced_eigenvalues(lin.jacobian);
+    Eigen::Index best = -1;
+    for (Eigen::Index j = 0; j < values.size(); ++j)
+        if (values(j).imag() > 1.0 && (best < 0 || values(j).real() > values(best).real()))
+            best = j;
+    REQUIRE(best >= 0);
+    const std::complex<double> lambda = values(best);
+    REQUIRE(lambda.real() < 0.0);
+    // its eigenvector by inverse iteration, turned so that the moving stand's gap is real
+    const Eigen::Index n = lin.jacobian.rows();
+    const Eigen::MatrixXcd shifted = lin.jacobian.cast<std::complex<double>>() -
+                                     (lambda * (1.0 + 1e-10)) * Eigen::MatrixXcd::Identity(n, n);
+    const Eigen::PartialPivLU<Eigen::MatrixXcd> lu(shifted);
+    Eigen::VectorXcd v = Eigen::VectorXcd::Ones(n);
+    for (int k = 0; k < 4; ++k) v = lu.solve(v).normalized();
+    int moving = 0;
+    std::complex<double> gap[2];
+    for (int k = 0; k < 2; ++k) {
+        const int o = model.displacement_index(k);
+        gap[k] = v(o + 2) - v(o + 3);
+        if (std::abs(gap[k]) > std::abs(gap[moving])) moving = k;
+    }
+    v *= std::conj(gap[moving]) / std::norm(gap[moving]);  // that gap is 1
+    MillKick kick;
+    kick.state = 1e-8 * v.real();
+    MillTimeOptions options;
+    options.absolute_tolerance_scale = 1e-2;  // 1e-12 m on a motion of 1e-8 m
+
+    const double frequency = lambda.imag() / (2.0 * std::numbers::pi);
+    const double end = 0.3;
+    const MillTimeResult run =
+        mill_time_domain(m, steady, kick, grid(1.0 / (60.0 * frequency), end), options);
+    REQUIRE(run.status == MillTimeStatus::ok);
+    REQUIRE(run.delay[0] > end);
+    // the transport has not arrived: stand 2 sees the steady strip throughout
+    bool steady_entry = true, delayed = true;
+    for (const MillTimeSample& s : run.samples) {
+        steady_entry = steady_entry && s.stands[1].entry_thickness == m.thickness[1];
+        delayed = delayed && std::abs(s.transport_time[0] / run.delay[0] - 1.0) < 1e-3;
+    }
+    CHECK(steady_entry);
+    CHECK(delayed);
+    std::vector<double> t, g;
+    gap_series(run, moving, t, g);
+    const Envelope e = envelope(t, g, 0.05, end);
+    MESSAGE("frozen least-damped " << lambda << " 1/s; time domain " << e.growth_rate << " /s ("
+                                   << 100.0 * (e.growth_rate / lambda.real() - 1.0) << " %), "
+                                   << e.frequency << " Hz against " << frequency << "; "
+                                   << run.steps << " steps");
+    CHECK(e.peaks > 20);
+    CHECK(e.growth_rate == doctest::Approx(lambda.real()).epsilon(0.02));
+    CHECK(e.frequency == doctest::Approx(frequency).epsilon(0.005));
+}
+
+TEST_CASE(
+    "mill time domain: a thickness step entering a stand moves its back stress at once, "
+    "not the span's force (identity 7)") {
+    const Mill m = two_stand_mill(5.0);
+    const MillSteadyState steady = mill_steady_state(m);
+    REQUIRE(steady.status == MillSteadyStatus::ok);
+    const MillModel model(m, steady);
+
+    // on the model: sigma_b = T / y1, T the span's state
+    const Eigen::VectorXd z0 = model.equilibrium();
+    const double dy = 1e-7;
+    const BiteState before = model.bite_state(1, z0.data());
+    const BiteState after = model.bite_state(1, z0.data(), dy);
+    const double y1 = before.entry_thickness;
+    CHECK(after.entry_thickness - y1 == doctest::Approx(dy).epsilon(1e-9));
+    // -sigma dy / y to first order; the exact T/(y + dy) - T/y differs by dy/y = 7e-5 of it
+    CHECK(after.back_tension - before.back_tension ==
+          doctest::Approx(-before.back_tension * dy / y1).epsilon(2.0 * dy / y1));
+
+    // in time: stand 1's gap opened by dy at t = 0 reaches stand 2 when S(t) - S(0) = L, a step
+    // in y1 there; sampled every 10 ns across the arrival
+    const double tau = model.span_length(0) / model.stand(0).reference().bite.exit_speed;
+    std::vector<double> times = grid(1e-3, tau - 1e-5);
+    for (double t = tau - 1e-5; t <= tau + 1e-5; t += 1e-8) times.push_back(t);
+    MillKick kick;
+    kick.stand = 0;
+    kick.gap = dy;
+    MillTimeOptions options;
+    options.absolute_tolerance_scale = 1e-2;
+    const MillTimeResult run = mill_time_domain(m, steady, kick, times, options);
+    REQUIRE(run.status == MillTimeStatus::ok);
+    REQUIRE(run.samples.size() == times.size());
+    const double steady_y1 = run.samples.front().stands[1].entry_thickness;
+    std::size_t k = 0;
+    while (k < run.samples.size() &&
+           run.samples[k].stands[1].entry_thickness - steady_y1 < 0.5 * dy)
+        ++k;
+    REQUIRE(k < run.samples.size());
+    REQUIRE(run.samples[k - 1].t > tau - 1e-5);  // inside the fine window
+    const MillTimeSample& a = run.samples[k - 1];
+    const MillTimeSample& b = run.samples[k];
+    MESSAGE("the step arrives at " << b.t << " s (tau " << tau << " s)");
+    // it is the strip that left stand 1 at the kick: departures t - (t - t_d) either side of 0
+    CHECK(a.t - a.transport_time[0] < 0.0);
+    CHECK(b.t - b.transport_time[0] >= 0.0);
+    // the step is the kick: y2 of stand 1 just after t = 0 (at rest: it moves as t^2)
+    const double step = b.stands[1].entry_thickness - a.stands[1].entry_thickness;
+    CHECK(step == doctest::Approx(dy).epsilon(1e-3));
+    // sigma_b,2 = T / y1 jumps by -sigma dy / y; T is a state, continuous: over the 10 ns it
+    // moves by its rate alone (~1 % of the jump per microsecond, here 1e-4)
+    const double jump = b.stands[1].back_tension - a.stands[1].back_tension;
+    const double expected = -a.stands[1].back_tension * step / b.stands[1].entry_thickness;
+    CHECK(jump == doctest::Approx(expected).epsilon(1e-3));
+    CHECK(std::abs(b.span_force[1] - a.span_force[1]) <
+          1e-3 * std::abs(expected) * b.stands[1].entry_thickness);
+    // and stand 1's front stress, T / y2 of stand 1, does not see the step
+    CHECK(std::abs(b.stands[0].front_tension - a.stands[0].front_tension) < 1e-3 * std::abs(jump));
+}
+
+TEST_CASE("mill time domain: a span going slack ends the run with the span and the time") {
+    // The unstable mill of identity 8 with a low interstand set point (5 MPa): the regenerative
+    // oscillation grows until the span's force reaches zero
+    Mill m = two_stand_mill(0.05);
+    m.speed = 9.0;
+    m.interstand_tension = {5e6};
+    const MillSteadyState steady = mill_steady_state(m);
+    REQUIRE(steady.status == MillSteadyStatus::ok);
+    MillKick kick;
+    kick.stand = 0;
+    kick.gap = 1e-6;
+    const double end = 0.2;
+    const MillTimeResult run = mill_time_domain(m, steady, kick, grid(1e-4, end));
+    MESSAGE(std::string(to_string(run.status)) << " at " << run.end_time << " s, span " << run.span
+                                               << ": " << std::string(run.message));
+    CHECK(run.status == MillTimeStatus::slack_span);
+    CHECK(run.span == 1);  // between stands 1 and 2
+    CHECK(run.stand == -1);
+    CHECK(run.end_time > 0.0);
+    CHECK(run.end_time < end);
+    REQUIRE_FALSE(run.samples.empty());
+    CHECK(run.samples.back().t <= run.end_time);
+    double lowest = run.samples.front().span_force[1];
+    for (const MillTimeSample& s : run.samples) lowest = std::min(lowest, s.span_force[1]);
+    CHECK(lowest > 0.0);
+    // the last outputs were near it: the force had fallen to a fraction of its set point
+    CHECK(lowest < 0.5 * 5e6 * m.thickness[1]);
+
+    // a kick that closes stand 2's gap by 30 um pulls the strip out of a 1 MPa span at once
+    m = two_stand_mill(5.0);
+    m.interstand_tension = {1e6};
+    const MillSteadyState light = mill_steady_state(m);
+    REQUIRE(light.status == MillSteadyStatus::ok);
+    kick.stand = 1;
+    kick.gap = -3e-5;
+    const MillTimeResult sudden = mill_time_domain(m, light, kick, grid(1e-4, 0.01));
+    CHECK(sudden.status == MillTimeStatus::slack_span);
+    CHECK(sudden.span == 1);
+    CHECK(sudden.end_time < 1e-3);
+}
+
+TEST_CASE("mill time domain: what the run cannot take is a status, and cancellation stops it") {
+    const Mill m = two_stand_mill(5.0);
+    const MillSteadyState steady = mill_steady_state(m);
+    REQUIRE(steady.status == MillSteadyStatus::ok);
+    CHECK(mill_time_domain(m, steady, {}, {0.02, 0.01}).status == MillTimeStatus::invalid);
+    MillKick wrong;
+    wrong.stand = 2;
+    CHECK(mill_time_domain(m, steady, wrong, {0.01}).status == MillTimeStatus::invalid);
+    wrong.stand = -1;
+    wrong.state = Eigen::VectorXd::Zero(3);
+    CHECK(mill_time_domain(m, steady, wrong, {0.01}).status == MillTimeStatus::invalid);
+    CHECK(mill_time_domain(m, MillSteadyState{}, {}, {0.01}).status == MillTimeStatus::invalid);
+
+    // z0 is a fixed point: without a kick nothing moves
+    const MillTimeResult still = mill_time_domain(m, steady, {}, {0.005, 0.01});
+    REQUIRE(still.status == MillTimeStatus::ok);
+    REQUIRE(still.samples.size() == 2);
+    for (const MillStandSample& s : still.samples.back().stands) CHECK(std::abs(s.gap) < 1e-15);
+
+    // cancellation is polled before each output
+    int polls = 0;
+    Control control;
+    control.cancelled = [&] { return ++polls > 3; };
+    MillKick kick;
+    kick.stand = 1;
+    kick.gap = 1e-8;
+    const MillTimeResult cancelled =
+        mill_time_domain(m, steady, kick, grid(1e-4, 1e-3), {}, control);
+    CHECK(cancelled.status == MillTimeStatus::cancelled);
+    CHECK(cancelled.samples.size() == 3);
+
+    // a mill of one stand has no transport and no step limit of its own
+    Mill one = m;
+    one.stands.resize(1);
+    one.thickness.resize(2);
+    one.span_length.clear();
+    one.interstand_tension.clear();
+    one.exit_tension = default_mill().interstand_tension[3];
+    const MillSteadyState single = mill_steady_state(one);
+    REQUIRE(single.status == MillSteadyStatus::ok);
+    kick.stand = 0;
+    const MillTimeResult alone = mill_time_domain(one, single, kick, grid(1e-3, 0.01));
+    CHECK(alone.status == MillTimeStatus::ok);
+    CHECK(alone.delay.empty());
+    CHECK(alone.samples.size() == 10);
+}
+
+}  // namespace mill_time_test
