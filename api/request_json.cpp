@@ -98,7 +98,7 @@ nlohmann::json scenario_base_json(const ScenarioBase& base) {
 AnalysisRequest analysis_request_from_json(const nlohmann::json& request, FieldErrors& errors) {
     AnalysisRequest parsed;
     if (!require_object(request, "", errors)) return parsed;
-    static constexpr std::array<std::string_view, 4> known{"analysis", "base", "scenario",
+    static constexpr std::array<std::string_view, 5> known{"analysis", "base", "scenario", "tandem",
                                                            "options"};
     reject_unknown_fields(request, "", known, errors);
 
@@ -115,6 +115,9 @@ AnalysisRequest analysis_request_from_json(const nlohmann::json& request, FieldE
     if (const auto scenario = request.find("scenario");
         scenario != request.end() && !scenario->is_null()) {
         parsed.scenario_patch = *scenario;
+    }
+    if (const auto tandem = request.find("tandem"); tandem != request.end() && !tandem->is_null()) {
+        parsed.tandem_patch = *tandem;
     }
     if (const auto options = request.find("options");
         options != request.end() && !options->is_null()) {

@@ -1,7 +1,8 @@
 #pragma once
 // The request envelope: {"analysis": "roll_gap", "base": "stand-3", "scenario": {...merge
-// patch...}, "options": {...}}. Only its shape is checked here; the analysis name, scenario and
-// options are read by the service once it knows which analysis runs.
+// patch...}, "options": {...}}, or for a mill {"analysis": "tandem", "tandem": {...}, ...}. Only
+// its shape is checked here; the analysis name, scenario and options are read by the service once
+// it knows which analysis runs.
 
 #include <cstdint>
 #include <optional>
@@ -31,6 +32,9 @@ struct AnalysisRequest {
     std::string analysis;
     nlohmann::json scenario_patch = nlohmann::json::object();  // absent or null: the default
     nlohmann::json options = nlohmann::json::object();         // absent or null: the defaults
+    // "tandem": the mill's merge patch (docs/model.md §12.8), for the analyses of a mill; set
+    // iff the request has a non-null "tandem".
+    std::optional<nlohmann::json> tandem_patch;
     // "base": "<name>" as a client sends it: only the service, which has the store, can resolve
     // it (it then rewrites the request to the resolved form below).
     std::optional<std::string> unresolved_base;

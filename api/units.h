@@ -44,6 +44,9 @@ inline constexpr Unit meganewton_second_per_metre{"MN.s/m", 6};
 inline constexpr Unit kilonewton{"kN", 3};
 inline constexpr Unit kilonewton_metre{"kN.m", 3};
 inline constexpr Unit radian{"rad", 0};
+inline constexpr Unit kilogram_per_cubic_metre{"kg/m3", 0};
+inline constexpr Unit kilowatt{"kW", 3};
+inline constexpr Unit square_metre_per_second{"m2/s", 0};
 }  // namespace units
 
 }  // namespace rollgap::api

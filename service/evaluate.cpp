@@ -13,6 +13,7 @@
 #include "api/json_text.h"
 #include "api/request_json.h"
 #include "api/scenario_json.h"
+#include "api/tandem_json.h"
 #include "api/text.h"
 #include "service/analyses/table.h"
 
@@ -48,6 +49,28 @@ std::variant<Outcome, Envelope> check_envelope_of(const nlohmann::json& request,
     if (envelope.analysis == nullptr) {
         return problem_outcome(unknown_analysis_problem(offered, envelope.parsed.analysis));
     }
+    // A stand's analysis takes "scenario", a mill's "tandem" (docs/model.md §12.8).
+    const bool of_mill = envelope.analysis->subject() == Subject::mill;
+    const bool has_scenario = request.contains("scenario") && !request.at("scenario").is_null();
+    if (of_mill ? has_scenario : envelope.parsed.tandem_patch.has_value()) {
+        const std::string name(envelope.analysis->name);
+        envelope_errors.add(
+            of_mill ? api::FieldError{"/scenario",
+                                      api::concat("\"", name,
+                                                  "\" analyses a tandem mill: send the mill as "
+                                                  "\"tandem\" (each stand's scenario patch in "
+                                                  "/tandem/stands, shared ones in "
+                                                  "/tandem/stand_defaults)"),
+                                      std::nullopt, std::nullopt}
+                    : api::FieldError{"/tandem",
+                                      api::concat("\"", name,
+                                                  "\" analyses one stand, given as "
+                                                  "\"scenario\"; a tandem mill is analysed by "
+                                                  "\"tandem\""),
+                                      std::nullopt, std::nullopt});
+        return problem_outcome(envelope_errors.to_problem(api::ProblemCode::invalid_request,
+                                                          "the request envelope is invalid"));
+    }
     return envelope;
 }
 
@@ -76,15 +99,28 @@ std::variant<Outcome, PreparedRequest> prepare_request(const nlohmann::json& req
     PreparedRequest ready;
     ready.analysis = envelope.analysis;
     ready.base = envelope.parsed.base;
-    ready.scenario = api::scenario_from_patch(envelope.parsed.scenario_patch, "/scenario", errors);
-    ready.prepared =
-        envelope.analysis->prepare(ready.scenario, envelope.parsed.options, "/options", errors);
+    const bool of_mill = envelope.analysis->subject() == Subject::mill;
+    const std::string subject_pointer = of_mill ? "/tandem" : "/scenario";
+    if (of_mill) {
+        ready.mill = api::mill_from_patch(
+            envelope.parsed.tandem_patch.value_or(nlohmann::json::object()), "/tandem", errors);
+        ready.prepared = envelope.analysis->prepare_mill(*ready.mill, envelope.parsed.options,
+                                                         "/options", errors);
+    } else {
+        ready.scenario =
+            api::scenario_from_patch(envelope.parsed.scenario_patch, "/scenario", errors);
+        ready.prepared =
+            envelope.analysis->prepare(ready.scenario, envelope.parsed.options, "/options", errors);
+    }
     // An analysis may add scenario violations of its own (tension_cycle: the sinusoid's limits).
-    const bool scenario_valid = !errors.has_error_at_or_below("/scenario");
+    const bool scenario_valid = !errors.has_error_at_or_below(subject_pointer) &&
+                                !errors.has_error_at_or_below("/scenario");
     if (!errors.empty()) {
         const std::string detail = api::concat(
             std::to_string(errors.size()), errors.size() == 1 ? " violation" : " violations",
-            scenario_valid ? " in the options" : " in the scenario and options");
+            scenario_valid
+                ? " in the options"
+                : (of_mill ? " in the mill and options" : " in the scenario and options"));
         return problem_outcome(errors.to_problem(
             scenario_valid ? api::ProblemCode::invalid_options : api::ProblemCode::invalid_scenario,
             detail));
@@ -121,7 +157,9 @@ Outcome result_outcome(PreparedRequest& ready, nlohmann::json result) {
     outcome.status = status_of(result);
     outcome.body = {
         {"analysis", ready.analysis->name},
-        {"scenario", api::resolved_scenario_json(ready.scenario)},
+        {ready.mill ? "tandem" : "scenario", ready.mill
+                                                 ? api::resolved_tandem_json(*ready.mill)
+                                                 : api::resolved_scenario_json(ready.scenario)},
         {"options", std::move(ready.prepared.resolved_options)},
         {"result", std::move(result)},
     };

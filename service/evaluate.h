@@ -15,6 +15,7 @@
 #include "api/problem.h"
 #include "api/request_json.h"
 #include "core/control.h"
+#include "core/mill/mill.h"
 #include "service/analyses/analysis.h"
 
 namespace rollgap::service {
@@ -79,7 +80,8 @@ Outcome evaluate_text(std::string_view text, const core::Control& control = {});
 struct PreparedRequest {
     const Analysis* analysis = nullptr;
     std::optional<api::ScenarioBase> base;  // the stored scenario it was resolved onto, echoed
-    core::Scenario scenario;
+    core::Scenario scenario;                // a stand's analysis: the scenario
+    std::optional<core::Mill> mill;         // a mill's analysis (Subject::mill): the mill, echoed
     PreparedAnalysis prepared;
 };
 

@@ -12,8 +12,11 @@
 #include "api/problem.h"
 #include "api/scenario_json.h"
 #include "api/scenario_schema.h"
+#include "api/tandem_json.h"
+#include "api/tandem_schema.h"
 #include "api/text.h"
 #include "api/units.h"
+#include "core/mill/mill.h"
 #include "core/scenario.h"
 #include "service/analyses/table.h"
 #include "service/analyses/analysis.h"
@@ -186,7 +189,11 @@ void add_option_defaults(json& schemas) {
             api::FieldErrors errors;
             // prepare() reads and resolves the options; it does not compute (analysis.h).
             const PreparedAnalysis prepared =
-                analysis.prepare(scenario, json::parse(entry.minimal_options), "/options", errors);
+                analysis.subject() == Subject::mill
+                    ? analysis.prepare_mill(core::default_mill(),
+                                            json::parse(entry.minimal_options), "/options", errors)
+                    : analysis.prepare(scenario, json::parse(entry.minimal_options), "/options",
+                                       errors);
             if (!errors.empty()) continue;
             const std::string member(entry.member);
             if (member.empty()) {
@@ -268,16 +275,19 @@ void add_result_schemas(json& document) {
             schemas[std::string(component.component)] = std::move(component.schema);
         }
         const std::string response(analysis.response_schema);
+        const bool of_mill = analysis.subject() == Subject::mill;
+        const char* subject = of_mill ? "tandem" : "scenario";
         schemas[response] = {
             {"type", "object"},
-            {"description", concat("The ", analysis.name,
-                                   " analysis' answer: the complete scenario and the options "
-                                   "it used (so it can be rerun) and the result.")},
-            {"required", {"analysis", "scenario", "options", "result"}},
+            {"description", concat("The ", analysis.name, " analysis' answer: the complete ",
+                                   of_mill ? "mill" : "scenario",
+                                   " and the options it used (so it can be rerun) and the "
+                                   "result.")},
+            {"required", {"analysis", subject, "options", "result"}},
             {"additionalProperties", false},
             {"properties",
              {{"analysis", {{"const", analysis.name}, {"description", "The analysis that ran."}}},
-              {"scenario", component_ref("Scenario")},
+              {subject, component_ref(of_mill ? "Tandem" : "Scenario")},
               {"options", component_ref(analysis.options_schema)},
               {"result", component_ref(analysis.result_schema)}}},
         };
@@ -315,6 +325,7 @@ json analysis_list() {
             {"csv", !analysis.tables().empty()},
             {"pointwise", analysis.pointwise()},
             {"on_page", analysis.on_page},
+            {"subject", analysis.subject() == Subject::mill ? "tandem" : "scenario"},
         });
     }
     return list;
@@ -335,12 +346,116 @@ json scenario_json_schema(bool patch) {
     return schema;
 }
 
+namespace {
+
+// A field of the tandem document (api/tandem_schema.h), as a scenario field's leaf.
+json tandem_leaf_schema(const api::TandemField& field, const json& default_value, bool patch) {
+    const auto nullable = [patch](std::string_view type) {
+        return patch ? json::array({type, "null"}) : json(type);
+    };
+    json schema = json::object();
+    std::string description;
+    switch (field.kind) {
+        case api::TandemFieldKind::number:
+            schema["type"] = nullable("number");
+            add_bounds(schema, field.range);
+            schema["x-unit"] = field.unit.code;
+            description = numeric_text(false, false, field.unit, field.range);
+            break;
+        case api::TandemFieldKind::number_list: {
+            json item = {{"type", "number"}, {"x-unit", field.unit.code}};
+            add_bounds(item, field.range);
+            schema["type"] = nullable("array");
+            schema["items"] = std::move(item);
+            schema["maxItems"] = core::max_mill_stands;
+            description =
+                concat("Array of numbers, ",
+                       field.length == api::ListLength::stands ? "one per stand"
+                                                               : "one per interstand span",
+                       "; each: ", numeric_text(false, false, field.unit, field.range));
+            break;
+        }
+        case api::TandemFieldKind::choice: {
+            json choices = json::array();
+            for (const std::string_view choice : field.choices) choices.push_back(choice);
+            if (patch) choices.push_back(nullptr);
+            schema["enum"] = std::move(choices);
+            description = concat("One of: ", api::choices_text(field.choices), ".");
+            break;
+        }
+    }
+    if (!default_value.is_null()) schema["default"] = default_value;
+    if (patch) description += " null restores the default.";
+    schema["description"] = concat(field.description, " ", description);
+    return schema;
+}
+
+json tandem_group_schema(std::string_view path, const json& defaults, bool patch) {
+    json properties = json::object();
+    json required = json::array();
+    for (const std::string_view member : api::tandem_group_members(path)) {
+        const std::string child = concat(path, "/", member);
+        const json& child_default =
+            defaults.contains(member) ? defaults.at(std::string(member)) : json();
+        if (path.empty() && member == api::stand_defaults_member) {
+            properties[std::string(member)] = {
+                {"allOf", json::array({component_ref("ScenarioPatch")})},
+                {"description",
+                 "A scenario merge patch shared by every stand (rolls, lubricant, roughness, "
+                 "friction, film model, flow stress, structure), applied before each stand's own. "
+                 "The fields the mill gives (a stand's thicknesses, width, Young's modulus, roll "
+                 "speed and tensions) are refused here: they are the tandem document's."}};
+        } else if (path.empty() && member == api::stands_member) {
+            properties[std::string(member)] = {
+                {"type", patch ? json::array({"array", "null"}) : json("array")},
+                {"minItems", 1},
+                {"maxItems", core::max_mill_stands},
+                {"items", component_ref("ScenarioPatch")},
+                {"description",
+                 "One scenario merge patch per stand, from the entry (1 to 6 stands): the "
+                 "default scenario, then stand_defaults, then this patch make the stand. An array "
+                 "is replaced whole by a merge patch: send every stand (`{}` for a stand that "
+                 "takes the shared defaults). The stand's structure group keeps its v1 name "
+                 "`mill` (one stand's masses, stiffnesses, damping)."}};
+        } else if (api::is_tandem_group(child)) {
+            properties[std::string(member)] = tandem_group_schema(child, child_default, patch);
+        } else if (const api::TandemField* field = api::find_tandem_field(child)) {
+            properties[std::string(member)] = tandem_leaf_schema(*field, child_default, patch);
+        }
+        required.push_back(member);
+    }
+    json schema = {
+        {"type", patch ? json::array({"object", "null"}) : json("object")},
+        {"additionalProperties", false},
+        {"properties", std::move(properties)},
+    };
+    if (!patch) schema["required"] = std::move(required);
+    return schema;
+}
+
+}  // namespace
+
+json tandem_json_schema(bool patch) {
+    json schema = tandem_group_schema("", api::default_tandem_json(), patch);
+    schema["description"] =
+        patch ? "A JSON merge patch (RFC 7396) onto the default mill (docs/model.md §12.3: five "
+                "stands, 2.80 -> 1.20 mm at 15 m/s): give only what differs; arrays (the "
+                "schedule, the spans, the stands) are replaced whole. Violations are reported "
+                "with their pointers, e.g. /tandem/stands/3/rolls/radius_mm; a thickness that "
+                "grows downstream or more than 6 stands is a 422."
+              : "A complete tandem mill: the mill's fields with their units in their names, and "
+                "each stand's complete scenario without the fields the mill gives it.";
+    return schema;
+}
+
 json openapi_document() {
     json document = json::parse(openapi_json());
     document["info"]["version"] = std::string(version());
     json& schemas = document["components"]["schemas"];
     schemas["Scenario"] = scenario_json_schema(false);
     schemas["ScenarioPatch"] = scenario_json_schema(true);
+    schemas["Tandem"] = tandem_json_schema(false);
+    schemas["TandemPatch"] = tandem_json_schema(true);
     // A running chunked job's points so far, typed by the result tables' point components.
     json& partial = schemas["Job"]["properties"]["partial_result"];
     json typed = partial_result_schema(analyses());

@@ -16,6 +16,9 @@ namespace rollgap::service {
 // JSON Schema (2020-12, as OpenAPI 3.1 uses it) of the complete scenario document.
 // `patch`: the schema of a request's merge patch instead (every member optional and nullable).
 nlohmann::json scenario_json_schema(bool patch);
+// The tandem document (api/tandem_schema.h) as a JSON Schema: complete (echoed in a mill's
+// results) or as a merge patch (a request's "tandem").
+nlohmann::json tandem_json_schema(bool patch);
 
 nlohmann::json openapi_document();
 const std::string& openapi_text();  // openapi_document().dump(), computed once

@@ -146,6 +146,27 @@ Eigen::VectorXcd margin_response(const TransportTransfer& transfer,
 
 }  // namespace
 
+MillRootDescription describe_rightmost_root(const Mill& mill, const MillSpeedStability& at) {
+    MillRootDescription out;
+    if (!at.rightmost.found) return out;
+    const Linearised l = linearised(mill);
+    if (!l.ok) return out;
+    out.found = true;
+    out.verified = at.rightmost.verified;
+    out.s = at.rightmost.root.s;
+    MillCrossing& c = out.described;
+    c.kind = MillCrossingKind::nominal_delay;
+    c.status = CriticalSpeedStatus::found;
+    c.speed = mill.speed;
+    const std::complex<double> root = out.s;
+    describe(c, mill, root.imag() / (2.0 * std::numbers::pi), delay_root_vector(l.transfer, root),
+             [root](const TransportTransfer& t) {
+                 const DelayRoot moved = delay_root(t, root);
+                 return moved.converged ? moved.s.real() : std::nan("");
+             });
+    return out;
+}
+
 MillCriticalSpeeds mill_critical_speeds(const Mill& mill, const CriticalSpeedOptions& options,
                                         const Control& control) {
     MillCriticalSpeeds out;

@@ -6,6 +6,7 @@
 // moves, the band, and the validity of the spring law and the quasi-static bite there; the
 // headline is the lowest whose crossing lies inside the model's range.
 
+#include <complex>
 #include <vector>
 
 #include "core/control.h"
@@ -62,6 +63,18 @@ struct MillCriticalSpeeds {
     // found crossings below the headline (or all, when none is valid) that lie outside the range
     std::vector<MillCrossingKind> outside_range_below;
 };
+
+// A root of the mill at its own speed, described as a crossing is (docs/model.md §12.7): the
+// rightmost root with the nominal delays of `at` (mill_stability_at of `mill`), its frequency,
+// participation and moving stand, the bite-gain sensitivity of its growth rate and the feeding
+// stand, band and validity. `found` false: `at` has no rightmost root.
+struct MillRootDescription {
+    bool found = false;
+    bool verified = false;   // no root right of it (the count)
+    std::complex<double> s;  // 1/s
+    MillCrossing described;  // kind nominal_delay, speed the mill's; status found when found
+};
+MillRootDescription describe_rightmost_root(const Mill& mill, const MillSpeedStability& at);
 
 // frozen: the single stand's search on A0 (§7.3); delay_independent: the same search on
 // g = rho - 1 while A0 is stable (+1 where it is not; rho grows without bound as A0 nears

@@ -38,6 +38,7 @@
 #include "api/field_errors.h"
 #include "api/result_table.h"
 #include "core/control.h"
+#include "core/mill/mill.h"
 #include "core/scenario.h"
 
 namespace rollgap::service {
@@ -124,6 +125,16 @@ using PrepareAnalysis = PreparedAnalysis (*)(const core::Scenario& scenario,
                                              const std::string& options_pointer,
                                              api::FieldErrors& errors);
 
+// The same for an analysis of a tandem mill (docs/model.md §12): the request's "tandem" read
+// into `mill`, its violations in `errors` on entry.
+using PrepareMillAnalysis = PreparedAnalysis (*)(const core::Mill& mill,
+                                                 const nlohmann::json& options,
+                                                 const std::string& options_pointer,
+                                                 api::FieldErrors& errors);
+
+// What an analysis takes: one stand (the request's "scenario") or a mill ("tandem").
+enum class Subject { stand, mill };
+
 // An options component of the OpenAPI document whose "default"s are those an analysis resolves
 // from `minimal_options` (the defaults live in core; the document shows them).
 struct OptionsDefaults {
@@ -154,6 +165,10 @@ struct Analysis {
     // point can be (a running job's partial result lists them). Empty: runs whole.
     std::span<const std::string_view> point_components = {};
     bool on_page = true;  // the workbench page offers it (x-rollgap-analyses in OpenAPI)
+    // A mill's analysis: `prepare` is nullptr and this reads its options (Subject::mill).
+    PrepareMillAnalysis prepare_mill = nullptr;
+
+    Subject subject() const { return prepare_mill != nullptr ? Subject::mill : Subject::stand; }
 
     bool pointwise() const { return !point_components.empty(); }
     std::span<const api::CsvTable> tables() const {

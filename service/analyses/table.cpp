@@ -14,6 +14,7 @@
 #include "api/result_json.h"
 #include "api/stability_json.h"
 #include "api/sweep_json.h"
+#include "api/tandem_result_json.h"
 #include "api/tension_cycle_json.h"
 #include "api/name_suggestion.h"
 #include "api/text.h"
@@ -25,6 +26,7 @@
 #include "service/analyses/roll_gap.h"
 #include "service/analyses/stability.h"
 #include "service/analyses/sweep.h"
+#include "service/analyses/tandem.h"
 #include "service/analyses/tension_cycle.h"
 
 namespace rollgap::service {
@@ -120,6 +122,22 @@ const std::array table{
         &prepare_calibration, "/v1/calibrate", "CalibrateResponse", "CalibrateOptions",
         "CalibrationResult", &api::calibration_result_schemas, calibration_defaults,
         calibration_request_options, &api::calibration_csv_tables},
+    Analysis{"tandem",
+             "Tandem mill",
+             "a tandem mill at its speed: pass schedule, stability by stand and the three "
+             "critical mill speeds (docs/model.md §12)",
+             nullptr,
+             "/v1/tandem",
+             "TandemResponse",
+             "StabilityOptions",
+             "TandemResult",
+             &api::tandem_result_schemas,
+             stability_defaults,
+             no_names,
+             &api::tandem_csv_tables,
+             {},
+             false,
+             &prepare_tandem},
 };
 
 }  // namespace

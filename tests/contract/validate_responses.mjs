@@ -22,6 +22,8 @@ if (!binary) throw new Error('usage: node validate_responses.mjs path/to/rollgap
 
 const json = (body) => ({ body: JSON.stringify(body), headers: { 'Content-Type': 'application/json' } });
 const skids = { lubricant: { limiting_shear: false }, rolls: { speed_m_per_s: 40 } };
+// A two-stand mill: its three critical speeds take a tenth of a second (docs/model.md §12.7).
+const twoStands = { entry_thickness_mm: 2.25, exit_thickness_mm: [1.88, 1.6], spans: { length_m: [5], tension_MPa: [60] }, stands: [{}, {}] };
 const at = (pointer) => (document) => pointer.split('/').slice(1).reduce((node, key) => node?.[key], document);
 const equals = (pointer, value) => (document) => {
   const actual = at(pointer)(document);
@@ -108,6 +110,23 @@ const cases = [
   ['calibrate csv', 'POST', '/v1/calibrate?table=observations',
     { ...json({ options: { parameters: [{ field: '/strip/flow_stress_MPa' }], observations: [
       { quantity: 'roll_force_kN', value: 9000, standard_uncertainty: 60 }] } }), accept: 'text/csv' }, 200],
+  ['tandem', 'POST', '/v1/tandem', json({ options: { critical_speed: false } }), 200,
+    every(equals('/result/steady_state/status', 'ok'), equals('/tandem/stands/4/rolls/radius_mm', 280))],
+  ['tandem two stands with critical speeds', 'POST', '/v1/tandem', json({ tandem: twoStands }), 200,
+    every(equals('/result/critical_speeds/frozen/status', 'found'),
+      equals('/result/steady_state/stands/1/stand', 2))],
+  ['tandem csv stands', 'POST', '/v1/tandem', { ...json({ options: { critical_speed: false } }), accept: 'text/csv' }, 200],
+  ['tandem csv crossings', 'POST', '/v1/tandem?table=crossings', { ...json({ tandem: twoStands }), accept: 'text/csv' }, 200],
+  ['tandem skidding stand', 'POST', '/v1/tandem',
+    json({ tandem: { ...twoStands, stands: [{}, { friction: { model: 'coulomb', coulomb_coefficient: 0.001 } }] },
+      options: { critical_speed: false } }), 200,
+    every(equals('/result/steady_state/status', 'no_steady_state'), equals('/result/stability/status', 'no_steady_state'))],
+  ['tandem invalid', 'POST', '/v1/tandem',
+    json({ tandem: { stands: [{}, {}, {}, { rolls: { radius_mm: 5 } }, {}] } }), 422,
+    equals('/errors/0/pointer', '/tandem/stands/3/rolls/radius_mm')],
+  ['tandem seven stands', 'POST', '/v1/tandem', json({ tandem: { stands: [{}, {}, {}, {}, {}, {}, {}] } }), 422,
+    equals('/errors/0/pointer', '/tandem/stands')],
+  ['tandem job', 'POST', '/v1/jobs', json({ analysis: 'tandem', tandem: twoStands }), 202],
   ['invalid json', 'POST', '/v1/roll-gap', { body: '{', headers: { 'Content-Type': 'application/json' } }, 400],
   ['not json', 'POST', '/v1/roll-gap', { body: '{}', headers: { 'Content-Type': 'text/plain' } }, 415],
   ['invalid scenario', 'POST', '/v1/roll-gap', json({ scenario: { strip: { reduction: 25 } } }), 422,

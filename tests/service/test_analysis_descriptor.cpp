@@ -37,9 +37,11 @@ bool has_component(const json& document, std::string_view name) {
 service::PreparedAnalysis prepare_minimal(const service::Analysis& analysis) {
     api::FieldErrors errors;
     REQUIRE(!analysis.options_defaults.empty());
-    service::PreparedAnalysis prepared = analysis.prepare(
-        core::Scenario{}, json::parse(analysis.options_defaults.front().minimal_options),
-        "/options", errors);
+    const json options = json::parse(analysis.options_defaults.front().minimal_options);
+    service::PreparedAnalysis prepared =
+        analysis.subject() == service::Subject::mill
+            ? analysis.prepare_mill(core::default_mill(), options, "/options", errors)
+            : analysis.prepare(core::Scenario{}, options, "/options", errors);
     CHECK_MESSAGE(errors.empty(), analysis.name, ": its minimal options are refused");
     return prepared;
 }
@@ -139,7 +141,7 @@ TEST_CASE("the document's analysis list (x-rollgap-analyses) is the rows, in ord
         const service::Analysis& analysis = rows[i];
         const json& entry = listed[i];
         CAPTURE(analysis.name);
-        CHECK(entry.size() == 7);
+        CHECK(entry.size() == 8);
         CHECK(entry.value("name", "") == analysis.name);
         CHECK(entry.value("label", "") == analysis.label);
         CHECK(!analysis.label.empty());

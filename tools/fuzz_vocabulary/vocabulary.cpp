@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "api/scenario_schema.h"
+#include "api/tandem_schema.h"
 #include "service/analyses/table.h"
 #include "service/openapi.h"
 
@@ -73,6 +74,19 @@ std::string fuzz_evaluate_dictionary() {
         if (field.kind == api::FieldKind::number || field.kind == api::FieldKind::integer)
             paths.insert(field.path);
     }
+    // The tandem document's own names (a mill's analyses).
+    words.emplace("tandem");
+    for (const std::string_view member : api::tandem_group_members("")) words.emplace(member);
+    for (const api::TandemField& field : api::tandem_fields()) {
+        std::string_view rest = field.path;
+        while (!rest.empty()) {
+            rest.remove_prefix(1);
+            const std::size_t end = rest.find('/');
+            words.emplace(rest.substr(0, end));
+            rest = end == std::string_view::npos ? std::string_view() : rest.substr(end);
+        }
+        for (const std::string_view choice : field.choices) words.emplace(choice);
+    }
     const json document = service::openapi_document();
     const json& schemas = document["components"]["schemas"];
     std::set<std::string> visited;
@@ -107,6 +121,14 @@ std::vector<std::pair<std::string, std::string>> fuzz_evaluate_seeds() {
         json request = {{"analysis", analysis.name}};
         if (!analysis.options_defaults.empty())
             request["options"] = json::parse(analysis.options_defaults.front().minimal_options);
+        if (analysis.subject() == service::Subject::mill) {
+            // A small mill without the critical-speed search: a seed every sanitizer run can
+            // afford, which mutations grow into any mill.
+            request["tandem"] = {{"exit_thickness_mm", {2.25, 1.88}},
+                                 {"spans", {{"length_m", {5}}, {"tension_MPa", {60}}}},
+                                 {"stands", json::array({json::object(), json::object()})}};
+            request["options"]["critical_speed"] = false;
+        }
         seeds.emplace_back(std::string(analysis.name) + ".json", request.dump() + "\n");
     }
     // A request on a stored scenario: the facade alone has no store to resolve it from.

@@ -1,0 +1,348 @@
+#include "api/tandem_json.h"
+
+#include <cstddef>
+#include <optional>
+#include <stdexcept>
+#include <vector>
+
+#include "api/scenario_json.h"
+#include "api/scenario_schema.h"
+#include "api/tandem_schema.h"
+#include "api/text.h"
+#include "api/units.h"
+
+namespace rollgap::api {
+namespace {
+
+using nlohmann::json;
+
+// What the reader collected before the stands are read: the lists' lengths are checked once
+// the number of stands is known.
+struct Reading {
+    core::Mill mill = core::default_mill();
+    std::vector<bool> list_read;  // per list field of the table (by index), read without error
+    bool stands_valid = false;
+    json stand_defaults = json::object();
+    json stands = json::array();
+};
+
+void read_list(const TandemField& field, const json& value, const std::string& pointer,
+               core::Mill& mill, FieldErrors& errors, bool& ok) {
+    ok = false;
+    if (!value.is_array()) {
+        errors.add({pointer,
+                    concat("must be an array of numbers (",
+                           field.length == ListLength::stands ? "one per stand"
+                                                              : "one per interstand span",
+                           "), not ", json_type_name(value)),
+                    field.range.text(), std::string(field.unit.code)});
+        return;
+    }
+    // Bounded by the stand count's own bound: a longer list is refused by its length, and its
+    // elements need not be read (a 10^5-element list costs one message).
+    if (value.size() > static_cast<std::size_t>(core::max_mill_stands)) {
+        errors.add({pointer,
+                    concat("has ", std::to_string(value.size()), " values; a mill has at most ",
+                           std::to_string(core::max_mill_stands), " stands"),
+                    std::nullopt, std::nullopt});
+        return;
+    }
+    std::vector<double> values;
+    bool all = true;
+    for (std::size_t i = 0; i < value.size(); ++i) {
+        const auto number = read_number(value[i], concat(pointer, "/", std::to_string(i)),
+                                        field.range, field.unit, errors);
+        if (number) {
+            values.push_back(to_si(*number, field.unit));
+        } else {
+            all = false;
+        }
+    }
+    if (!all) return;
+    field.set_list(mill, values);
+    ok = true;
+}
+
+void read_group(const std::string& group, const json& node, const std::string& base,
+                Reading& reading, FieldErrors& errors) {
+    const std::string pointer = base + group;
+    if (!require_object(node, pointer, errors)) return;
+    const auto members = tandem_group_members(group);
+    reject_unknown_fields(node, pointer, members, errors, [&group](std::string_view name) {
+        if (group.empty() && name == "mill") {
+            return std::optional<std::string>(
+                "the tandem document's fields sit at its top level; `mill` is a stand's "
+                "structure group, set in stand_defaults or a stand's patch");
+        }
+        if (group.empty() && name == "scenario") {
+            return std::optional<std::string>(
+                "the stands' scenarios are stand_defaults (shared) and stands (one patch each)");
+        }
+        return std::optional<std::string>();
+    });
+    const auto& fields = tandem_fields();
+    for (const std::string_view member : members) {
+        const auto value = node.find(std::string(member));
+        if (value == node.end()) continue;  // missing: the default stays
+        const std::string path = concat(group, "/", member);
+        if (group.empty() && member == stand_defaults_member) {
+            if (value->is_null()) continue;
+            if (require_object(*value, base + path, errors)) reading.stand_defaults = *value;
+            continue;
+        }
+        if (group.empty() && member == stands_member) {
+            if (!value->is_array()) {
+                errors.add({base + path,
+                            concat("must be an array of scenario patches, one per stand, not ",
+                                   json_type_name(*value)),
+                            "1 to 6 stands", std::nullopt});
+            } else if (value->empty() ||
+                       value->size() > static_cast<std::size_t>(core::max_mill_stands)) {
+                errors.add({base + path,
+                            concat("a mill has 1 to ", std::to_string(core::max_mill_stands),
+                                   " stands; this one has ", std::to_string(value->size())),
+                            concat("[1, ", std::to_string(core::max_mill_stands), "] stands"),
+                            std::nullopt});
+            } else {
+                reading.stands = *value;
+                reading.stands_valid = true;
+            }
+            continue;
+        }
+        if (is_tandem_group(path)) {
+            read_group(path, *value, base, reading, errors);
+            continue;
+        }
+        const TandemField* field = find_tandem_field(path);
+        if (field == nullptr)
+            throw std::logic_error(concat("tandem member without a field: ", path));
+        const std::string at = base + path;
+        switch (field->kind) {
+            case TandemFieldKind::number:
+                if (const auto number = read_number(*value, at, field->range, field->unit, errors))
+                    field->set(reading.mill, to_si(*number, field->unit));
+                break;
+            case TandemFieldKind::choice:
+                if (const auto choice = read_choice(*value, at, field->choices, errors))
+                    field->write_choice(reading.mill, *choice);
+                break;
+            case TandemFieldKind::number_list: {
+                bool ok = false;
+                read_list(*field, *value, at, reading.mill, errors, ok);
+                reading.list_read[static_cast<std::size_t>(field - fields.data())] = ok;
+                break;
+            }
+        }
+    }
+}
+
+// Each list as long as the mill needs, the schedule falling, spans under tension.
+void check_mill(const std::string& base, Reading& reading, FieldErrors& errors) {
+    const core::Mill& mill = reading.mill;
+    const int stands = static_cast<int>(reading.stands.size());
+    const auto& fields = tandem_fields();
+    for (std::size_t f = 0; f < fields.size(); ++f) {
+        const TandemField& field = fields[f];
+        if (field.kind != TandemFieldKind::number_list) continue;
+        if (errors.has_error_at_or_below(base + field.path)) continue;
+        const int wanted = field.length == ListLength::stands ? stands : stands - 1;
+        const int given = static_cast<int>(field.get_list(mill).size());
+        if (given == wanted) continue;
+        errors.add({base + field.path,
+                    concat("has ", std::to_string(given), given == 1 ? " value" : " values",
+                           "; this mill of ", std::to_string(stands),
+                           stands == 1 ? " stand needs " : " stands needs ", std::to_string(wanted),
+                           field.length == ListLength::stands ? " (one per stand)"
+                                                              : " (one per interstand span)"),
+                    concat(std::to_string(wanted), " values"), std::string(field.unit.code)});
+    }
+    // The schedule: every stand makes the strip thinner.
+    const std::string exits = base + "/exit_thickness_mm";
+    if (!errors.has_error_at_or_below(exits) &&
+        !errors.has_error_at_or_below(base + "/entry_thickness_mm")) {
+        for (std::size_t i = 1; i < mill.thickness.size(); ++i) {
+            if (mill.thickness[i] < mill.thickness[i - 1]) continue;
+            const std::string previous = i == 1 ? "the entry thickness" : "the stand before";
+            errors.add(
+                {concat(exits, "/", std::to_string(i - 1)),
+                 concat("the strip must get thinner at every stand: stand ", std::to_string(i),
+                        " would deliver ",
+                        format_number(from_si(mill.thickness[i], units::millimetre)), " mm from ",
+                        format_number(from_si(mill.thickness[i - 1], units::millimetre)), " mm (",
+                        previous, "); the thickness may not grow downstream"),
+                 concat("< ", format_number(from_si(mill.thickness[i - 1], units::millimetre))),
+                 "mm"});
+        }
+    }
+    // A span (not a constant boundary) at zero tension is slack: there is no steady state.
+    for (const bool entry : {true, false}) {
+        const core::MillBoundary boundary = entry ? mill.entry : mill.exit;
+        const double tension = entry ? mill.entry_tension : mill.exit_tension;
+        const std::string at = concat(base, entry ? "/entry" : "/exit", "/tension_MPa");
+        if (boundary != core::MillBoundary::span || tension > 0.0 ||
+            errors.has_error_at_or_below(at))
+            continue;
+        errors.add({at,
+                    concat("an ", entry ? "entry" : "exit",
+                           " span at zero tension is slack: give a positive tension, or a "
+                           "constant boundary (",
+                           base, entry ? "/entry" : "/exit", "/boundary)"),
+                    "(0, 3000)", "MPa"});
+    }
+}
+
+// A stand's patch (or the shared defaults) setting what the mill gives.
+void reject_mill_owned(const json& patch, const std::string& pointer, FieldErrors& errors) {
+    if (!patch.is_object()) return;
+    for (const MillOwnedField& owned : mill_owned_stand_fields()) {
+        const json::json_pointer at{std::string(owned.stand_path)};
+        if (!patch.contains(at) || patch.at(at).is_null()) continue;
+        errors.add({pointer + std::string(owned.stand_path),
+                    concat("the mill gives every stand this value: set it in ", owned.given_by,
+                           ", not in a stand's scenario"),
+                    std::nullopt, std::nullopt});
+    }
+}
+
+// The stand's scenario document with the values the mill gives it, so that the single stand's
+// own rules (bounds, the bite angle, tension below the flow stress) judge the stand as it runs.
+json stand_document(const json& shared, const json& patch, const core::Mill& mill, int stand) {
+    json document = default_scenario_json();
+    document.merge_patch(shared);
+    if (patch.is_object()) document.merge_patch(patch);  // null: the shared stand as it is
+    const core::Scenario given = core::stand_scenario(mill, stand, mill.speed);
+    const json resolved = resolved_scenario_json(given);
+    for (const MillOwnedField& owned : mill_owned_stand_fields()) {
+        const json::json_pointer at{std::string(owned.stand_path)};
+        document[at] = resolved.at(at);
+    }
+    return document;
+}
+
+void read_stands(const std::string& base, Reading& reading, FieldErrors& errors) {
+    core::Mill& mill = reading.mill;
+    const int stands = static_cast<int>(reading.stands.size());
+    const std::string defaults_pointer = concat(base, "/", stand_defaults_member);
+    reject_mill_owned(reading.stand_defaults, defaults_pointer, errors);
+    // The shared defaults alone, so that their violations are reported once, where they are.
+    const json no_patch = json::object();
+    FieldErrors shared_errors;
+    {
+        json document = default_scenario_json();
+        document.merge_patch(reading.stand_defaults);
+        (void)scenario_from_json(document, defaults_pointer, shared_errors);
+    }
+    // The rules that involve what the mill gives (a tension against the flow stress, the bite
+    // angle) are judged per stand below, with the mill's values, not here with the defaults'.
+    const auto involves_mill = [&](const std::string& at) {
+        const std::string path = at.substr(defaults_pointer.size());
+        return !tandem_pointer_of_stand_field(path, 0, stands).empty();
+    };
+    bool shared_valid = true;
+    for (const FieldError& error : shared_errors.reported()) {
+        if (involves_mill(error.pointer)) continue;
+        shared_valid = false;
+        if (!errors.has_error_at_or_below(error.pointer)) errors.add(error);
+    }
+    // The mill's own values, judged per stand, only where the mill's fields read cleanly.
+    const bool schedule_valid = static_cast<int>(mill.thickness.size()) == stands + 1 &&
+                                static_cast<int>(mill.span_length.size()) == stands - 1 &&
+                                static_cast<int>(mill.interstand_tension.size()) == stands - 1;
+    mill.stands.assign(static_cast<std::size_t>(stands), core::Scenario{});
+    for (int i = 0; i < stands; ++i) {
+        const std::string pointer = concat(base, "/", stands_member, "/", std::to_string(i));
+        const json& patch = reading.stands[static_cast<std::size_t>(i)];
+        if (!patch.is_null() && !require_object(patch, pointer, errors)) continue;
+        reject_mill_owned(patch, pointer, errors);
+        if (!schedule_valid) continue;
+        FieldErrors stand_errors;
+        const json document =
+            stand_document(shared_valid ? reading.stand_defaults : no_patch, patch, mill, i);
+        mill.stands[static_cast<std::size_t>(i)] =
+            scenario_from_json(document, pointer, stand_errors);
+        for (const FieldError& error : stand_errors.reported()) {
+            // A value the mill gives: reported at the mill's field, naming the stand.
+            const std::string stand_path = error.pointer.substr(pointer.size());
+            const std::string given = tandem_pointer_of_stand_field(stand_path, i, stands);
+            FieldError moved = error;
+            if (!given.empty()) {
+                moved.pointer = base + given;
+                moved.detail = concat("stand ", std::to_string(i + 1), ": ", error.detail);
+            }
+            if (!errors.has_error_at_or_below(moved.pointer)) errors.add(std::move(moved));
+        }
+    }
+}
+
+}  // namespace
+
+nlohmann::json resolved_tandem_json(const core::Mill& mill) {
+    json document = json::object();
+    for (const TandemField& field : tandem_fields()) {
+        json& slot = document[json::json_pointer(field.path)];
+        switch (field.kind) {
+            case TandemFieldKind::number: slot = from_si(field.get(mill), field.unit); break;
+            case TandemFieldKind::choice: slot = std::string(field.read_choice(mill)); break;
+            case TandemFieldKind::number_list: {
+                slot = json::array();
+                for (const double value : field.get_list(mill))
+                    slot.push_back(from_si(value, field.unit));
+                break;
+            }
+        }
+    }
+    document[std::string(stand_defaults_member)] = json::object();
+    json stands = json::array();
+    for (const core::Scenario& stand : mill.stands) {
+        json scenario = resolved_scenario_json(stand);
+        for (const MillOwnedField& owned : mill_owned_stand_fields()) {
+            const std::string path(owned.stand_path);
+            const auto slash = path.rfind('/');
+            json& parent =
+                slash == 0 ? scenario : scenario[json::json_pointer(path.substr(0, slash))];
+            parent.erase(path.substr(slash + 1));
+        }
+        stands.push_back(std::move(scenario));
+    }
+    document[std::string(stands_member)] = std::move(stands);
+    return document;
+}
+
+nlohmann::json default_tandem_json() {
+    // Each default stand is the empty patch, so that a request's stand_defaults reach every
+    // stand it does not patch itself (a complete scenario here would override them).
+    static const json defaults = [] {
+        json document = resolved_tandem_json(core::default_mill());
+        for (json& stand : document[std::string(stands_member)]) stand = json::object();
+        return document;
+    }();
+    return defaults;
+}
+
+core::Mill mill_from_json(const nlohmann::json& document, const std::string& pointer,
+                          FieldErrors& errors) {
+    Reading reading;
+    reading.list_read.assign(tandem_fields().size(), false);
+    read_group("", document, pointer, reading, errors);
+    if (!document.is_object()) return reading.mill;
+    if (reading.stands_valid) {
+        check_mill(pointer, reading, errors);
+        read_stands(pointer, reading, errors);
+    }
+    if (errors.empty()) {
+        // core's own guard agrees with the field checks; a disagreement is a bug, said plainly
+        if (const char* defect = core::mill_defect(reading.mill); *defect != '\0') {
+            errors.add({pointer, concat("not a mill: ", defect), std::nullopt, std::nullopt});
+        }
+    }
+    return reading.mill;
+}
+
+core::Mill mill_from_patch(const nlohmann::json& patch, const std::string& pointer,
+                           FieldErrors& errors) {
+    json document = default_tandem_json();
+    document.merge_patch(patch);
+    return mill_from_json(document, pointer, errors);
+}
+
+}  // namespace rollgap::api

@@ -1,0 +1,34 @@
+#pragma once
+// The result of the analysis "tandem" (docs/model.md §12.8): the mill's steady state (the pass
+// schedule, per stand), its stability at the mill speed (the frozen modes, the regenerative
+// margin, the nominal-delay root count and the rightmost root described by stand) and, when
+// asked, the three critical speeds with the headline. Stands are numbered from 1 in results,
+// as a plant numbers them (the request's /tandem/stands/0 is stand 1).
+
+#include <optional>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "api/csv.h"
+#include "api/result_table.h"
+#include "api/stability_json.h"
+#include "core/mill/mill.h"
+#include "core/mill/mill_critical_speed.h"
+#include "core/mill/mill_stability.h"
+
+namespace rollgap::api {
+
+struct TandemReport {
+    core::Mill mill;
+    core::MillSpeedStability at_speed;
+    core::MillRootDescription rightmost;
+    std::optional<core::MillCriticalSpeeds> critical;
+    Detail detail = Detail::full;
+};
+
+nlohmann::json tandem_result_json(const TandemReport& report);
+std::vector<ResultSchema> tandem_result_schemas();
+std::span<const CsvTable> tandem_csv_tables();
+
+}  // namespace rollgap::api

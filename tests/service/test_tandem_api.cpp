@@ -1,0 +1,183 @@
+// The analysis "tandem" through the facade (docs/model.md §12.8), what the CLI, HTTP and jobs
+// run: the identity of a one-stand mill with the single-stand analysis (docs/model.md §12.1,
+// TANDEM identity 1) through the two requests, the schedule's mass flow in the answer, the
+// answer's own consistency (the headline is the lowest valid crossing, participations sum to
+// one, mark spacings are u2 / f), the echo that reruns, and the CSV tables.
+// Mills here have one or two stands: a two-stand mill's critical speeds take ~0.1 s in Release.
+
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "api/csv.h"
+#include "service/analyses/table.h"
+#include "service/csv_answer.h"
+#include "service/evaluate.h"
+
+using nlohmann::json;
+using namespace rollgap;
+
+namespace {
+
+json answer_of(const json& request) {
+    const service::Outcome outcome = service::evaluate(request);
+    CAPTURE(outcome.body.dump().substr(0, 600));
+    REQUIRE(outcome.ok());
+    return outcome.body;
+}
+
+// A two-stand mill (stands 3 and 4 of the default schedule).
+const json two_stands = {{"entry_thickness_mm", 1.88},
+                         {"exit_thickness_mm", {1.6, 1.36}},
+                         {"spans", {{"length_m", {5}}, {"tension_MPa", {60}}}},
+                         {"stands", json::array({json::object(), json::object()})}};
+
+}  // namespace
+
+TEST_CASE("a one-stand mill held at constant exit tension is the single stand (identity 1)") {
+    // The single-stand default: 1.6 mm, 15 % (exit 1.36 mm), a 5 m back span at 18 MPa, the
+    // front held at 0 MPa. As a mill: the entry span is that back span, the exit constant.
+    const json tandem = {
+        {"entry_thickness_mm", 1.6},
+        {"exit_thickness_mm", {1.36}},
+        {"speed_m_per_s", 19},
+        {"spans", {{"length_m", json::array()}, {"tension_MPa", json::array()}}},
+        {"entry", {{"boundary", "span"}, {"span_length_m", 5}, {"tension_MPa", 18}}},
+        {"exit", {{"boundary", "constant"}, {"tension_MPa", 0}}},
+        {"stands", json::array({json::object()})}};
+    const json options = {
+        {"speed_min_m_per_s", 10}, {"speed_max_m_per_s", 30}, {"relative_tolerance", 1e-6}};
+    const json mill = answer_of({{"analysis", "tandem"}, {"tandem", tandem}, {"options", options}});
+    const json stand = answer_of({{"analysis", "stability"}, {"options", options}});
+    const json& crossing = mill["result"]["critical_speeds"]["frozen"];
+    REQUIRE(crossing["status"] == "found");
+    const double v_mill = crossing["speed_m_per_s"].get<double>();
+    const double v_stand =
+        stand["result"]["critical_speed"]["critical_speed_m_per_s"].get<double>();
+    CHECK(std::abs(v_mill - v_stand) <= 2e-6 * v_stand);  // both refined to 1e-6
+    const double f_stand =
+        stand["result"]["critical_speed"]["unstable_mode"]["frequency_Hz"].get<double>();
+    CHECK(std::abs(crossing["frequency_Hz"].get<double>() - f_stand) <= 1e-3 * f_stand);
+    // No span, no transport: rho = 0, so the delay-independent limit is where A0 turns
+    // unstable, the frozen crossing; the headline is that speed, whichever of the two it names.
+    const json& critical = mill["result"]["critical_speeds"];
+    const json& robust = critical["delay_independent"];
+    REQUIRE(robust["status"] == "found");
+    CHECK(std::abs(robust["speed_m_per_s"].get<double>() - v_mill) <= 2e-6 * v_mill);
+    CHECK(std::abs(critical["critical_speed_m_per_s"].get<double>() - v_mill) <= 2e-6 * v_mill);
+    CHECK(crossing["moving_stand"] == 1);
+    // the stand's own steady state: the force and slip of the single stand at 19 m/s
+    const json roll_gap = answer_of({{"analysis", "roll_gap"}});
+    const json& row = mill["result"]["steady_state"]["stands"][0];
+    const double force = roll_gap["result"]["force_kN"].get<double>();
+    CHECK(std::abs(row["force_kN"].get<double>() - force) <= 1e-9 * force);
+    CHECK(row["roll_speed_m_per_s"] == 19.0);
+}
+
+TEST_CASE("the two-stand answer: mass flow, stands numbered from 1, a consistent headline") {
+    const json answer = answer_of({{"analysis", "tandem"}, {"tandem", two_stands}});
+    const json& result = answer["result"];
+    const json& steady = result["steady_state"];
+    REQUIRE(steady["status"] == "ok");
+    CHECK(steady["failed_stand"].is_null());
+    CHECK(steady["mass_flow_residual"].get<double>() < 1e-10);
+    const json& stands = steady["stands"];
+    REQUIRE(stands.size() == 2);
+    // u2_i y2_i = Q and u1_2 = u2_1 (identity 2), read from the answer's own figures
+    const double q = steady["mass_flow_m2_per_s"].get<double>();
+    for (const json& row : stands) {
+        const double u2y2 =
+            row["exit_speed_m_per_s"].get<double>() * row["exit_thickness_mm"].get<double>() * 1e-3;
+        CHECK(std::abs(u2y2 - q) <= 1e-9 * q);
+    }
+    CHECK(stands[0]["stand"] == 1);
+    CHECK(stands[1]["stand"] == 2);
+    CHECK(stands[1]["roll_speed_m_per_s"] == 15.0);  // the mill speed is the last stand's
+    CHECK(std::abs(stands[1]["entry_speed_m_per_s"].get<double>() -
+                   stands[0]["exit_speed_m_per_s"].get<double>()) <=
+          1e-9 * stands[0]["exit_speed_m_per_s"].get<double>());
+    // tension stresses from the span's force: sigma_f,1 = T / y2_1 = 60 MPa, the same T over
+    // y1_2 = y2_1 for stand 2's back
+    CHECK(std::abs(stands[0]["front_tension_MPa"].get<double>() - 60.0) < 1e-9);
+    CHECK(std::abs(stands[1]["back_tension_MPa"].get<double>() - 60.0) < 1e-9);
+
+    const json& stability = result["stability"];
+    CHECK(stability["status"] == "ok");
+    const json& root = stability["rightmost_root"];
+    REQUIRE(root.is_object());
+    double total = 0.0;
+    for (const json& share : root["participation"]) total += share.get<double>();
+    CHECK(std::abs(total - 1.0) < 1e-9);
+    // chatter marks: u2 / f per stand
+    const double f = root["frequency_Hz"].get<double>();
+    for (const json& row : stands) {
+        CHECK(std::abs(row["chatter_mark_spacing_mm"].get<double>() -
+                       row["exit_speed_m_per_s"].get<double>() / f * 1e3) < 1e-9);
+    }
+    // stable as it runs iff no root lies right of the axis
+    CHECK(stability["stable"] == (stability["roots_right_of_axis"] == 0));
+    CHECK((root["growth_rate_per_s"].get<double>() < 0.0) == stability["stable"].get<bool>());
+
+    // The headline is the lowest found crossing inside the model's range (docs/model.md §12.7).
+    const json& critical = result["critical_speeds"];
+    double lowest = INFINITY;
+    std::string lowest_kind;
+    for (const char* kind : {"frozen", "delay_independent", "nominal_delay"}) {
+        const json& c = critical[kind];
+        CHECK(c["kind"] == kind);
+        if (c["status"] == "found" && c["validity"]["valid"] == true &&
+            c["speed_m_per_s"].get<double>() < lowest) {
+            lowest = c["speed_m_per_s"].get<double>();
+            lowest_kind = kind;
+        }
+    }
+    REQUIRE(!lowest_kind.empty());
+    CHECK(critical["headline"] == lowest_kind);
+    CHECK(critical["critical_speed_m_per_s"] == lowest);
+    // every crossing below it lies outside the range, and is listed
+    for (const json& kind : critical["outside_range_below"]) {
+        const json& c = critical[kind.get<std::string>()];
+        CHECK(c["validity"]["valid"] == false);
+        CHECK(c["speed_m_per_s"].get<double>() < lowest);
+    }
+}
+
+TEST_CASE("the echoed mill reruns to the same answer") {
+    const json options = {{"critical_speed", false}};
+    const json first =
+        answer_of({{"analysis", "tandem"}, {"tandem", two_stands}, {"options", options}});
+    const json again = answer_of(
+        {{"analysis", "tandem"}, {"tandem", first["tandem"]}, {"options", first["options"]}});
+    CHECK(again == first);
+}
+
+TEST_CASE("the tandem answer's CSV tables: stands and crossings") {
+    const service::Analysis* tandem = service::find_analysis(service::analyses(), "tandem");
+    REQUIRE(tandem != nullptr);
+    const json answer = answer_of({{"analysis", "tandem"}, {"tandem", two_stands}});
+    for (const api::CsvTable& table : tandem->tables()) {
+        CAPTURE(table.name);
+        const service::CsvAnswer csv = service::csv_answer(answer, table.name);
+        CAPTURE(csv.body.substr(0, 300));
+        REQUIRE(csv.status == 200);
+        const auto lines = std::count(csv.body.begin(), csv.body.end(), '\n');
+        if (table.name == "stands") CHECK(lines == 3);     // header + 2 stands
+        if (table.name == "crossings") CHECK(lines == 4);  // header + 3 crossings
+        CHECK(csv.body.find("\r\n") != std::string::npos);
+    }
+}
+
+TEST_CASE("a scenario for a mill, or a mill for a stand, is an envelope problem") {
+    const service::Outcome wrong_subject =
+        service::evaluate({{"analysis", "tandem"}, {"scenario", json::object()}});
+    CHECK(wrong_subject.http_status == 422);
+    CHECK(wrong_subject.body["errors"][0]["pointer"] == "/scenario");
+    const service::Outcome stand_with_mill =
+        service::evaluate({{"analysis", "roll_gap"}, {"tandem", json::object()}});
+    CHECK(stand_with_mill.http_status == 422);
+    CHECK(stand_with_mill.body["errors"][0]["pointer"] == "/tandem");
+}
