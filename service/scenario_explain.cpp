@@ -10,6 +10,8 @@
 #include "api/field_errors.h"
 #include "api/scenario_json.h"
 #include "api/scenario_schema.h"
+#include "api/tandem_json.h"
+#include "api/tandem_schema.h"
 #include "api/text.h"
 
 namespace rollgap::service {
@@ -119,6 +121,57 @@ std::string scenario_explanation() {
         out += '\n';
         out += line(row);
         append_wrapped(out, row.field->description);
+    }
+    out += tandem_explanation();
+    return out;
+}
+
+std::string tandem_explanation() {
+    const nlohmann::json defaults = api::default_tandem_json();
+    struct Row {
+        std::string pointer, unit, bounds, default_value, description;
+    };
+    std::vector<Row> rows;
+    for (const api::TandemField& field : api::tandem_fields()) {
+        const nlohmann::json& value = defaults.at(nlohmann::json::json_pointer(field.path));
+        const bool choice = field.kind == api::TandemFieldKind::choice;
+        std::string bounds = choice ? api::choices_text(field.choices) : field.range.text();
+        if (field.kind == api::TandemFieldKind::number_list) {
+            bounds = concat(bounds,
+                            field.length == api::ListLength::stands ? " per stand" : " per span");
+        }
+        rows.push_back({field.path, choice ? "-" : std::string(field.unit.code), std::move(bounds),
+                        value.is_string() ? value.get<std::string>() : value.dump(),
+                        field.description});
+    }
+    rows.push_back({concat("/", api::stand_defaults_member), "-", "scenario patch", "{}",
+                    "A scenario merge patch shared by every stand (the fields above the tandem "
+                    "section, except a stand's thicknesses, width, Young's modulus, roll speed and "
+                    "tensions, which the mill gives)."});
+    rows.push_back({concat("/", api::stands_member), "-", "1 to 6 scenario patches",
+                    "[{}, {}, {}, {}, {}]",
+                    "One scenario merge patch per stand, from the entry: the default scenario, "
+                    "then stand_defaults, then this patch. A violation in stand 4 is reported at "
+                    "/tandem/stands/3/...; its structure group keeps the scenario's name `mill`."});
+    std::size_t pointer_width = 7, unit_width = 4, bounds_width = 6;
+    for (const Row& row : rows) {
+        pointer_width = std::max(pointer_width, row.pointer.size());
+        unit_width = std::max(unit_width, row.unit.size());
+        bounds_width = std::max(bounds_width, row.bounds.size());
+    }
+    const auto line = [&](const Row& row) {
+        return concat(padded(row.pointer, pointer_width + 2), padded(row.unit, unit_width + 2),
+                      padded(row.bounds, bounds_width + 2), row.default_value, "\n");
+    };
+    std::string out =
+        "\n\nThe tandem mill's fields (analysis \"tandem\", docs/model.md §12). A request's "
+        "\"tandem\" is a JSON merge\npatch onto the default 5-stand mill, at these pointers "
+        "(relative to \"tandem\"); arrays are replaced whole.\n\n";
+    out += line({"pointer", "unit", "bounds", "default", ""});
+    for (const Row& row : rows) {
+        out += '\n';
+        out += line(row);
+        append_wrapped(out, row.description);
     }
     return out;
 }

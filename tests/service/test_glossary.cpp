@@ -4,6 +4,7 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <sstream>
 #include <string>
 #include <string_view>
@@ -13,6 +14,8 @@
 
 #include "api/scenario_json.h"
 #include "api/scenario_schema.h"
+#include "api/tandem_json.h"
+#include "api/tandem_schema.h"
 #include "service/cli.h"
 #include "service/evaluate.h"
 #include "service/openapi.h"
@@ -154,7 +157,8 @@ TEST_CASE(
         }
         // the description follows, wrapped: its words in order
         std::string words;
-        const std::size_t next_field = text.find("\n/", at + 1);
+        const std::size_t next_field =
+            std::min(text.find("\n/", at + 1), text.find("\n\nThe tandem mill's fields", at + 1));
         std::istringstream body(
             text.substr(at + 1 + line.size(), next_field - at - 1 - line.size()));
         for (std::string word; body >> word;) words += (words.empty() ? "" : " ") + word;
@@ -163,6 +167,48 @@ TEST_CASE(
     std::vector<std::string_view> bad{"scenario", "--explian"};
     (void)cli_output(bad, status);
     CHECK(status == service::exit_bad_input);
+}
+
+TEST_CASE("glossary: the tandem document's fields are described in OpenAPI and --explain") {
+    const json document = json::parse(service::openapi_text());
+    int status = -1;
+    const std::string text = cli_output({"scenario", "--explain"}, status);
+    const std::size_t section = text.find("The tandem mill's fields");
+    REQUIRE(section != std::string::npos);
+    const json defaults = api::default_tandem_json();
+    for (const api::TandemField& field : api::tandem_fields()) {
+        CAPTURE(field.path);
+        REQUIRE(field.description.size() > 40);
+        CHECK(field.description.back() == '.');
+        if (field.kind != api::TandemFieldKind::choice && field.unit.code != "1")
+            CHECK(contains(field.description, field.unit.code));
+        if (field.kind == api::TandemFieldKind::choice) {
+            for (const std::string_view choice : field.choices)
+                CHECK(contains(field.description, std::string(choice) + " ="));
+        }
+        for (const char* schema_name : {"Tandem", "TandemPatch"}) {
+            CAPTURE(schema_name);
+            const json& schema = document.at("components").at("schemas").at(schema_name);
+            const std::string description =
+                property_at(schema, field.path).at("description").get<std::string>();
+            CHECK(description.starts_with(field.description + " "));
+            if (field.kind != api::TandemFieldKind::choice)
+                CHECK(contains(description, field.range.text()));
+        }
+        // --explain: the pointer's line in the tandem section with its default, then the text
+        const std::size_t at = text.find("\n" + field.path + " ", section);
+        REQUIRE(at != std::string::npos);
+        const std::string line = text.substr(at + 1, text.find('\n', at + 1) - at - 1);
+        const json& value = defaults.at(json::json_pointer(field.path));
+        CHECK(contains(line, value.is_string() ? value.get<std::string>() : value.dump()));
+        const std::size_t next = text.find("\n/", at + 1);
+        std::istringstream body(text.substr(at + 1 + line.size(), next - at - 1 - line.size()));
+        std::string words;
+        for (std::string word; body >> word;) words += (words.empty() ? "" : " ") + word;
+        CHECK(words == field.description);
+    }
+    CHECK(contains(text.substr(section), "\n/stands "));
+    CHECK(contains(text.substr(section), "\n/stand_defaults "));
 }
 
 TEST_CASE(
