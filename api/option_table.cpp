@@ -126,8 +126,38 @@ const std::vector<Option>& rows() {
              units::one,
              closed(1.0, max_calibration_iterations),
              "Levenberg–Marquardt iterations at most."},
+            {mill_time_series,
+             {},
+             OptionType::boolean,
+             units::one,
+             {},
+             "Whether to integrate the whole mill in time (docs/model.md §12.8: the thickness "
+             "transport as a history of strip positions) from its steady state with a gap kick, "
+             "and return each stand's time series (gap, force, tensions, thicknesses) in "
+             "result.time_series."},
+            {mill_window,
+             {},
+             OptionType::number,
+             units::second,
+             open_closed(0.0, 5.0),
+             "Simulated time of the mill's time series. A root growing at 5 /s multiplies the "
+             "kick by e in 0.2 s; the transport delay of a 5 m span at 15 m/s is 0.33 s."},
+            {kick_gap,
+             {},
+             OptionType::number,
+             units::micrometre,
+             closed(0.0, 100.0),
+             "The gap kick at t = 0: the kicked stand's work rolls moved apart by this much (its "
+             "exit thickness rises by it). 0.1 um keeps the response linear."},
+            {kick_stand,
+             {},
+             OptionType::integer,
+             units::one,
+             closed(0.0, 6.0),
+             "The stand kicked, numbered from 1 at the entry; 0: the stand that moves most in "
+             "the rightmost root (the last stand without one)."},
         };
-        static_assert(option_names.size() == static_cast<std::size_t>(max_iterations) + 1);
+        static_assert(option_names.size() == static_cast<std::size_t>(kick_stand) + 1);
         assert(all.size() == option_names.size());
         for (std::size_t i = 0; i < all.size(); ++i) {
             assert(static_cast<std::size_t>(all[i].id) == i && "rows in OptionId order");
@@ -155,6 +185,9 @@ const std::vector<OptionComponent>& components() {
          {window, excitation_amplitude, excitation_frequency, integration_tolerance}},
         {"TensionCycleOptions", {cycles, integration_tolerance}},
         {"CalibrateOptions", {max_iterations}},
+        {"TandemOptions",
+         {search_speed_min, search_speed_max, search_speed_step, search_tolerance, critical_speed,
+          mill_time_series, mill_window, time_series_points, kick_gap, kick_stand}},
     };
     return table;
 }

@@ -41,10 +41,15 @@ enum class OptionId {
     cycles,
     // calibration
     max_iterations,
+    // the tandem mill's time domain (docs/model.md §12.8)
+    mill_time_series,
+    mill_window,
+    kick_gap,
+    kick_stand,
 };
 
 // The member names by OptionId, constexpr so that a reader's list of known members can name them.
-inline constexpr std::array<std::string_view, 14> option_names{
+inline constexpr std::array<std::string_view, 18> option_names{
     "speed_min_m_per_s",
     "speed_max_m_per_s",
     "speed_step_m_per_s",
@@ -59,6 +64,10 @@ inline constexpr std::array<std::string_view, 14> option_names{
     "time_series_points",
     "cycles",
     "max_iterations",
+    "time_series",
+    "window_s",
+    "kick_um",
+    "kick_stand",
 };
 constexpr std::string_view option_name(OptionId id) {
     return option_names[static_cast<std::size_t>(id)];

@@ -13,6 +13,7 @@
 
 #include <complex>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -40,6 +41,10 @@ struct StabilityOptions {
 
 StabilityOptions stability_options_from_json(const nlohmann::json& options,
                                              const std::string& pointer, FieldErrors& errors);
+// The same members read by a reader of a larger options object (the tandem mill's), and their
+// names.
+StabilityOptions read_stability_options(const OptionsReader& reader);
+std::span<const std::string_view> stability_option_members();
 nlohmann::json stability_options_json(const StabilityOptions& options);
 
 // The search options alone (the "critical_speed" member of sweep and evaluate options).

@@ -109,14 +109,20 @@ int scan_point_count(const core::CriticalSpeedOptions& options) {
     return std::max(2, static_cast<int>(intervals) + 1);
 }
 
-StabilityOptions stability_options_from_json(const nlohmann::json& options,
-                                             const std::string& pointer, FieldErrors& errors) {
+StabilityOptions read_stability_options(const OptionsReader& reader) {
     StabilityOptions parsed;
-    const OptionsReader reader(options, pointer, stability_members, errors);
     read_search(reader, parsed.search);
     reader.read(OptionId::critical_speed, parsed.critical_speed);
     read_detail(reader, parsed.detail);
     return parsed;
+}
+
+std::span<const std::string_view> stability_option_members() { return stability_members; }
+
+StabilityOptions stability_options_from_json(const nlohmann::json& options,
+                                             const std::string& pointer, FieldErrors& errors) {
+    const OptionsReader reader(options, pointer, stability_members, errors);
+    return read_stability_options(reader);
 }
 
 nlohmann::json stability_options_json(const StabilityOptions& options) {

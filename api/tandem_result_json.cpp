@@ -474,6 +474,119 @@ const ResultTable<StabilityView>& stability_table() {
     return table;
 }
 
+// ---- the time domain ------------------------------------------------------------------------
+
+// One stand's series in a run: the stand (0-based) and the run.
+struct StandSeries {
+    int index = 0;
+    const core::MillTimeResult* run = nullptr;
+};
+
+// One column of a stand's series: `get` of each sample's stand, in `unit`.
+Member<StandSeries> series_column(std::string_view name, std::string_view description, Unit unit,
+                                  double (*get)(const core::MillStandSample&)) {
+    return {name, description, numbers_schema(unit), [unit, get](const StandSeries& s) {
+                json values = json::array();
+                for (const core::MillTimeSample& sample : s.run->samples)
+                    values.push_back(
+                        quantity_json(get(sample.stands[static_cast<std::size_t>(s.index)]), unit));
+                return values;
+            }};
+}
+
+const ResultTable<StandSeries>& series_table() {
+    static const ResultTable<StandSeries> table{
+        "TandemStandSeries",
+        "One stand's time series, columnar: element k of every array is at time_s[k].",
+        {
+            {"time_s", "Output times.", numbers_schema(second),
+             [](const StandSeries& s) {
+                 json values = json::array();
+                 for (const core::MillTimeSample& sample : s.run->samples)
+                     values.push_back(quantity_json(sample.t, second));
+                 return values;
+             }},
+            series_column(
+                "gap_change_um",
+                "The work rolls' gap change q3 - q4 from the steady state (= y2 - y2_ref).",
+                micrometre, [](const core::MillStandSample& x) { return x.gap; }),
+            series_column("force_kN", "Roll force P.", kilonewton,
+                          [](const core::MillStandSample& x) { return x.force; }),
+            series_column("back_tension_MPa", "Back tension stress sigma_b.", megapascal,
+                          [](const core::MillStandSample& x) { return x.back_tension; }),
+            series_column("front_tension_MPa", "Front tension stress sigma_f.", megapascal,
+                          [](const core::MillStandSample& x) { return x.front_tension; }),
+            series_column("entry_thickness_mm",
+                          "Entry thickness y1: the stand before's exit thickness a transport "
+                          "time earlier.",
+                          millimetre,
+                          [](const core::MillStandSample& x) { return x.entry_thickness; }),
+            series_column("exit_thickness_mm", "Exit thickness y2.", millimetre,
+                          [](const core::MillStandSample& x) { return x.exit_thickness; }),
+            series_column("exit_speed_m_per_s", "Exit strip speed u2.", metre_per_second,
+                          [](const core::MillStandSample& x) { return x.exit_speed; }),
+        }};
+    return table;
+}
+
+const ResultTable<StandSeries>& stand_series_table() {
+    static const ResultTable<StandSeries> table{
+        "TandemStandTimeSeries",
+        "A stand and its time series.",
+        {
+            {"stand", "The stand's number, 1 at the entry.", stand_number_schema(false),
+             [](const StandSeries& s) { return stand_number(s.index); }},
+            {"series", "Its series.", ref_schema("TandemStandSeries"),
+             [](const StandSeries& s) { return series_table().write(s); }},
+        }};
+    return table;
+}
+
+const ResultTable<TandemReport>& time_table() {
+    static const ResultTable<TandemReport> table{
+        "TandemTimeSeries",
+        "The whole mill integrated in time from its steady state with a gap kick (docs/model.md "
+        "§12.8): the thickness transport as a history of strip positions.",
+        {
+            {"status",
+             "ok (the window was simulated); slack_span (a span's force reached zero: span names "
+             "it); contact_lost or skidding (stand names it); solver_failure; step_budget; "
+             "cancelled; invalid.",
+             enum_schema({"ok", "slack_span", "contact_lost", "skidding", "solver_failure",
+                          "step_budget", "cancelled", "invalid"}),
+             [](const TandemReport& r) { return core::to_string(r.time->status); }},
+            {"message", "What ended the run, for people; empty when ok.", string_schema(),
+             [](const TandemReport& r) { return std::string(r.time->message); }},
+            {"stand", "The stand that ended the run, or null.", stand_number_schema(true),
+             [](const TandemReport& r) { return stand_number(r.time->stand); }},
+            {"span",
+             "The slack span, or null: 0 the entry span, i the span between stands i and i+1, N "
+             "the exit span.",
+             integer_schema(true),
+             [](const TandemReport& r) {
+                 return r.time->span < 0 ? json(nullptr) : json(r.time->span);
+             }},
+            {"end_time_s", "The last time reached (a limit's time when one ended the run).",
+             number_schema(second),
+             [](const TandemReport& r) { return quantity_json(r.time->end_time, second); }},
+            {"kick_stand", "The stand kicked at t = 0.", stand_number_schema(true),
+             [](const TandemReport& r) { return stand_number(r.kicked_stand); }},
+            {"kick_um", "The gap kick.", number_schema(micrometre),
+             [](const TandemReport& r) { return quantity_json(r.kick, micrometre); }},
+            {"steps", "Integrator steps taken.", integer_schema(),
+             [](const TandemReport& r) { return json(r.time->steps); }},
+            {"stands", "Every stand's time series, from the entry.",
+             array_schema(ref_schema("TandemStandTimeSeries")),
+             [](const TandemReport& r) {
+                 json stands = json::array();
+                 for (int i = 0; i < r.mill.size(); ++i)
+                     stands.push_back(stand_series_table().write({i, &*r.time}));
+                 return stands;
+             }},
+        }};
+    return table;
+}
+
 SteadyView steady_view(const TandemReport& report) {
     SteadyView view;
     view.steady = &report.at_speed.steady;
@@ -509,6 +622,9 @@ const ResultTable<TandemReport>& result_table() {
                  return r.critical ? critical_table().write(*r.critical) : absent();
              },
              true},
+            {"time_series", "The mill in time after a gap kick (options.time_series).",
+             ref_schema("TandemTimeSeries"),
+             [](const TandemReport& r) { return r.time ? time_table().write(r) : absent(); }, true},
         }};
     return table;
 }
@@ -523,7 +639,7 @@ json crossing_rows(const json& result) {
     return rows;
 }
 
-const std::array<CsvTable, 3> csv_tables{{
+const std::array<CsvTable, 4> csv_tables{{
     {"stands",
      "The steady state, one row per stand.",
      "",
@@ -543,6 +659,12 @@ const std::array<CsvTable, 3> csv_tables{{
      {},
      "/stability/frozen_modes",
      [](const json&) { return frozen_mode_table().scalar_names(); }},
+    {"time_series",
+     "Each stand's time series after the kick (time_series true), stand by stand.",
+     "/time_series/stands",
+     {{"stand", "stand"}},
+     "/series",
+     [](const json&) { return series_table().names(); }},
 }};
 
 }  // namespace
@@ -556,7 +678,8 @@ std::vector<ResultSchema> tandem_result_schemas() {
             result_schema(validity_table()),    result_schema(root_table()),
             result_schema(crossing_table()),    result_schema(critical_table()),
             result_schema(frozen_mode_table()), result_schema(stability_table()),
-            result_schema(result_table())};
+            result_schema(series_table()),      result_schema(stand_series_table()),
+            result_schema(time_table()),        result_schema(result_table())};
 }
 
 std::span<const CsvTable> tandem_csv_tables() { return csv_tables; }

@@ -16,6 +16,7 @@
 #include "core/mill/mill.h"
 #include "core/mill/mill_critical_speed.h"
 #include "core/mill/mill_stability.h"
+#include "core/mill/mill_time.h"
 
 namespace rollgap::api {
 
@@ -25,6 +26,10 @@ struct TandemReport {
     core::MillRootDescription rightmost;
     std::optional<core::MillCriticalSpeeds> critical;
     Detail detail = Detail::full;
+    // the time domain (options.time_series): the run, the stand kicked (0-based) and the kick, m
+    std::optional<core::MillTimeResult> time;
+    int kicked_stand = -1;
+    double kick = 0.0;
 };
 
 nlohmann::json tandem_result_json(const TandemReport& report);

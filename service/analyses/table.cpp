@@ -50,6 +50,7 @@ constexpr std::array<OptionsDefaults, 1> map_defaults{{
     {"MapOptions", R"({"parameters": [{"parameter": "/strip/reduction", "values": [0.15]},
                         {"parameter": "/strip/entry_thickness_mm", "values": [1.6]}]})"},
 }};
+constexpr std::array<OptionsDefaults, 1> tandem_defaults{{{"TandemOptions", "{}"}}};
 constexpr std::array<OptionsDefaults, 1> evaluation_defaults{{{"EvaluateOptions", "{}"}}};
 constexpr std::array<OptionsDefaults, 1> calibration_defaults{{
     {"CalibrateOptions",
@@ -129,10 +130,10 @@ const std::array table{
              nullptr,
              "/v1/tandem",
              "TandemResponse",
-             "StabilityOptions",
+             "TandemOptions",
              "TandemResult",
              &api::tandem_result_schemas,
-             stability_defaults,
+             tandem_defaults,
              no_names,
              &api::tandem_csv_tables,
              {},

@@ -155,7 +155,7 @@ TEST_CASE("the echoed mill reruns to the same answer") {
     CHECK(again == first);
 }
 
-TEST_CASE("the tandem answer's CSV tables: stands and crossings") {
+TEST_CASE("the tandem answer's CSV tables: stands and crossings; no time series unless asked") {
     const service::Analysis* tandem = service::find_analysis(service::analyses(), "tandem");
     REQUIRE(tandem != nullptr);
     const json answer = answer_of({{"analysis", "tandem"}, {"tandem", two_stands}});
@@ -163,6 +163,10 @@ TEST_CASE("the tandem answer's CSV tables: stands and crossings") {
         CAPTURE(table.name);
         const service::CsvAnswer csv = service::csv_answer(answer, table.name);
         CAPTURE(csv.body.substr(0, 300));
+        if (table.name == "time_series") {  // not asked for: not there, and said so
+            CHECK(csv.status == 406);
+            continue;
+        }
         REQUIRE(csv.status == 200);
         const auto lines = std::count(csv.body.begin(), csv.body.end(), '\n');
         if (table.name == "stands") CHECK(lines == 3);     // header + 2 stands
@@ -180,4 +184,44 @@ TEST_CASE("a scenario for a mill, or a mill for a stand, is an envelope problem"
         service::evaluate({{"analysis", "roll_gap"}, {"tandem", json::object()}});
     CHECK(stand_with_mill.http_status == 422);
     CHECK(stand_with_mill.body["errors"][0]["pointer"] == "/tandem");
+}
+
+TEST_CASE("the time series: the kicked stand, nothing arrives before the transport delay") {
+    const json options = {{"critical_speed", false},
+                          {"time_series", true},
+                          {"window_s", 0.5},
+                          {"time_series_points", 50}};
+    const json answer =
+        answer_of({{"analysis", "tandem"}, {"tandem", two_stands}, {"options", options}});
+    const json& result = answer["result"];
+    const json& series = result["time_series"];
+    REQUIRE(series["status"] == "ok");
+    CHECK(series["end_time_s"] == 0.5);
+    // by default the stand the rightmost root moves most is kicked
+    CHECK(series["kick_stand"] == result["stability"]["rightmost_root"]["moving_stand"]);
+    const double tau = result["stability"]["delays_s"][0].get<double>();
+    REQUIRE(tau < 0.5);
+    const json& stands = series["stands"];
+    REQUIRE(stands.size() == 2);
+    const double y1_steady =
+        result["steady_state"]["stands"][1]["entry_thickness_mm"].get<double>();
+    const json& second = stands[1]["series"];
+    REQUIRE(second["time_s"].size() == 50);
+    bool arrived = false;
+    for (std::size_t k = 0; k < 50; ++k) {
+        const double t = second["time_s"][k].get<double>();
+        const double y1 = second["entry_thickness_mm"][k].get<double>();
+        // stand 2 receives what stand 1 delivered tau earlier: the steady strip until tau
+        if (t < tau) CHECK(y1 == y1_steady);
+        if (t > tau && y1 != y1_steady) arrived = true;
+        // stand 1's entry is the mill's entry: nothing upstream moves
+        CHECK(stands[0]["series"]["entry_thickness_mm"][k] ==
+              result["steady_state"]["stands"][0]["entry_thickness_mm"]);
+    }
+    CHECK(arrived);  // stand 1 moves with the tension: its strip reaches stand 2 after tau
+    // a stand that is not there
+    const service::Outcome wrong = service::evaluate(
+        {{"analysis", "tandem"}, {"tandem", two_stands}, {"options", {{"kick_stand", 3}}}});
+    CHECK(wrong.http_status == 422);
+    CHECK(wrong.body["errors"][0]["pointer"] == "/options/kick_stand");
 }
