@@ -137,7 +137,7 @@ const std::array table{
              no_names,
              &api::tandem_csv_tables,
              {},
-             false,
+             true,
              &prepare_tandem},
 };
 

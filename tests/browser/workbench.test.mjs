@@ -592,6 +592,125 @@ try {
     await offered.close();
   });
 
+  // The mill view: a two-stand mill (critical speeds in ~0.1 s), its numbers read back from the
+  // page's text (display rounding only) and compared with the API's answer to the request the
+  // page sent.
+  const canon = (value) => JSON.stringify(value, (_, v) => (v && typeof v === 'object' && !Array.isArray(v) ? Object.fromEntries(Object.entries(v).sort(([a], [b]) => (a < b ? -1 : 1))) : v));
+  // A number the page shows to 4 significant digits (views.js fmt) is the API's, rounded.
+  const near = (shown, exact, what) => check(Number.isFinite(shown) && Math.abs(shown - exact) <= 5e-4 * Math.abs(exact) * (1 + 1e-9), `${what}: the page shows ${shown}, the API gave ${exact}`);
+  const headlineTable = () => page.$$eval('#headline tbody tr', (rows) => Object.fromEntries(rows.map((tr) => [tr.cells[0].textContent, tr.cells[1].textContent])));
+  const twoStands = { entry_thickness_mm: 2.25, exit_thickness_mm: [1.88, 1.6], spans: { length_m: [5], tension_MPa: [60] }, stands: [{}, {}] };
+  const millInputs = async (prefix) => page.$$eval(`[data-pointer^="${prefix}"]`, (all) => all.map((i) => i.value));
+  await test('mill view: the stands, the three critical speeds and the participation are the API\'s numbers', async () => {
+    const row = (await documentAnalyses()).find((r) => r.name === 'tandem');
+    check(row && row.on_page && row.subject === 'tandem', `the tandem row: ${JSON.stringify(row)}`);
+    await page.click('#tab-tandem');
+    check(await page.isVisible('#mill-editor') && await page.isHidden('#editor'), 'the mill editor replaces the scenario editor');
+    // The default mill, from the document's Tandem defaults.
+    const defaults = (await (await fetch(base + '/openapi.json')).json()).components.schemas.Tandem.properties;
+    check(await page.inputValue('#f-tandem-stands') === String(defaults.exit_thickness_mm.default.length), 'the default number of stands');
+    equalArrays((await millInputs('/tandem/exit_thickness_mm/')).map(Number), defaults.exit_thickness_mm.default, 'the default pass schedule');
+    equalArrays((await millInputs('/tandem/spans/tension_MPa/')).map(Number), defaults.spans.properties.tension_MPa.default, 'the default span tensions');
+    check(Number(await page.inputValue('#f-tandem-speed-m-per-s')) === defaults.speed_m_per_s.default, 'the default mill speed');
+    await page.fill('#f-tandem-stands', '2');
+    check((await millInputs('/tandem/exit_thickness_mm/')).length === 2 && (await millInputs('/tandem/spans/length_m/')).length === 1, 'two stands, one span');
+    await page.fill('#f-tandem-entry-thickness-mm', '2.25');
+    await page.fill('#f-tandem-exit-thickness-mm-0', '1.88');
+    await page.fill('#f-tandem-exit-thickness-mm-1', '1.6');
+    await page.fill('#f-tandem-spans-length-m-0', '5');
+    await page.fill('#f-tandem-spans-tension-MPa-0', '60');
+    if (await page.$('#f-options-critical-speed')) await page.selectOption('#f-options-critical-speed', 'true');
+    const sent = [];
+    const listen = (request) => { if (request.method() === 'POST' && request.url() === base + row.path) sent.push(request.postDataJSON()); };
+    page.on('request', listen);
+    await runAndWait('participation');
+    page.off('request', listen);
+    check(sent.length === 1 && canon(sent[0].tandem) === canon(twoStands), `the page sent: ${JSON.stringify(sent)}`);
+    const answer = await post(row.path, sent[0]);
+    check(answer.status === 200, `the API answered ${answer.status}`);
+    const r = answer.body.result;
+    const stands = r.steady_state.stands;
+    const c = r.critical_speeds;
+    check(c && c.headline, 'this mill has a headline critical speed');
+    const crossing = c[c.headline];
+    // The stands in a row: roll speed, force, the tensions between them, the marked stands.
+    const shown = await page.$$eval('#mill-row .mill-stand', (items) => items.map((li) => ({
+      stand: Number(li.dataset.stand), name: li.querySelector('.mill-name').textContent,
+      roll: Number(li.querySelector('[data-quantity="roll_speed"]').textContent), force: Number(li.querySelector('[data-quantity="force"]').textContent),
+      flags: [...li.querySelectorAll('.mill-flag')].map((f) => f.textContent) })));
+    check(shown.length === stands.length, `${shown.length} stands shown, the API has ${stands.length}`);
+    shown.forEach((s, i) => {
+      check(s.stand === stands[i].stand && s.name === `Stand ${stands[i].stand}`, `stand ${i}: ${s.name}`);
+      near(s.roll, stands[i].roll_speed_m_per_s, `stand ${s.stand} roll speed [m/s]`);
+      near(s.force, stands[i].force_kN, `stand ${s.stand} roll force [kN]`);
+    });
+    const tensions = await page.$$eval('#mill-row .mill-span [data-quantity="tension"]', (all) => all.map((t) => Number(t.textContent)));
+    check(tensions.length === stands.length - 1, `${tensions.length} interstand tensions shown`);
+    tensions.forEach((t, i) => near(t, stands[i].front_tension_MPa, `tension between stands ${i + 1} and ${i + 2} [MPa]`));
+    const flagged = (word) => shown.filter((s) => s.flags.some((f) => f.includes(`${word} stand`))).map((s) => s.stand);
+    equalArrays(flagged('moving'), [crossing.moving_stand], 'the stand marked moving');
+    equalArrays(flagged('feeding'), [crossing.feeding_stand], 'the stand marked feeding');
+    // The headline figures.
+    const headline = await headlineTable();
+    near(Number(headline['headline critical speed']), c.critical_speed_m_per_s, 'headline critical speed [m/s]');
+    check(headline['moving stand'] === `stand ${crossing.moving_stand}` && headline['feeding stand'] === `stand ${crossing.feeding_stand}`, `moving / feeding: ${headline['moving stand']} / ${headline['feeding stand']}`);
+    near(Number(headline["mill speed (the last stand's roll speed)"]), answer.body.tandem.speed_m_per_s, 'mill speed');
+    // The three critical speeds on one axis: the headline, those outside the model's range, the mill speed.
+    const chart = await chartData('critical-speeds');
+    const found = ['frozen', 'delay_independent', 'nominal_delay'].filter((k) => c[k].speed_m_per_s !== null);
+    const valid = found.filter((k) => c[k].validity.valid);
+    check(found.length > valid.length, 'this mill has a crossing outside the model\'s range');
+    equalArrays(dataset(chart, 'headline critical speed').map((p) => p.x), [c.critical_speed_m_per_s], 'the headline marker');
+    equalArrays(dataset(chart, "critical speed inside the model's range").map((p) => p.x).sort(), valid.map((k) => c[k].speed_m_per_s).sort(), 'crossings inside the range');
+    equalArrays(dataset(chart, "critical speed outside the model's range").map((p) => p.x).sort(), found.filter((k) => !valid.includes(k)).map((k) => c[k].speed_m_per_s).sort(), 'crossings outside the range');
+    check(dataset(chart, "mill speed (the last stand's roll speed)")[0].x === answer.body.tandem.speed_m_per_s, 'the mill speed marker');
+    const table = await page.$$eval('#critical-speeds-table tbody tr', (rows) => rows.map((tr) => ({ kind: tr.dataset.kind, cells: [...tr.cells].map((td) => td.textContent) })));
+    for (const k of found) {
+      const line = table.find((t) => t.kind === k);
+      near(Number(line.cells[1]), c[k].speed_m_per_s, `${k} critical speed [m/s]`);
+      check(line.cells[6].startsWith(c[k].validity.valid ? "inside the model's range" : "outside the model's range"), `${k}: ${line.cells[6]}`);
+      check(line.cells[0].endsWith('headline') === (k === c.headline), `${k}: ${line.cells[0]}`);
+    }
+    // The participation of the headline crossing's root, by stand.
+    const bars = await chartData('participation');
+    equalArrays(bars.labels, crossing.participation.map((_, i) => `stand ${i + 1}`), 'participation bars');
+    equalArrays(bars.datasets[0].data, crossing.participation, 'participation');
+    await shot('tandem');
+    await checkAxe();
+    // Without the critical speeds: the rightmost root's stands and participation.
+    if (await page.$('#f-options-critical-speed')) {
+      await page.selectOption('#f-options-critical-speed', 'false');
+      await runAndWait('participation');
+      const root = (await post(row.path, { tandem: twoStands, options: { critical_speed: false } })).body.result.stability.rightmost_root;
+      equalArrays((await chartData('participation')).datasets[0].data, root.participation, 'participation of the rightmost root');
+      const without = await headlineTable();
+      check(without['headline critical speed'] === 'not asked' && without['moving stand'] === `stand ${root.moving_stand}` && without['feeding stand'] === `stand ${root.feeding_stand}`, `without critical speeds: ${JSON.stringify(without)}`);
+      check(await page.$('#plot-critical-speeds') === null, 'no critical speeds drawn when not asked');
+      await page.selectOption('#f-options-critical-speed', '');
+    }
+  });
+
+  await test('mill view: a 422 is shown at the mill input its pointer names', async () => {
+    await page.fill('#f-tandem-exit-thickness-mm-1', '1.9');  // thicker than what stand 1 delivers
+    const sent = [];
+    const listen = (request) => { if (request.method() === 'POST' && request.url().endsWith('/v1/tandem')) sent.push(request.postDataJSON()); };
+    page.on('request', listen);
+    expected422 = 1;
+    await page.click('#run');
+    await page.waitForSelector('#f-tandem-exit-thickness-mm-1-error:not([hidden])', { timeout: 30000 });
+    page.off('request', listen);
+    const problem = await post('/v1/tandem', sent[0]);
+    check(problem.status === 422 && problem.body.errors.length === 1 && problem.body.errors[0].pointer === '/tandem/exit_thickness_mm/1', `the API: ${JSON.stringify(problem.body)}`);
+    const message = await page.textContent('#f-tandem-exit-thickness-mm-1-error');
+    check(message.startsWith(problem.body.errors[0].detail), `message at the input: ${message}`);
+    check(await page.getAttribute('#f-tandem-exit-thickness-mm-1', 'aria-invalid') === 'true', 'the input is marked invalid');
+    check(await page.getAttribute('#f-tandem-exit-thickness-mm-0', 'aria-invalid') === null, 'stand 1\'s input is not');
+    check(await page.evaluate(() => document.activeElement.id) === 'f-tandem-exit-thickness-mm-1', 'focus moves to the input');
+    check((await page.textContent('#problem')).includes('/tandem/exit_thickness_mm/1'), 'the problem names the field');
+    await shot('tandem-problem');
+    await page.fill('#f-tandem-exit-thickness-mm-1', '1.6');
+  });
+
   await test('no console errors', async () => {
     check(consoleErrors.length === 0, consoleErrors.join('\n'));
   });

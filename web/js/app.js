@@ -3,7 +3,7 @@
 // analyses: its x-rollgap-analyses, the rows of the service's analysis table).
 import { ProblemError, call, fetchBlob, getJson, setToken, token } from './api.js';
 import { clearPlots } from './charts.js';
-import { OptionsForm, ScenarioForm, clearFieldErrors, mergePatch, resolve, showFieldErrors } from './editor.js';
+import { MillForm, OptionsForm, ScenarioForm, clearFieldErrors, mergePatch, resolve, showFieldErrors } from './editor.js';
 import { JobRunner, openJob, recentJobs, useServerJobList } from './jobs.js';
 import { storedScenario, storedScenarios } from './scenarios.js';
 import { downloadCsv, downloadJson, fillReport, table } from './report.js';
@@ -13,10 +13,13 @@ import { viewOf } from './views.js';
 const $ = (id) => document.getElementById(id);
 // rows: every analysis of the service; analyses: those the page offers (on_page), in order.
 // source: where the result shown came from (the request posted, or the job), for its CSV.
-const app = { doc: null, defaults: null, baseName: '', scenario: null, options: null, rows: [], analyses: [], analysis: null, response: null, source: null, report: false, partialShown: -1 };
+// mill: the tandem mill's editor (the analyses whose subject is "tandem").
+const app = { doc: null, defaults: null, baseName: '', scenario: null, mill: null, options: null, rows: [], analyses: [], analysis: null, response: null, source: null, report: false, partialShown: -1 };
 
 const rowOf = (name) => app.rows.find((row) => row.name === name) || { name, label: name, csv: false };
 const analysisNamed = (name) => app.analyses.find((row) => row.name === name) || app.analyses[0];
+// An analysis of the tandem mill (x-rollgap-analyses' subject): the mill editor replaces the scenario's.
+const ofMill = (row) => Boolean(row) && row.subject === 'tandem';
 
 function optionsSchema(analysis) {
   const request = resolve(app.doc, app.doc.paths[analysis.path].post.requestBody.content['application/json'].schema);
@@ -31,6 +34,8 @@ function selectAnalysis(name) {
     tab.tabIndex = selected ? 0 : -1;
   }
   app.options = new OptionsForm($('options-form'), app.doc, optionsSchema(app.analysis));
+  $('editor').hidden = ofMill(app.analysis);
+  $('mill-editor').hidden = !ofMill(app.analysis);
   const { job } = viewOf(app.analysis.name);
   $('run').textContent = job ? `Run ${app.analysis.label.toLowerCase()} as a job` : `Run ${app.analysis.label.toLowerCase()}`;
   $('run-job').hidden = Boolean(job);
@@ -61,7 +66,7 @@ function buildTabs() {
 }
 
 function saveState() {
-  return writeState({ analysis: app.analysis.name, base: app.baseName, scenario: app.scenario.patch(), options: app.options.options(), view: app.report ? 'report' : null });
+  return writeState({ analysis: app.analysis.name, base: app.baseName, scenario: app.scenario.patch(), tandem: app.mill.patch(), options: app.options.options(), view: app.report ? 'report' : null });
 }
 
 function showDiff() {
@@ -73,6 +78,17 @@ function showDiff() {
   $('diff').replaceChildren(...changes.map(([pointer, base, value]) => {
     const item = document.createElement('li');
     item.textContent = `${pointer}: ${base} → ${value}`;
+    return item;
+  }));
+}
+
+function showMillDiff() {
+  app.mill.markChanges();
+  const changes = app.mill.changes();
+  $('mill-diff-count').textContent = changes.length ? `${changes.length} field${changes.length > 1 ? 's differ' : ' differs'} from the default mill` : 'the default mill';
+  $('mill-diff').replaceChildren(...changes.map(([pointer, base, value]) => {
+    const item = document.createElement('li');
+    item.textContent = `${pointer}: ${base ?? '—'} → ${value}`;
     return item;
   }));
 }
@@ -101,6 +117,7 @@ function showProblem(problem) {
 // What a view needs besides the answer: the document (units of the fields) and the rolling
 // speed the editor shows (a running map's operating speed).
 function context() {
+  if (ofMill(app.analysis)) return { doc: app.doc, speed: app.mill.full().speed_m_per_s };
   const full = mergePatch(structuredClone(app.scenario.base), app.scenario.patch());
   return { doc: app.doc, speed: full.rolls && full.rolls.speed_m_per_s };
 }
@@ -127,7 +144,9 @@ function clearResult() {
   $('result-actions').hidden = true;
 }
 
-const request = () => ({ analysis: app.analysis.name, ...(app.baseName ? { base: app.baseName } : {}), scenario: app.scenario.patch(), options: app.options.options() });
+const request = () => (ofMill(app.analysis)
+  ? { analysis: app.analysis.name, tandem: app.mill.patch(), options: app.options.options() }
+  : { analysis: app.analysis.name, ...(app.baseName ? { base: app.baseName } : {}), scenario: app.scenario.patch(), options: app.options.options() });
 
 // A running sweep or map: its finished points (the job's partial_result) drawn as they arrive.
 function renderPartial(job, body) {
@@ -199,9 +218,11 @@ async function listJobs(cursor) {
         const stored = await openJob(job.id);
         if (stored.state !== 'succeeded') { setStatus(`job ${stored.state}`); return; }
         selectAnalysis(stored.analysis);
-        app.scenario.applyFull(stored.result.scenario || {});
+        if (stored.result.tandem) app.mill.applyFull(stored.result.tandem);
+        else app.scenario.applyFull(stored.result.scenario || {});
         app.options.apply(stored.result.options || {});
         showDiff();
+        showMillDiff();
         render(stored.result, { job: job.id });
         saveState();
       } catch (error) {
@@ -256,9 +277,10 @@ async function offerStoredScenarios(wanted) {
 }
 
 function fillReportView() {
+  const mill = ofMill(rowOf(app.response.analysis));
   fillReport($('report-head'), $('report-scenario'), app.response,
-    { label: app.analysis.label, version: app.doc.info.version, link: saveState(), changes: app.scenario.changes(),
-      base: app.baseName ? `stored scenario ${app.baseName}` : 'default scenario' });
+    { label: app.analysis.label, version: app.doc.info.version, link: saveState(), changes: mill ? app.mill.changes() : app.scenario.changes(),
+      base: mill ? 'default mill' : app.baseName ? `stored scenario ${app.baseName}` : 'default scenario' });
 }
 
 function setReport(on) {
@@ -296,18 +318,25 @@ async function start() {
   useServerJobList(doc);
   $('version').textContent = doc.info.version;
   app.scenario = new ScenarioForm($('scenario-form'), doc, base);
+  app.mill = new MillForm($('mill-form'), doc, base);
   buildTabs();
   const state = readState();
   selectAnalysis(state.analysis);
   await offerStoredScenarios(state.base);
   app.scenario.apply(state.scenario);
+  app.mill.apply(state.tandem);
   app.options.apply(state.options);
   showDiff();
+  showMillDiff();
   listJobs();
 
   $('scenario-form').addEventListener('input', showDiff);
   $('scenario-form').addEventListener('change', showDiff);
   $('reset').addEventListener('click', () => { app.scenario.apply({}); showDiff(); clearFieldErrors(document.body); });
+  // The mill's rows are rebuilt when the number of stands changes: the diff follows every input.
+  $('mill-form').addEventListener('input', showMillDiff);
+  $('mill-form').addEventListener('change', showMillDiff);
+  $('mill-reset').addEventListener('click', () => { app.mill.apply({}); showMillDiff(); clearFieldErrors(document.body); });
   // The calibration's answer: a merge patch onto the defaults, shown as the editor's scenario.
   $('plots').addEventListener('use-scenario', (event) => {
     app.scenario.applyFull(mergePatch(structuredClone(app.defaults), event.detail || {}));

@@ -78,11 +78,12 @@ export const errorBars = {
   },
 };
 
-export function addPlot(container, { id, title, description, type = 'line', data, x, y, y2, stacked = false, plugins = [], xTicks, yTicks, small = false, pointLegend = false }) {
+// `yScale`: more options of the y axis (min, max, the ticks of lanes drawn on a linear axis).
+export function addPlot(container, { id, title, description, type = 'line', data, x, y, y2, stacked = false, plugins = [], xTicks, yTicks, yScale, small = false, pointLegend = false }) {
   const { canvas } = plotFigure(container, { id, title, description, frameClass: small ? 'plot-frame small' : 'plot-frame' });
   const scales = {
     x: { type: type === 'bar' ? 'category' : 'linear', title: { display: Boolean(x), text: x }, stacked, ...(xTicks ? { ticks: xTicks } : {}) },
-    y: { title: { display: Boolean(y), text: y }, stacked, ...(yTicks ? { ticks: yTicks } : {}) },
+    y: { title: { display: Boolean(y), text: y }, stacked, ...(yTicks ? { ticks: yTicks } : {}), ...(yScale || {}) },
   };
   if (y2) scales.y2 = { position: 'right', title: { display: true, text: y2 }, grid: { drawOnChartArea: false } };
   const chart = new Chart(canvas, {

@@ -270,3 +270,207 @@ export function clearFieldErrors(root) {
     input.setAttribute('aria-describedby', `${input.id}-help`);
   }
 }
+
+// ---- the tandem mill --------------------------------------------------------------------------
+
+const isPlain = (value) => value !== null && typeof value === 'object' && !Array.isArray(value);
+
+// A merge patch (RFC 7396) that takes `base` to `value`: objects member by member, arrays and
+// numbers whole; undefined when they are the same. `nulls`: members of base that value lacks
+// become null (removed); without it they are left alone (an echo that omits what it does not own).
+export function diffPatch(base, value, { nulls = true } = {}) {
+  if (isPlain(base) && isPlain(value)) {
+    const out = {};
+    for (const [key, child] of Object.entries(value)) {
+      const d = Object.hasOwn(base, key) ? diffPatch(base[key], child, { nulls }) : child;
+      if (d !== undefined) out[key] = d;
+    }
+    if (nulls) for (const key of Object.keys(base)) if (!Object.hasOwn(value, key)) out[key] = null;
+    return Object.keys(out).length ? out : undefined;
+  }
+  return same(base, value) ? undefined : value;
+}
+
+// The default of a schema from its `default`s (objects member by member).
+export function schemaDefaults(doc, schema) {
+  schema = resolve(doc, schema);
+  if (schema.default !== undefined) return structuredClone(schema.default);
+  if (!isObject(schema)) return undefined;
+  const out = {};
+  for (const [name, child] of orderedProperties(schema)) {
+    const value = schemaDefaults(doc, child);
+    if (value !== undefined) out[name] = value;
+  }
+  return out;
+}
+
+// Leaves of a merge patch as [pointer, value] (arrays whole).
+function patchLeaves(patch, prefix = '', out = []) {
+  for (const [key, value] of Object.entries(patch || {})) {
+    if (isPlain(value) && Object.keys(value).length) patchLeaves(value, `${prefix}/${key}`, out);
+    else out.push([`${prefix}/${key}`, value]);
+  }
+  return out;
+}
+
+const millLists = ['exit_thickness_mm', 'spans', 'stand_defaults', 'stands'];  // edited by the rows below
+const listShown = (value) => (Array.isArray(value) ? value.map((v) => (isPlain(v) ? JSON.stringify(v) : v)).join(', ') : isPlain(value) ? JSON.stringify(value) : value);
+
+// The tandem mill (components.schemas.Tandem): the number of stands, the mill's own numbers
+// generated from the schema, one row per stand (its exit thickness, its scenario patch) and one
+// per interstand span (length, tension), each input at the JSON pointer a 422 names
+// (/tandem/exit_thickness_mm/1, /tandem/spans/tension_MPa/0, /tandem/stands/2/...). The request
+// carries the merge patch onto the default mill; the default comes from the schema's defaults.
+export class MillForm {
+  constructor(form, doc, scenarioDefaults) {
+    this.form = form;
+    this.doc = doc;
+    this.scenarioDefaults = scenarioDefaults || {};
+    const schema = resolve(doc, doc.components.schemas.Tandem);
+    this.schema = schema;
+    const defaults = schemaDefaults(doc, schema);
+    const count = (defaults.exit_thickness_mm || []).length || 1;
+    defaults.stand_defaults ??= {};
+    defaults.stands ??= Array.from({ length: count }, () => ({}));
+    this.base = defaults;
+    const stands = resolve(doc, schema.properties.stands);
+    this.minStands = stands.minItems ?? 1;
+    this.maxStands = stands.maxItems ?? 6;
+
+    const subset = (names) => ({ properties: Object.fromEntries(names.map((n) => [n, schema.properties[n]])), required: names });
+    const own = orderedProperties(schema).map(([name]) => name).filter((name) => !millLists.includes(name));
+    const first = own.filter((name) => !isObject(resolve(doc, schema.properties[name])) && name !== 'mode');
+    const countField = field(doc, {
+      type: 'integer', minimum: this.minStands, maximum: this.maxStands,
+      description: `How many stands the mill has (${this.minStands} to ${this.maxStands}); the rows below follow it.`,
+    }, 'number of stands', '/tandem/stands', false);
+    this.count = countField.querySelector('input');
+    form.replaceChildren(countField);
+    buildFields(form, doc, subset(first), '/tandem');
+    this.rows = el('div', { class: 'mill-rows' });
+    form.append(this.rows);
+    buildFields(form, doc, subset(own.filter((name) => !first.includes(name))), '/tandem');
+    const shared = el('details', { class: 'group' });
+    shared.append(el('summary', {}, 'shared stand settings'));
+    const sharedField = field(doc, { type: 'string', description: resolve(doc, schema.properties.stand_defaults).description }, 'stand defaults (scenario patch, JSON)', '/tandem/stand_defaults', false);
+    this.jsonInput(sharedField);
+    shared.append(sharedField);
+    form.append(shared);
+    this.count.addEventListener('input', () => {
+      const n = Number(this.count.value);
+      if (Number.isInteger(n) && n >= this.minStands && n <= this.maxStands && n !== this.stands) this.setCount(n);
+    });
+    this.apply({});
+  }
+
+  jsonInput(wrapper) {
+    const input = wrapper.querySelector('input');
+    const area = el('textarea', { id: input.id, rows: 2, spellcheck: 'false', placeholder: '{}', 'aria-describedby': input.getAttribute('aria-describedby') });
+    area.dataset.pointer = input.dataset.pointer;
+    area.dataset.kind = 'json';
+    input.replaceWith(area);
+    wrapper.classList.add('wide');
+    return area;
+  }
+
+  // One fieldset per stand and per span for a mill of `document`'s stands.
+  buildRows(document) {
+    const n = document.exit_thickness_mm.length;
+    this.stands = n;
+    this.count.value = String(n);
+    const doc = this.doc;
+    const properties = this.schema.properties;
+    const thickness = resolve(doc, properties.exit_thickness_mm).items;
+    const spans = resolve(doc, properties.spans).properties;
+    const standsGroup = el('details', { class: 'group', open: true });
+    standsGroup.append(el('summary', {}, 'pass schedule, stand by stand'));
+    for (let i = 0; i < n; i++) {
+      const set = el('fieldset', { class: 'group mill-row-set' });
+      set.append(el('legend', {}, `stand ${i + 1}`));
+      set.append(field(doc, { ...thickness, description: `Strip thickness leaving stand ${i + 1}${i ? ` (it enters from stand ${i})` : ' (it enters at the mill\'s entry thickness)'}.` }, 'exit thickness', `/tandem/exit_thickness_mm/${i}`, false));
+      const patch = field(doc, { type: 'string', description: `Stand ${i + 1}'s own scenario patch (rolls, lubricant, friction, structure …), after the shared stand settings; {} takes them as they are.` }, 'stand settings (scenario patch, JSON)', `/tandem/stands/${i}`, false);
+      this.jsonInput(patch);
+      set.append(patch);
+      standsGroup.append(set);
+    }
+    const spansGroup = el('details', { class: 'group', open: true });
+    spansGroup.append(el('summary', {}, 'interstand spans'));
+    for (let j = 0; j + 1 < n; j++) {
+      const set = el('fieldset', { class: 'group mill-row-set' });
+      set.append(el('legend', {}, `span from stand ${j + 1} to stand ${j + 2}`));
+      set.append(field(doc, { ...resolve(doc, spans.length_m).items, description: `Length of the strip between stand ${j + 1} and stand ${j + 2}.` }, 'length', `/tandem/spans/length_m/${j}`, false));
+      set.append(field(doc, { ...resolve(doc, spans.tension_MPa).items, description: `Tension set point between stand ${j + 1} and stand ${j + 2}, as a stress.` }, 'tension', `/tandem/spans/tension_MPa/${j}`, false));
+      spansGroup.append(set);
+    }
+    if (n < 2) spansGroup.append(el('p', { class: 'help' }, 'A mill of one stand has no interstand span.'));
+    this.rows.replaceChildren(standsGroup, spansGroup);
+  }
+
+  // A new number of stands: the rows kept, new ones from the default mill (or the last row's,
+  // a thinner exit).
+  setCount(n) {
+    const full = this.full();
+    const resize = (list, length, fill) => Array.from({ length }, (_, i) => (i < list.length && list[i] != null ? list[i] : fill(i)));
+    const defaults = this.base;
+    const thickness = [];
+    for (let i = 0; i < n; i++) {
+      const kept = full.exit_thickness_mm[i];
+      if (kept != null) { thickness.push(kept); continue; }
+      const before = i ? thickness[i - 1] : full.entry_thickness_mm;
+      const fromDefault = defaults.exit_thickness_mm[i];
+      thickness.push(fromDefault !== undefined && !(fromDefault >= before) ? fromDefault : Number((before * 0.88).toPrecision(3)));
+    }
+    full.exit_thickness_mm = thickness;
+    for (const key of ['length_m', 'tension_MPa']) full.spans[key] = resize(full.spans[key], Math.max(0, n - 1), (i) => defaults.spans[key][i] ?? full.spans[key].at(-1) ?? defaults.spans[key][0]);
+    full.stands = resize(full.stands, n, () => ({}));
+    this.applyFull(full, { patches: true });
+  }
+
+  // The complete mill the inputs show.
+  full() {
+    const n = this.stands;
+    const out = structuredClone(this.base);
+    out.exit_thickness_mm = Array(n).fill(null);
+    out.spans.length_m = Array(Math.max(0, n - 1)).fill(null);
+    out.spans.tension_MPa = Array(Math.max(0, n - 1)).fill(null);
+    out.stands = Array.from({ length: n }, () => ({}));
+    for (const input of inputs(this.form)) {
+      const pointer = input.dataset.pointer.replace(/^\/tandem/, '');
+      if (pointer === '/stands') continue;
+      const value = readInput(input);
+      if (value === undefined) continue;  // an empty input: the default (a list's element: null, which the service names)
+      setAt(out, pointer, value);
+    }
+    return out;
+  }
+
+  patch() { return diffPatch(this.base, this.full()) || {}; }
+  apply(patch) { this.applyFull(mergePatch(structuredClone(this.base), structuredClone(patch || {})), { patches: true }); }
+  // Shows a complete mill: the answer's echo (each stand a complete scenario, shown as its
+  // difference from the default scenario) or, with `patches`, one whose stands are patches.
+  applyFull(tandem, { patches = false } = {}) {
+    const full = mergePatch(structuredClone(this.base), structuredClone(tandem || {}));
+    const n = Math.min(this.maxStands, Math.max(this.minStands, (full.exit_thickness_mm || []).length));
+    if (!Array.isArray(full.stands) || full.stands.length !== n) full.stands = Array.from({ length: n }, (_, i) => (full.stands || [])[i] || {});
+    if (!patches) full.stands = full.stands.map((stand) => diffPatch(this.scenarioDefaults, stand, { nulls: false }) || {});
+    this.buildRows({ exit_thickness_mm: Array(n) });
+    for (const input of inputs(this.form)) {
+      const pointer = input.dataset.pointer.replace(/^\/tandem/, '');
+      if (pointer === '/stands') continue;
+      writeInput(input, getAt(full, pointer));
+    }
+    this.markChanges();
+  }
+  // Every field that differs from the default mill, as [pointer, default, value].
+  changes() {
+    return patchLeaves(this.patch()).map(([pointer, value]) => [pointer, listShown(getAt(this.base, pointer)), listShown(value)]);
+  }
+  markChanges() {
+    const changed = this.changes().map(([pointer]) => `/tandem${pointer}`);
+    for (const input of inputs(this.form)) {
+      const pointer = input.dataset.pointer;
+      const mine = changed.some((c) => c === pointer || pointer.startsWith(`${c}/`) || (pointer === '/tandem/stands' && c.startsWith('/tandem/stands')));
+      input.closest('.field').classList.toggle('changed', mine && readInput(input) !== undefined && !same(readInput(input), getAt(this.base, pointer.replace(/^\/tandem/, ''))));
+    }
+  }
+}

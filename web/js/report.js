@@ -24,6 +24,7 @@ export function downloadCsv(analysis, blob) {
 function flatten(object, prefix = '', out = []) {
   for (const [key, value] of Object.entries(object)) {
     if (value && typeof value === 'object' && !Array.isArray(value)) flatten(value, `${prefix}/${key}`, out);
+    else if (Array.isArray(value) && value.some((v) => v && typeof v === 'object')) flatten({ ...value }, `${prefix}/${key}`, out);  // a mill's stands
     else out.push([`${prefix}/${key}`, Array.isArray(value) ? value.join(', ') : String(value)]);
   }
   return out;
@@ -51,7 +52,7 @@ export function table(caption, rows, header) {
   return t;
 }
 
-// Fills the report's head (title, version, time, link) and the full scenario.
+// Fills the report's head (title, version, time, link) and the full scenario (or mill).
 export function fillReport(head, scenarioBox, response, { label, version, link, changes, base = 'default scenario' }) {
   head.replaceChildren();
   const h = document.createElement('h2');
@@ -64,6 +65,7 @@ export function fillReport(head, scenarioBox, response, { label, version, link, 
   a.className = 'no-print';
   head.append(h, meta, a);
   if (changes.length) head.append(table(`Fields changed from the ${base}`, changes.map(([p, b, v]) => [p, String(b), String(v)]), ['field', 'base', 'value']));
-  scenarioBox.replaceChildren(table('The full scenario used', flatten(response.scenario), ['field', 'value']),
+  const mill = response.tandem !== undefined;
+  scenarioBox.replaceChildren(table(mill ? 'The full mill used' : 'The full scenario used', flatten((mill ? response.tandem : response.scenario) || {}), ['field', 'value']),
     table('The options used', flatten(response.options || {}), ['option', 'value']));
 }

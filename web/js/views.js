@@ -144,6 +144,183 @@ function drawCritical(plots, critical) {
   });
 }
 
+
+// ---- the tandem mill ----------------------------------------------------------------------------
+// The three critical speeds (docs/model.md §12.7), named for a process engineer.
+const crossingKinds = ['frozen', 'delay_independent', 'nominal_delay'];
+const crossingNames = {
+  frozen: 'frozen mill (the tension path alone)',
+  delay_independent: 'delay-independent limit (some set of transport delays)',
+  nominal_delay: 'nominal delays (the mill as it runs)',
+};
+const crossingShort = { frozen: 'frozen-mill', delay_independent: 'delay-independent', nominal_delay: 'nominal-delay' };
+const outsideRange = "outside the model's range";
+const yesNo = (value) => (value === true ? 'yes' : value === false ? 'no' : '—');
+function rangeText(crossing) {
+  const v = crossing && crossing.validity;
+  if (!v) return '—';
+  if (v.valid) return "inside the model's range";
+  const why = [];
+  if (!v.spring_law_valid) why.push("the spans' spring law fails (strip waves)");
+  if (!v.quasi_static_bite_valid) why.push('the bite is not quasi-static');
+  return `${outsideRange}${why.length ? `: ${why.join('; ')}` : ''}`;
+}
+const searchText = (crossing, options) => ({
+  stable_in_range: `none up to ${fmt(options && options.speed_max_m_per_s)} m/s`,
+  unstable_at_lower_bound: 'unstable already at the lowest speed searched',
+  no_steady_state: 'no steady state in the range',
+  cancelled: 'cancelled',
+}[crossing.status] || crossing.status);
+
+// The root whose stands are marked and whose participation is drawn: the headline crossing,
+// or the rightmost root at the mill speed when the critical speeds were not asked (or none lies
+// inside the model's range).
+function criticalRoot(result) {
+  const c = result.critical_speeds;
+  if (c && c.headline && c[c.headline]) {
+    return { root: c[c.headline], what: `the headline critical speed, the ${crossingShort[c.headline]} crossing at ${fmt(c.critical_speed_m_per_s)} m/s` };
+  }
+  const root = result.stability && result.stability.rightmost_root;
+  if (!root) return null;
+  return { root, what: `the rightmost root at the mill speed (${c ? "no crossing lies inside the model's range" : 'critical speeds not asked'})` };
+}
+
+function node(tag, className, text) {
+  const n = document.createElement(tag);
+  if (className) n.className = className;
+  if (text !== undefined) n.textContent = text;
+  return n;
+}
+// "label" and its value with the unit; the exact number in data-value (what a test compares).
+function quantity(list, name, label, value, unit) {
+  const dd = node('dd');
+  const number = node('span', 'num', fmt(value));
+  number.dataset.quantity = name;
+  if (typeof value === 'number') number.dataset.value = String(value);
+  dd.append(number, unit ? ` ${unit}` : '');
+  list.append(node('dt', '', label), dd);
+}
+
+// The stands in a row from the entry, the interstand tensions between them.
+function millRow(plots, response, focus) {
+  const r = response.result;
+  const mill = response.tandem;
+  const stands = r.steady_state.stands;
+  const figure = panel(plots, 'The mill from entry to exit: roll speed, roll force and strip tension');
+  figure.id = 'mill-figure';
+  const key = node('p', 'help', focus
+    ? `Marked: the moving stand (▲, thick red frame: it moves most) and the feeding stand (◆, dashed blue frame: its bite feeds the vibration most) of ${focus.what}.`
+    : 'No root to mark: the mill has no steady state or no root was found.');
+  key.id = 'mill-key';
+  const row = node('ol', 'mill-row');
+  row.id = 'mill-row';
+  row.setAttribute('aria-label', 'The stands from the entry, with the strip between them');
+  row.setAttribute('aria-describedby', key.id);
+  const end = (title, tension, force, boundary) => {
+    const item = node('li', 'mill-end');
+    item.append(node('strong', '', title));
+    const list = node('dl');
+    quantity(list, 'tension', 'tension', tension, 'MPa');
+    quantity(list, 'tension_force', 'strip force', force, 'kN');
+    item.append(list, node('p', 'help', boundary));
+    row.append(item);
+  };
+  const boundaryText = (b, what) => (b && b.boundary === 'constant' ? 'held at a constant tension' : `${what}, ${fmt(b && b.span_length_m)} m away`);
+  if (stands.length) end('Entry', stands[0].back_tension_MPa, stands[0].back_tension_force_kN, boundaryText(mill.entry, 'bridle or uncoiler'));
+  stands.forEach((stand, i) => {
+    const item = node('li', 'mill-stand');
+    item.dataset.stand = String(stand.stand);
+    item.append(node('strong', 'mill-name', `Stand ${stand.stand}`));
+    const list = node('dl');
+    quantity(list, 'roll_speed', 'roll speed', stand.roll_speed_m_per_s, 'm/s');
+    quantity(list, 'force', 'roll force', stand.force_kN, 'kN');
+    quantity(list, 'exit_thickness', 'exit thickness', stand.exit_thickness_mm, 'mm');
+    quantity(list, 'exit_speed', 'strip speed out', stand.exit_speed_m_per_s, 'm/s');
+    item.append(list);
+    if (stand.status !== 'ok') item.append(node('p', 'mill-flag', `no steady state: ${stand.status.replace(/_/g, ' ')}`));
+    if (focus && focus.root.moving_stand === stand.stand) {
+      item.classList.add('moving');
+      const share = (focus.root.participation || [])[i];
+      item.append(node('p', 'mill-flag moving', `▲ moving stand: moves most${share != null ? ` (${fmt(share * 100, 3)} % of the motion)` : ''}`));
+    }
+    if (focus && focus.root.feeding_stand === stand.stand) {
+      item.classList.add('feeding');
+      item.append(node('p', 'mill-flag feeding', '◆ feeding stand: its bite feeds the vibration most'));
+    }
+    row.append(item);
+    if (i + 1 < stands.length) {
+      const span = node('li', 'mill-span');
+      span.dataset.span = String(i + 1);
+      span.append(node('strong', '', `Strip, stand ${stand.stand} → ${stand.stand + 1}`));
+      const spanList = node('dl');
+      quantity(spanList, 'tension', 'tension', stand.front_tension_MPa, 'MPa');
+      quantity(spanList, 'tension_force', 'strip force', stand.front_tension_force_kN, 'kN');
+      quantity(spanList, 'length', 'span length', mill.spans.length_m[i], 'm');
+      span.append(spanList);
+      row.append(span);
+    }
+  });
+  const last = stands[stands.length - 1];
+  if (last) end('Exit', last.front_tension_MPa, last.front_tension_force_kN, boundaryText(mill.exit, 'coiler or exit bridle'));
+  figure.append(key, row);
+  const details = node('details');
+  details.append(node('summary', '', 'The stands as a table'),
+    numberTable('Steady state of each stand', ['stand', 'entry thickness [mm]', 'exit thickness [mm]', 'roll speed [m/s]', 'strip speed out [m/s]', 'roll force [kN]', 'torque [kN·m]', 'power [kW]', 'back tension [MPa]', 'front tension [MPa]', 'forward slip [-]', 'chatter mark spacing [mm]'],
+      stands.map((s) => [`stand ${s.stand}`, s.entry_thickness_mm, s.exit_thickness_mm, s.roll_speed_m_per_s, s.exit_speed_m_per_s, s.force_kN, s.torque_kN_m, s.power_kW, s.back_tension_MPa, s.front_tension_MPa, s.forward_slip, s.chatter_mark_spacing_mm])));
+  figure.append(details);
+}
+
+// The three critical speeds on one speed axis, one lane each, the headline and the mill speed.
+function criticalSpeeds(plots, response) {
+  const c = response.result.critical_speeds;
+  if (!c) return;
+  const lane = { nominal_delay: 1, delay_independent: 2, frozen: 3 };
+  const laneNames = { 1: 'nominal delays', 2: 'delay-independent', 3: 'frozen mill' };
+  const found = crossingKinds.filter((k) => c[k] && c[k].speed_m_per_s != null);
+  const at = (k) => ({ x: c[k].speed_m_per_s, y: lane[k] });
+  const sorted = (kinds) => kinds.map(at).sort((a, b) => a.x - b.x);
+  const valid = found.filter((k) => c[k].validity && c[k].validity.valid);
+  const invalid = found.filter((k) => !valid.includes(k));
+  const speed = response.tandem.speed_m_per_s;
+  const below = (c.outside_range_below || []).map((k) => crossingShort[k]);
+  addPlot(plots, {
+    id: 'critical-speeds', title: 'The three critical mill speeds', pointLegend: true,
+    description: `circles: inside the model's range; crosses: ${outsideRange}; star: the headline (the lowest crossing inside the range); dashed line: the mill speed.${below.length ? ` Below the headline, ${outsideRange}: ${below.join(', ')}.` : ''}`,
+    x: "mill speed, the last stand's roll speed [m/s]", y: 'which critical speed',
+    yScale: { min: 0.5, max: 3.5, afterBuildTicks: (axis) => { axis.ticks = [1, 2, 3].map((value) => ({ value })); } },
+    yTicks: { autoSkip: false, callback: (v) => laneNames[v] || '' },
+    data: { datasets: [
+      { label: "critical speed inside the model's range", data: sorted(valid), showLine: false, pointStyle: 'circle', pointRadius: 7, borderWidth: 2, borderColor: color(0), backgroundColor: color(0) },
+      { label: `critical speed ${outsideRange}`, data: sorted(invalid), showLine: false, pointStyle: 'crossRot', pointRadius: 10, borderWidth: 3, borderColor: color(1), backgroundColor: color(1) },
+      ...(c.headline ? [{ label: 'headline critical speed', data: [at(c.headline)], showLine: false, pointStyle: 'star', pointRadius: 16, borderWidth: 2, borderColor: '#000', backgroundColor: 'rgba(0,0,0,0)' }] : []),
+      { ...marker("mill speed (the last stand's roll speed)", speed, 0.5, 3.5, '#333'), pointStyle: 'line' },
+    ] },
+  });
+  const figure = panel(plots, 'The three critical speeds');
+  const t = numberTable(`Critical speeds (searched ${fmt(response.options.speed_min_m_per_s)}–${fmt(response.options.speed_max_m_per_s)} m/s)`,
+    ['crossing', 'critical speed [m/s]', 'frequency [Hz]', 'moving stand', 'feeding stand', 'chatter band', "model's range"],
+    crossingKinds.filter((k) => c[k]).map((k) => [
+      `${crossingNames[k]}${c.headline === k ? ' — headline' : ''}`,
+      c[k].speed_m_per_s != null ? c[k].speed_m_per_s : searchText(c[k], response.options),
+      c[k].frequency_Hz, c[k].moving_stand != null ? `stand ${c[k].moving_stand}` : '—', c[k].feeding_stand != null ? `stand ${c[k].feeding_stand}` : '—',
+      chatterName(c[k].band), c[k].speed_m_per_s != null ? rangeText(c[k]) : '—',
+    ]));
+  t.id = 'critical-speeds-table';
+  [...t.tBodies[0].rows].forEach((tr, i) => { tr.dataset.kind = crossingKinds.filter((k) => c[k])[i]; });
+  figure.append(t);
+}
+
+function participation(plots, focus) {
+  if (!focus || !Array.isArray(focus.root.participation)) return;
+  const p = focus.root.participation;
+  addPlot(plots, {
+    id: 'participation', type: 'bar', title: `Share of the motion by stand: ${focus.what}`,
+    description: 'each stand\'s share of the motion of that root, mass-weighted, summing to 1; the moving stand has the largest',
+    x: 'stand (from the entry)', y: 'share of the motion [-]',
+    data: { labels: p.map((_, i) => `stand ${i + 1}`), datasets: [{ label: 'share of the motion [-]', data: p, backgroundColor: color(0) }] },
+  });
+}
+
 export const views = {
   roll_gap: {
     render(response, plots) {
@@ -322,6 +499,33 @@ export const views = {
         row('cells done', `${done.length} of ${r.cells.length}`),
         row('lowest critical speed', found.length ? min(found) : null, 'm/s'), row('highest critical speed', found.length ? max(found) : null, 'm/s'),
         row('chatter type changes', response.partial ? null : (r.chatter_type_changes || []).length),
+      ];
+    },
+  },
+  tandem: {
+    render(response, plots) {
+      const r = response.result;
+      const s = r.stability || {};
+      const c = r.critical_speeds;
+      const root = s.rightmost_root;
+      const focus = criticalRoot(r);
+      millRow(plots, response, focus);
+      criticalSpeeds(plots, response);
+      participation(plots, focus);
+      return [
+        row("mill speed (the last stand's roll speed)", response.tandem.speed_m_per_s, 'm/s'),
+        row('stands', r.steady_state.stands.length),
+        row('steady state', r.steady_state.status === 'ok' ? 'ok' : `${r.steady_state.status}: ${r.steady_state.message}`),
+        ['stable at the mill speed', yesNo(s.stable), ''],
+        row('rightmost root: growth rate', root && root.growth_rate_per_s, '1/s'),
+        row('rightmost root: frequency', root && root.frequency_Hz, 'Hz'),
+        row('headline critical speed', c ? c.critical_speed_m_per_s : 'not asked', c ? 'm/s' : ''),
+        ['headline crossing', c ? (c.headline ? crossingNames[c.headline] : `none inside the model's range`) : 'not asked', ''],
+        ['moving stand', focus && focus.root.moving_stand != null ? `stand ${focus.root.moving_stand}` : '—', ''],
+        ['feeding stand', focus && focus.root.feeding_stand != null ? `stand ${focus.root.feeding_stand}` : '—', ''],
+        ['stands marked for', focus ? focus.what : '—', ''],
+        row('regenerative margin ρ', s.regenerative_margin, '-'),
+        row('mass flow per width', r.steady_state.mass_flow_m2_per_s, 'm²/s'),
       ];
     },
   },
