@@ -257,6 +257,8 @@ TEST_CASE("README: the quick-start curl examples run against the service") {
         cli_answer(R"({"analysis":"sweep","options":{"parameter":"/lubricant/viscosity_Pa_s",)"
                    R"("values":[0.0003,0.00055]}})",
                    true);
+    const std::string mill_stands =
+        cli_answer(R"({"analysis":"tandem","options":{"critical_speed":false}})", true);
     const auto figure = [](const char* name, const nlohmann::json& value) {
         return "\"" + std::string(name) + "\":" + value.dump();
     };
@@ -271,7 +273,8 @@ TEST_CASE("README: the quick-start curl examples run against the service") {
                     sweep["result"]["points"][3]["critical_speed_m_per_s"]),
              std::string("value_Pa_s,status,critical_speed_m_per_s,frequency_Hz,chatter_type,"
                          "chatter_band\r\n"),
-             csv,  // 3. the CSV, whole
+             csv,          // 3. the CSV, whole
+             mill_stands,  // 4. the mill's stands, whole
          }) {
         CAPTURE(expected);
         CHECK(output.find(expected) != std::string::npos);
