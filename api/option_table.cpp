@@ -131,7 +131,7 @@ const std::vector<Option>& rows() {
              OptionType::boolean,
              units::one,
              {},
-             "Whether to integrate the whole mill in time (docs/model.md §12.8: the thickness "
+             "Whether to integrate the whole mill in time (docs/model.md §12.9: the thickness "
              "transport as a history of strip positions) from its steady state with a gap kick, "
              "and return each stand's time series (gap, force, tensions, thicknesses) in "
              "result.time_series."},

@@ -41,7 +41,7 @@ enum class OptionId {
     cycles,
     // calibration
     max_iterations,
-    // the tandem mill's time domain (docs/model.md §12.8)
+    // the tandem mill's time domain (docs/model.md §12.9)
     mill_time_series,
     mill_window,
     kick_gap,

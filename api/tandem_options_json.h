@@ -1,7 +1,7 @@
 #pragma once
 // Options of the analysis "tandem" (component TandemOptions): the critical-speed search over mill
 // speeds, critical_speed and detail as the stability analysis reads them, and the time domain
-// (docs/model.md §12.8):
+// (docs/model.md §12.9):
 //   time_series          false  whether to integrate the mill in time
 //   window_s             0.5    (0, 5] s simulated
 //   time_series_points   400    [2, 20000] most points kept

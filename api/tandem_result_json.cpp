@@ -546,7 +546,7 @@ const ResultTable<TandemReport>& time_table() {
     static const ResultTable<TandemReport> table{
         "TandemTimeSeries",
         "The whole mill integrated in time from its steady state with a gap kick (docs/model.md "
-        "§12.8): the thickness transport as a history of strip positions.",
+        "§12.9): the thickness transport as a history of strip positions.",
         {
             {"status",
              "ok (the window was simulated); slack_span (a span's force reached zero: span names "

@@ -85,7 +85,7 @@ public:
     DynamicsStatus rhs_with_transport(double t, const double* z, const double* entry_deviation,
                                       const double* entry_rate, double* zdot) const;
 
-    // The time domain's right-hand side (docs/model.md §12.8, core/mill/mill_time.h): as
+    // The time domain's right-hand side (docs/model.md §12.9, core/mill/mill_time.h): as
     // rhs_with_transport, but stand i's entry rate is entry_rate_per_speed[i] times stand i-1's
     // exit speed u2_{i-1}(t) at this state (the transport's dt_d/dt = u2(t) / u2(t_d) needs the
     // upstream bite of the same evaluation); every stand's u2_i(t) goes to exit_speed (N values),

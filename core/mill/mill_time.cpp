@@ -58,7 +58,7 @@ Hermite hermite(double p0, double m0, double p1, double m1, double x) {
                 (3 * x2 - 2 * x) * m1};
 }
 
-// A span's history of the strip leaving its upstream stand (docs/model.md §12.8, specification
+// A span's history of the strip leaving its upstream stand (docs/model.md §12.9, specification
 // §3): nodes at CVODE's accepted steps, S increasing along them (u2 > 0 while the stand rolls).
 // Before the start (t = 0, S = 0) the strip left at the steady thickness and speed.
 class History {

@@ -1,5 +1,5 @@
 #pragma once
-// The tandem mill in the time domain (docs/model.md §12.8; the specification's §3 and §7): the
+// The tandem mill in the time domain (docs/model.md §12.9; the specification's §3 and §7): the
 // whole mill (13 states per stand, the span forces) in CVODE with the thickness transport as a
 // history, not a rational approximation. The state adds one strip position per interstand span,
 //   s_i = S_i - u2_i,ref t,   S_i' = u2_i(t) (stand i's exit strip speed),
