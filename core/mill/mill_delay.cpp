@@ -233,4 +233,304 @@ RightmostDelayRoot rightmost_delay_root(const TransportTransfer& transfer,
     return out;
 }
 
+namespace {
+
+// arg F followed along a polyline (the band's edges): the same rules as the line's count.
+struct ArgumentTracker {
+    const TransportTransfer& transfer;
+    double tau_max = 0.0;
+    int evaluations = 0;
+    bool failed = false;
+    static constexpr int budget = 4'000'000;
+
+    explicit ArgumentTracker(const TransportTransfer& t) : transfer(t) {
+        for (double tau : t.delay) tau_max = std::max(tau_max, tau);
+    }
+
+    // the structured gain of the loop M E at s (below 1/2: no winding possible)
+    double gain(Complex s) const {
+        double shrink = 0.0;
+        for (double tau : transfer.delay) shrink = std::max(shrink, std::exp(-s.real() * tau));
+        return balanced_bound(transfer.at(s)) * shrink;
+    }
+
+    double pole_distance(Complex s) const {
+        double d = std::numeric_limits<double>::infinity();
+        for (Eigen::Index k = 0; k < transfer.poles.size(); ++k)
+            d = std::min(d, std::abs(s - transfer.poles(k)));
+        return d;
+    }
+
+    // The change of arg F along the polyline through `grid`; the local minima of |F| met where
+    // it is followed step by step go to `dips` as (|F|, s).
+    double follow(const std::vector<Complex>& grid, std::vector<std::pair<double, Complex>>& dips) {
+        constexpr double small = 0.5, quarter_turn = std::numbers::pi / 4.0;
+        std::vector<double> gains(grid.size());
+        for (std::size_t k = 0; k < grid.size(); ++k) gains[k] = gain(grid[k]);
+        double theta = 0.0;
+        Complex previous = delay_characteristic(transfer, grid.front());
+        ++evaluations;
+        double before = std::abs(previous), at = before;
+        double argument = 0.0;
+        std::size_t argument_at = grid.size();  // the grid point `argument` belongs to
+        for (std::size_t k = 0; k + 1 < grid.size(); ++k) {
+            const Complex a = grid[k], b = grid[k + 1];
+            const double length = std::abs(b - a);
+            if (!(length > 0.0)) continue;
+            if (gains[k] < small && gains[k + 1] < small) {
+                if (argument_at != k) {
+                    argument = eigen_argument(loop(transfer, a));
+                    ++evaluations;
+                }
+                const Eigen::MatrixXcd xb = loop(transfer, b);
+                const double next_argument = eigen_argument(xb);
+                theta += next_argument - argument;
+                argument = next_argument;
+                argument_at = k + 1;
+                previous = xb.partialPivLu().determinant();
+                before = at = std::abs(previous);
+                ++evaluations;
+                continue;
+            }
+            const Complex direction = (b - a) / length;
+            double t = 0.0;
+            while (t < length) {
+                const Complex s = a + t * direction;
+                double h =
+                    std::min({length - t, 1.0 / std::max(tau_max, 1e-12), 0.25 * pole_distance(s)});
+                for (;;) {
+                    const Complex next = delay_characteristic(transfer, s + h * direction);
+                    ++evaluations;
+                    if (evaluations > budget) {
+                        failed = true;
+                        return theta;
+                    }
+                    const double step = std::arg(next / previous);
+                    if (std::abs(step) <= quarter_turn || h <= 1e-12 * std::max(1.0, std::abs(s))) {
+                        theta += step;
+                        const double after = std::abs(next);
+                        if (at < before && at <= after) dips.push_back({at, s});
+                        before = at;
+                        at = after;
+                        previous = next;
+                        t = (length - t - h <= 1e-15 * length) ? length : t + h;
+                        break;
+                    }
+                    h *= 0.5;
+                }
+            }
+            argument_at = grid.size();
+        }
+        return theta;
+    }
+};
+
+// Points on [from, to] for an edge's gain grid: log-spaced (60 a decade) from `from` > 0, or
+// `uniform` equal intervals, plus the points around each coordinate in `centres` at the given
+// distances (as the line's grid has around A0's poles); sorted, unique.
+std::vector<double> edge_grid(double from, double to, bool log_spaced, int uniform,
+                              const std::vector<std::pair<double, double>>& centres) {
+    std::vector<double> x{from, to};
+    if (log_spaced) {
+        const double start = std::max(from, 1e-2);
+        if (start < to) {
+            const int n = static_cast<int>(std::ceil(60.0 * std::log10(to / start)));
+            for (int k = 0; k <= n; ++k)
+                x.push_back(start * std::pow(to / start, static_cast<double>(k) / std::max(n, 1)));
+        }
+    } else {
+        for (int k = 1; k < uniform; ++k)
+            x.push_back(from + (to - from) * static_cast<double>(k) / uniform);
+    }
+    for (const auto& [centre, d] : centres)
+        for (double f : {-4.0, -2.0, -1.0, -0.5, -0.25, 0.0, 0.25, 0.5, 1.0, 2.0, 4.0}) {
+            const double y = centre + f * d;
+            if (y > from && y < to) x.push_back(y);
+        }
+    std::sort(x.begin(), x.end());
+    x.erase(std::unique(x.begin(), x.end()), x.end());
+    while (!x.empty() && x.back() > to) x.pop_back();
+    return x;
+}
+
+// Moves `value` upward by hairs until no pole's coordinate (`real` or imaginary part) lies on it.
+double off_poles(const Eigen::VectorXcd& poles, double value, bool real) {
+    for (int attempt = 0; attempt < 8; ++attempt) {
+        bool clear = true;
+        for (Eigen::Index k = 0; k < poles.size(); ++k) {
+            const double c = real ? poles(k).real() : poles(k).imag();
+            if (std::abs(c - value) <= 1e-9 * std::max(1.0, std::abs(poles(k)))) clear = false;
+        }
+        if (clear) break;
+        value += 1e-6 * std::max(1.0, std::abs(value));
+    }
+    return value;
+}
+
+}  // namespace
+
+BandRootCount band_root_count(const TransportTransfer& transfer, double omega_max, double alpha) {
+    BandRootCount out;
+    if (!transfer.ok) {
+        out.message = "no linearisation";
+        return out;
+    }
+    if (!(omega_max > 0.0) || !std::isfinite(omega_max)) {
+        out.message = "the band's top frequency must be positive and finite";
+        return out;
+    }
+    const Eigen::VectorXcd& poles = transfer.poles;
+    alpha = off_poles(poles, alpha, true);
+    omega_max = off_poles(poles, omega_max, false);
+    double epsilon =
+        off_poles(poles, 1e-6 * std::max(1.0, omega_max) / (2.0 * std::numbers::pi), false);
+    out.alpha = alpha;
+    out.omega_max = omega_max;
+    out.epsilon = epsilon;
+    if (!(epsilon < omega_max)) {
+        out.ok = true;  // an empty band
+        return out;
+    }
+    const auto inside = [&](Complex p, double right) {
+        return p.real() > alpha && p.real() < right && p.imag() > epsilon && p.imag() < omega_max;
+    };
+    if (transfer.spans() == 0) {
+        for (Eigen::Index k = 0; k < poles.size(); ++k)
+            if (inside(poles(k), std::numeric_limits<double>::infinity())) ++out.frozen_inside;
+        out.right = std::numeric_limits<double>::infinity();
+        out.count = out.frozen_inside;
+        out.ok = true;
+        return out;
+    }
+
+    ArgumentTracker tracker(transfer);
+    std::vector<std::pair<double, double>> pole_heights, pole_abscissae;  // (coordinate, distance)
+    for (Eigen::Index k = 0; k < poles.size(); ++k) {
+        const Complex p = poles(k);
+        if (p.imag() < 0.0) continue;
+        pole_heights.push_back(
+            {p.imag(), std::max(std::abs(p.real() - alpha), 1e-9 * std::abs(p))});
+    }
+    const std::vector<double> heights = edge_grid(epsilon, omega_max, true, 0, pole_heights);
+
+    // the right edge: doubled from A0's rightmost pole + 1 until the gain is below 1/2 on it
+    double pole_right = alpha;
+    for (Eigen::Index k = 0; k < poles.size(); ++k)
+        pole_right = std::max(pole_right, poles(k).real());
+    double right = pole_right + 1.0;
+    bool small = false;
+    for (int attempt = 0; attempt < 40 && !small; ++attempt) {
+        right = off_poles(poles, right, true);
+        small = true;
+        for (double w : heights) {
+            ++tracker.evaluations;
+            if (!(tracker.gain({right, w}) < 0.5)) {
+                small = false;
+                break;
+            }
+        }
+        if (!small) right = alpha + 2.0 * (right - alpha);
+    }
+    out.right = right;
+    if (!small) {
+        out.message = "the loop gain does not fall below 1/2 on any right edge";
+        return out;
+    }
+    for (Eigen::Index k = 0; k < poles.size(); ++k)
+        if (inside(poles(k), right)) ++out.frozen_inside;
+
+    // the horizontal edges' grids: 128 intervals and the points around A0's poles near them
+    const auto abscissae = [&](double height) {
+        std::vector<std::pair<double, double>> centres;
+        for (Eigen::Index k = 0; k < poles.size(); ++k) {
+            const Complex p = poles(k);
+            centres.push_back(
+                {p.real(), std::max(std::abs(p.imag() - height), 1e-9 * std::abs(p))});
+        }
+        return edge_grid(alpha, right, false, 128, centres);
+    };
+    const auto path = [](const std::vector<double>& x, auto point) {
+        std::vector<Complex> p;
+        p.reserve(x.size());
+        for (double v : x) p.push_back(point(v));
+        return p;
+    };
+    std::vector<std::pair<double, Complex>> left_dips, edge_dips;
+    const double left =
+        tracker.follow(path(heights, [&](double w) { return Complex(alpha, w); }), left_dips);
+    const double right_edge =
+        tracker.follow(path(heights, [&](double w) { return Complex(right, w); }), edge_dips);
+    const double top = tracker.follow(
+        path(abscissae(omega_max), [&](double x) { return Complex(x, omega_max); }), edge_dips);
+    const double bottom = tracker.follow(
+        path(abscissae(epsilon), [&](double x) { return Complex(x, epsilon); }), edge_dips);
+    out.evaluations = tracker.evaluations;
+    if (tracker.failed) {
+        out.message = "the argument principle needed more than 4e6 evaluations";
+        return out;
+    }
+    // counter-clockwise: bottom rightward, right edge upward, top leftward, left edge downward
+    const double winding = (bottom + right_edge - top - left) / (2.0 * std::numbers::pi);
+    const double total = out.frozen_inside + winding;
+    out.winding = winding;
+    out.count = static_cast<int>(std::lround(total));
+    out.integer_error = std::abs(total - out.count);
+    out.ok = out.integer_error < 1e-2;
+    out.message = out.ok ? "" : "the winding number is not an integer: F vanishes near an edge";
+    const auto by_value = [](const auto& x, const auto& y) { return x.first < y.first; };
+    std::sort(left_dips.begin(), left_dips.end(), by_value);
+    std::sort(edge_dips.begin(), edge_dips.end(), by_value);
+    if (left_dips.size() > 16) left_dips.resize(16);
+    if (edge_dips.size() > 8) edge_dips.resize(8);
+    for (const auto& dip : left_dips) out.dips.push_back(dip.second);
+    for (const auto& dip : edge_dips) out.dips.push_back(dip.second);
+    return out;
+}
+
+RightmostDelayRoot band_rightmost_root(const TransportTransfer& transfer,
+                                       const BandRootCount& count) {
+    RightmostDelayRoot out;
+    const double omega_max = count.omega_max;
+    std::vector<Complex> starts = count.dips;
+    for (Eigen::Index k = 0; k < transfer.poles.size(); ++k) {
+        const Complex pole = transfer.poles(k);
+        if (pole.imag() > 0.0 && pole.imag() < omega_max)
+            starts.push_back(pole + std::max(1.0, 0.1 * std::abs(pole.real())));
+    }
+    for (int round = 0; round < 8 && !starts.empty(); ++round) {
+        for (const Complex& start : starts) {
+            ++out.starts;
+            const DelayRoot root = delay_root(transfer, start);
+            if (!root.converged || !(root.residual < 1e-8) || !(root.s.imag() > count.epsilon) ||
+                !(root.s.imag() < omega_max))
+                continue;
+            if (!out.found || root.s.real() > out.root.s.real()) {
+                out.found = true;
+                out.root = root;
+            }
+        }
+        if (!out.found && round == 0) {
+            // no dip or pole led into the band: starts along the left edge, half a radian of
+            // the longest delay's phase apart (at most 256)
+            double tau_max = 0.0;
+            for (double tau : transfer.delay) tau_max = std::max(tau_max, tau);
+            const double row = std::max(omega_max / 256.0, 0.5 / std::max(tau_max, 1e-12));
+            starts.clear();
+            for (double w = 0.5 * row; w < omega_max; w += row) starts.emplace_back(count.alpha, w);
+            continue;
+        }
+        if (!out.found) return out;
+        const double beyond = out.root.s.real() + std::max(1e-3, 1e-9 * std::abs(out.root.s));
+        const BandRootCount right = band_root_count(transfer, omega_max, beyond);
+        ++out.counts;
+        if (!right.ok) return out;
+        if (right.count == 0) {
+            out.verified = true;
+            return out;
+        }
+        starts = right.dips;
+    }
+    return out;
+}
+
 }  // namespace rollgap::core

@@ -62,6 +62,51 @@ struct RightmostDelayRoot {
 RightmostDelayRoot rightmost_delay_root(const TransportTransfer& transfer,
                                         const DelayRootCount& count);
 
+// The roots of chi inside the band alpha < Re s, 0 < Im s < omega_max (docs/model.md §12.7: the
+// model's valid frequencies; the conjugates in -omega_max < Im s < 0 are implied, the real roots
+// excluded), counted as nominal_delay_root_count counts them (zeros of det(sI - A0) F, i.e.
+// frozen_inside + winding) by the argument principle on the rectangle [alpha, right] x
+// [epsilon, omega_max], traversed counter-clockwise:
+//   bottom  Im s = epsilon (1e-6 max(1, omega_max) / 2pi, below every oscillatory root the band
+//           means; real roots and A0's real poles lie under it, outside),
+//   right   Re s = right, where the structured gain sigma(D M D^-1) max_i exp(-right tau_i) < 1/2
+//           on the whole edge (no winding there, and none further right: right is doubled from
+//           A0's rightmost pole + 1 until it holds),
+//   top     Im s = omega_max, from right back to alpha,
+//   left    Re s = alpha, from omega_max down to epsilon: the line of nominal_delay_root_count.
+// Along every edge arg F is followed as on the line: where the gain at both ends of a grid
+// interval is below 1/2 by the eigenvalues' principal arguments, elsewhere in steps of at most
+// 1/tau_max and a quarter of the distance to A0's nearest pole, halved until each increment is
+// under pi/4. An edge on one of A0's poles is moved off it by a hair (alpha and right rightward,
+// epsilon and omega_max upward).
+struct BandRootCount {
+    bool ok = false;
+    const char* message = "";
+    int count = 0;               // roots of chi in the band (upper half), Re s > alpha
+    double alpha = 0.0;          // the left edge used
+    double omega_max = 0.0;      // the top edge used, 1/s
+    double epsilon = 0.0;        // the bottom edge, 1/s
+    double right = 0.0;          // the right edge, 1/s
+    int frozen_inside = 0;       // eigenvalues of A0 inside the rectangle
+    double winding = 0.0;        // (change of arg F around the rectangle) / 2pi
+    double integer_error = 0.0;  // |frozen_inside + winding - count|
+    int evaluations = 0;         // F (or the loop's eigenvalues) evaluated
+    // where |F| dips along the left edge (the 16 smallest) and along the top and bottom edges
+    // (the 8 smallest): Newton's starts for the band's rightmost root
+    std::vector<std::complex<double>> dips;
+};
+
+BandRootCount band_root_count(const TransportTransfer& transfer, double omega_max,
+                              double alpha = 0.0);
+
+// The rightmost root inside the band 0 < Im s < omega_max (whatever its real part): Newton's
+// from the band count's dips (at alpha = 0) and from A0's poles in the band, the largest real
+// part among the converged (|F| < 1e-8) in the band; verified when the band count just right of
+// it (Re s > Re r + max(1e-3, 1e-9 |r|)) is zero, else Newton again from that count's dips; up
+// to eight rounds. found is false when no start converges inside the band.
+RightmostDelayRoot band_rightmost_root(const TransportTransfer& transfer,
+                                       const BandRootCount& count);
+
 // Newton's method on F from `start` (the derivative by central differences, F analytic), to
 // |step| <= 1e-12 |s|.
 DelayRoot delay_root(const TransportTransfer& transfer, std::complex<double> start);

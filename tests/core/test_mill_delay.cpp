@@ -10,9 +10,12 @@
 #include <complex>
 #include <limits>
 #include <numbers>
+#include <sstream>
+#include <string>
 #include <vector>
 
 #include "core/mill/mill.h"
+#include "core/mill/mill_critical_speed.h"
 #include "core/mill/mill_delay.h"
 #include "core/mill/mill_model.h"
 #include "core/mill/mill_stability.h"
@@ -155,6 +158,196 @@ TEST_CASE("nominal delays: the default mill's rightmost root has nothing to its 
     if (s.real() > 0.0) {
         CHECK_FALSE(at.nominal_stable);
         CHECK(at.nominal.count >= 2);
+    }
+}
+
+}  // namespace mill_delay_test
+
+// The band 0 < Im s < Omega (docs/model.md §12.7): the roots the model's range admits, counted by
+// the argument principle on a rectangle. Each case takes under 10 s in Release and under a minute
+// under ASan.
+namespace mill_delay_test {
+
+Mill at_speed(Mill m, double speed) {
+    m.speed = speed;
+    return m;
+}
+
+// The top of the model's range at the mill's steady state: the largest frequency at which every
+// span's spring law and every stand's quasi-static bite are valid (both errors grow with f), by
+// bisection.
+double valid_frequency_Hz(const Mill& m) {
+    const MillSteadyState steady = mill_steady_state(m);
+    REQUIRE(steady.status == MillSteadyStatus::ok);
+    const auto valid = [&](double f) { return crossing_validity(m, steady, f).valid(); };
+    double lo = 0.0, hi = 1.0;
+    while (valid(hi)) {
+        lo = hi;
+        hi *= 2.0;
+        REQUIRE(hi < 1e7);
+    }
+    for (int k = 0; k < 60; ++k) {
+        const double mid = 0.5 * (lo + hi);
+        (valid(mid) ? lo : hi) = mid;
+    }
+    return lo;
+}
+
+// The real roots of chi = det(sI - A0) F(s) in (a, b), by the sign changes of chi on a fine grid
+// (chi is real there: its sign is that of F times (x - lambda) over A0's real poles). Roots of
+// even multiplicity are not seen; generically there are none.
+int real_roots(const TransportTransfer& transfer, double a, double b, int n = 20000) {
+    const auto sign = [&](double x) {
+        double sgn = delay_characteristic(transfer, {x, 0.0}).real() >= 0.0 ? 1.0 : -1.0;
+        for (Eigen::Index k = 0; k < transfer.poles.size(); ++k)
+            if (transfer.poles(k).imag() == 0.0 && x < transfer.poles(k).real()) sgn = -sgn;
+        return sgn;
+    };
+    int changes = 0;
+    double last = sign(a);
+    for (int k = 1; k <= n; ++k) {
+        const double now = sign(a + (b - a) * k / n);
+        if (now != last) ++changes;
+        last = now;
+    }
+    return changes;
+}
+
+TEST_CASE("band count: above every root's frequency it is the line's count of oscillatory roots") {
+    // the line's count = 2 x the upper band's (the conjugates) + the real roots right of the
+    // axis, which the band leaves out (they lie below its bottom edge)
+    for (const Mill& m : {two_stand_mill(0.05), at_speed(two_stand_mill(0.25), 10.0),
+                          default_mill(), at_speed(default_mill(), 5.0)}) {
+        const TransportTransfer transfer = transport_transfer(linearised(m));
+        REQUIRE(transfer.ok);
+        const DelayRootCount line = nominal_delay_root_count(transfer, 0.0);
+        REQUIRE(line.ok);
+        const BandRootCount band = band_root_count(transfer, 1e6);
+        REQUIRE(band.ok);
+        const int real = real_roots(transfer, band.alpha, band.right);
+        MESSAGE(m.size() << " stands at " << m.speed << " m/s: line " << line.count
+                         << " (A0: " << line.frozen_right << "), band to 1e6 1/s " << band.count
+                         << " (A0 inside: " << band.frozen_inside << ", right edge " << band.right
+                         << " 1/s, off an integer by " << band.integer_error << ", "
+                         << band.evaluations << " evaluations), real roots " << real);
+        CHECK(band.integer_error < 1e-2);
+        CHECK(line.count == 2 * band.count + real);
+    }
+}
+
+TEST_CASE("band count: two stands, every root Newton finds in the band is counted, no more") {
+    for (const Mill& m : {two_stand_mill(0.05), at_speed(two_stand_mill(0.05), 8.0),
+                          at_speed(two_stand_mill(0.25), 20.0)}) {
+        const TransportTransfer transfer = transport_transfer(linearised(m));
+        REQUIRE(transfer.ok);
+        double tau_max = 0.0;
+        for (double tau : transfer.delay) tau_max = std::max(tau_max, tau);
+        const double f_valid = valid_frequency_Hz(m);
+        for (double omega_max :
+             {2.0 * std::numbers::pi * f_valid, 2.0 * std::numbers::pi * 2000.0}) {
+            const BandRootCount band = band_root_count(transfer, omega_max);
+            REQUIRE(band.ok);
+            // Newton from a dense set of starts over the rectangle: columns across [0, right]
+            // (12 equal ones and a doubling series from 1/4 1/s), rows half a radian of the
+            // longest delay's phase apart and at most Omega / 250
+            std::vector<cd> roots;
+            std::vector<double> columns;
+            for (int i = 0; i < 12; ++i) columns.push_back(band.right * (i + 0.5) / 12);
+            for (double x = 0.25; x < band.right; x *= 2.0) columns.push_back(x);
+            const double row = std::min(omega_max / 250.0, 0.5 / tau_max);
+            int starts = 0;
+            for (double x : columns) {
+                for (double w = 0.5 * row; w < omega_max; w += row) {
+                    ++starts;
+                    const DelayRoot r = delay_root(transfer, {x, w});
+                    if (!r.converged || !(r.residual < 1e-8)) continue;
+                    if (!(r.s.real() > band.alpha) || !(r.s.imag() > band.epsilon) ||
+                        !(r.s.imag() < band.omega_max))
+                        continue;
+                    const bool known = std::any_of(roots.begin(), roots.end(), [&](cd q) {
+                        return std::abs(q - r.s) <= 1e-6 * std::max(1.0, std::abs(r.s));
+                    });
+                    if (!known) roots.push_back(r.s);
+                }
+            }
+            std::string listed;
+            for (cd r : roots) {
+                std::ostringstream o;
+                o << " " << r << " (" << r.imag() / (2.0 * std::numbers::pi) << " Hz)";
+                listed += o.str();
+            }
+            MESSAGE("2 stands, span " << m.span_length[0] << " m at " << m.speed << " m/s, band to "
+                                      << omega_max / (2.0 * std::numbers::pi) << " Hz (valid to "
+                                      << f_valid << " Hz): count " << band.count << " ("
+                                      << band.evaluations << " evaluations); Newton from " << starts
+                                      << " starts:" << listed);
+            CHECK(band.count == static_cast<int>(roots.size()));
+            // the band's rightmost root is the rightmost Newton found in it
+            const RightmostDelayRoot rightmost = band_rightmost_root(transfer, band);
+            if (!roots.empty()) {
+                REQUIRE(rightmost.found);
+                CHECK(rightmost.verified);
+                double best = -std::numeric_limits<double>::infinity();
+                for (cd r : roots) best = std::max(best, r.real());
+                CHECK(std::abs(rightmost.root.s.real() - best) <=
+                      1e-8 * std::abs(rightmost.root.s));
+            }
+        }
+    }
+}
+
+TEST_CASE("band count: the default mill's valid roots at 15 m/s and at 5 m/s") {
+    // at 15 m/s (README example 4): the rightmost root, at 105 Hz inside the model's range,
+    // grows at 4.5 /s
+    {
+        const Mill m = default_mill();
+        const double f_valid = valid_frequency_Hz(m);
+        const TransportTransfer transfer = transport_transfer(linearised(m));
+        const BandRootCount band = band_root_count(transfer, 2.0 * std::numbers::pi * f_valid);
+        REQUIRE(band.ok);
+        const RightmostDelayRoot rightmost = band_rightmost_root(transfer, band);
+        REQUIRE(rightmost.found);
+        const cd s = rightmost.root.s;
+        MESSAGE("default mill at 15 m/s, valid to "
+                << f_valid << " Hz: " << band.count << " roots in the band (" << band.evaluations
+                << " evaluations), rightmost " << s << " 1/s at "
+                << s.imag() / (2.0 * std::numbers::pi) << " Hz; " << rightmost.starts
+                << " Newton runs, " << rightmost.counts << " counts");
+        CHECK(band.count > 0);
+        CHECK(rightmost.verified);
+        CHECK(rightmost.root.residual < 1e-10);
+        CHECK(std::abs(s.imag() / (2.0 * std::numbers::pi) - 105.0) < 0.5);
+        CHECK(std::abs(s.real() - 4.5) < 0.05);
+        // the whole line's rightmost root is this one
+        const MillSpeedStability at = mill_stability_at(m);
+        REQUIRE(at.rightmost.found);
+        CHECK(std::abs(at.rightmost.root.s - s) < 1e-8 * std::abs(s));
+    }
+    // at 5 m/s only roots outside the range grow: the band count is zero, the line's is not
+    {
+        const Mill m = at_speed(default_mill(), 5.0);
+        const double f_valid = valid_frequency_Hz(m);
+        const TransportTransfer transfer = transport_transfer(linearised(m));
+        const DelayRootCount line = nominal_delay_root_count(transfer, 0.0);
+        REQUIRE(line.ok);
+        const BandRootCount band = band_root_count(transfer, 2.0 * std::numbers::pi * f_valid);
+        REQUIRE(band.ok);
+        const RightmostDelayRoot rightmost = band_rightmost_root(transfer, band);
+        const RightmostDelayRoot anywhere = rightmost_delay_root(transfer, line);
+        REQUIRE(anywhere.found);
+        MESSAGE("default mill at 5 m/s, valid to "
+                << f_valid << " Hz: band " << band.count << ", line " << line.count
+                << "; rightmost anywhere " << anywhere.root.s << " 1/s at "
+                << anywhere.root.s.imag() / (2.0 * std::numbers::pi) << " Hz, in the band "
+                << rightmost.root.s << " 1/s at "
+                << rightmost.root.s.imag() / (2.0 * std::numbers::pi) << " Hz");
+        CHECK(band.count == 0);
+        CHECK(line.count > 0);
+        CHECK(anywhere.root.s.imag() > 2.0 * std::numbers::pi * f_valid);  // outside the range
+        if (rightmost.found) {
+            CHECK(rightmost.verified);
+            CHECK(rightmost.root.s.real() < 0.0);
+        }
     }
 }
 
