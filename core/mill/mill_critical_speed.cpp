@@ -144,6 +144,90 @@ Eigen::VectorXcd margin_response(const TransportTransfer& transfer,
     return transport_response(transfer, {0.0, 2.0 * std::numbers::pi * margin.frequency_Hz}, u);
 }
 
+// The top of the model's range at a steady state: the largest frequency at which every span's
+// spring law and every stand's quasi-static bite are valid (both errors grow with f), by
+// bisection to 1e-9 of it; 0 when even 1e-3 Hz is outside.
+double valid_frequency_Hz(const Mill& mill, const MillSteadyState& steady) {
+    const auto valid = [&](double f) { return crossing_validity(mill, steady, f).valid(); };
+    if (!valid(1e-3)) return 0.0;
+    double lo = 1e-3, hi = 2e-3;
+    while (valid(hi)) {
+        lo = hi;
+        hi *= 2.0;
+        if (hi > 1e9) return lo;
+    }
+    while (hi - lo > 1e-9 * hi) {
+        const double mid = 0.5 * (lo + hi);
+        (valid(mid) ? lo : hi) = mid;
+    }
+    return lo;
+}
+
+// A nominal-delay crossing described by its root s at the crossing's speed.
+void describe_root(MillCrossing& c, const Mill& mill, const TransportTransfer& transfer,
+                   std::complex<double> root) {
+    describe(c, mill, root.imag() / (2.0 * std::numbers::pi), delay_root_vector(transfer, root),
+             [root](const TransportTransfer& t) {
+                 const DelayRoot moved = delay_root(t, root);
+                 return moved.converged ? moved.s.real() : std::nan("");
+             });
+}
+
+// The first speed from `start` upwards where count_at turns positive: blocks of speeds in
+// parallel, in order, each step step_at(the block's first speed), at most 400 steps, then
+// bisection between the last zero and the first positive count to the search's tolerance.
+// Fills c's status and speed; false when cancelled.
+bool first_positive(MillCrossing& c, const std::function<int(double)>& count_at, double start,
+                    const std::function<double(double)>& step_at,
+                    const CriticalSpeedOptions& options, const Control& control) {
+    const int block = std::max(2, control.thread_budget());
+    constexpr int max_steps = 400;
+    double stable_speed = -1.0, unstable_speed = -1.0;
+    double block_start = start;
+    for (int begin = 0; begin < max_steps && unstable_speed < 0.0; begin += block) {
+        if (control.should_stop()) {
+            c.status = CriticalSpeedStatus::cancelled;
+            return false;
+        }
+        const double step = step_at(block_start);
+        std::vector<int> counts(static_cast<std::size_t>(block), -1);
+        parallel_for(block, control, [&](int k) {
+            const double v = block_start + k * step;
+            if (v <= options.speed_max) counts[static_cast<std::size_t>(k)] = count_at(v);
+        });
+        for (int k = 0; k < block; ++k) {
+            const double v = block_start + k * step;
+            if (v > options.speed_max) break;
+            const int n = counts[static_cast<std::size_t>(k)];
+            if (n == 0) {
+                stable_speed = v;
+            } else if (n > 0) {
+                unstable_speed = v;
+                break;
+            }
+        }
+        block_start += block * step;
+        if (block_start > options.speed_max) break;
+    }
+    if (unstable_speed < 0.0) {
+        c.status = CriticalSpeedStatus::stable_in_range;
+    } else if (stable_speed < 0.0 || stable_speed > unstable_speed) {
+        c.status = CriticalSpeedStatus::unstable_at_lower_bound;
+        c.speed = unstable_speed;
+    } else {
+        double lo = stable_speed, hi = unstable_speed;
+        while (hi - lo > options.relative_tolerance * lo) {
+            const double mid = 0.5 * (lo + hi);
+            const int n = count_at(mid);
+            if (n == 0) lo = mid;
+            else hi = mid;
+        }
+        c.status = CriticalSpeedStatus::found;
+        c.speed = hi;
+    }
+    return true;
+}
+
 }  // namespace
 
 MillRootDescription describe_rightmost_root(const Mill& mill, const MillSpeedStability& at) {
@@ -239,89 +323,85 @@ MillCriticalSpeeds mill_critical_speeds(const Mill& mill, const CriticalSpeedOpt
         }
     }
 
-    // nominal delays: from the delay-independent speed up, in half lobe periods
+    // nominal delays: from the delay-independent speed up. first_any: the first speed where any
+    // root crosses, in steps of half a lobe period at the delay-independent frequency;
+    // nominal_delay: the first where a root inside the model's band does (the band count at
+    // Omega = 2 pi f_valid of the speed), in steps of half a lobe period at f_valid
     {
+        MillCrossing& any = out.first_any;
         MillCrossing& c = out.nominal_delay;
-        c.kind = MillCrossingKind::nominal_delay;
+        any.kind = c.kind = MillCrossingKind::nominal_delay;
         const MillCrossing& di = out.delay_independent;
         if (di.status == CriticalSpeedStatus::stable_in_range ||
             di.status == CriticalSpeedStatus::no_steady_state ||
             di.status == CriticalSpeedStatus::cancelled) {
-            c.status = di.status;  // stable for every delay, or nothing to start from
+            any.status = c.status = di.status;  // stable for every delay, or nothing to start from
         } else {
             const double start =
                 di.status == CriticalSpeedStatus::found ? di.speed : options.speed_min;
+            const auto tau_max_of = [](const TransportTransfer& t) {
+                double tau_max = 0.0;
+                for (double tau : t.delay) tau_max = std::max(tau_max, tau);
+                return tau_max;
+            };
+            const Linearised first = linearised(at_speed(mill, start));
+            const double f = di.frequency_Hz > 0.0 ? di.frequency_Hz : 100.0;
+            const double lobe = start / (f * std::max(tau_max_of(first.transfer), 1e-9));
+            any.lobe_period = lobe;
             const auto count_at = [&mill](double speed) {
                 const Linearised l = linearised(at_speed(mill, speed));
                 if (!l.ok) return -1;
                 const DelayRootCount n = nominal_delay_root_count(l.transfer, 0.0);
                 return n.ok ? n.count : -1;
             };
-            const Linearised first = linearised(at_speed(mill, start));
-            double tau_max = 0.0;
-            for (double tau : first.transfer.delay) tau_max = std::max(tau_max, tau);
-            const double f = di.frequency_Hz > 0.0 ? di.frequency_Hz : 100.0;
-            const double lobe = start / (f * std::max(tau_max, 1e-9));
-            c.lobe_period = lobe;
-            const double step = 0.5 * lobe;
-            // blocks of speeds in parallel, in order, until a root crosses
-            const int block = std::max(2, control.thread_budget());
-            constexpr int max_steps = 400;
-            double stable_speed = -1.0, unstable_speed = -1.0;
-            for (int begin = 0; begin < max_steps && unstable_speed < 0.0; begin += block) {
-                if (control.should_stop()) {
-                    c.status = CriticalSpeedStatus::cancelled;
-                    return out;
-                }
-                std::vector<int> counts(static_cast<std::size_t>(block), -1);
-                parallel_for(block, control, [&](int k) {
-                    const double v = start + (begin + k) * step;
-                    if (v <= options.speed_max) counts[static_cast<std::size_t>(k)] = count_at(v);
-                });
-                for (int k = 0; k < block; ++k) {
-                    const double v = start + (begin + k) * step;
-                    if (v > options.speed_max) break;
-                    const int n = counts[static_cast<std::size_t>(k)];
-                    if (n == 0) {
-                        stable_speed = v;
-                    } else if (n > 0) {
-                        unstable_speed = v;
-                        break;
-                    }
-                }
-                if (start + (begin + block) * step > options.speed_max) break;
+            const auto band_count_at = [&mill](double speed) {
+                const Linearised l = linearised(at_speed(mill, speed));
+                if (!l.ok) return -1;
+                const double f_valid = valid_frequency_Hz(at_speed(mill, speed), l.steady);
+                if (!(f_valid > 0.0)) return 0;  // an empty band
+                const BandRootCount n =
+                    band_root_count(l.transfer, 2.0 * std::numbers::pi * f_valid, 0.0);
+                return n.ok ? n.count : -1;
+            };
+            const auto band_step = [&](double speed) {
+                const Linearised l = linearised(at_speed(mill, speed));
+                const double f_valid =
+                    l.ok ? valid_frequency_Hz(at_speed(mill, speed), l.steady) : 0.0;
+                const double tau_max = l.ok ? tau_max_of(l.transfer) : 0.0;
+                // half a lobe period at f_valid; half the first one's where it is not defined
+                if (!(f_valid > 0.0) || !(tau_max > 0.0)) return 0.5 * lobe;
+                return 0.5 * speed / (f_valid * tau_max);
+            };
+            if (!first_positive(
+                    any, count_at, start, [&](double) { return 0.5 * lobe; }, options, control)) {
+                c.status = CriticalSpeedStatus::cancelled;
+                return out;
             }
-            if (unstable_speed < 0.0) {
-                c.status = CriticalSpeedStatus::stable_in_range;
-            } else if (stable_speed < 0.0 || stable_speed > unstable_speed) {
-                c.status = CriticalSpeedStatus::unstable_at_lower_bound;
-                c.speed = unstable_speed;
-            } else {
-                double lo = stable_speed, hi = unstable_speed;
-                while (hi - lo > options.relative_tolerance * lo) {
-                    const double mid = 0.5 * (lo + hi);
-                    const int n = count_at(mid);
-                    if (n == 0) lo = mid;
-                    else hi = mid;
+            if (any.status == CriticalSpeedStatus::found ||
+                any.status == CriticalSpeedStatus::unstable_at_lower_bound) {
+                const Linearised l = linearised(at_speed(mill, any.speed));
+                if (l.ok) {
+                    const DelayRootCount n = nominal_delay_root_count(l.transfer, 0.0);
+                    const RightmostDelayRoot r = rightmost_delay_root(l.transfer, n);
+                    if (r.found) describe_root(any, mill, l.transfer, r.root.s);
                 }
-                c.status = CriticalSpeedStatus::found;
-                c.speed = hi;
             }
+            if (!first_positive(c, band_count_at, start, band_step, options, control)) return out;
             if (c.status == CriticalSpeedStatus::found ||
                 c.status == CriticalSpeedStatus::unstable_at_lower_bound) {
                 const Linearised l = linearised(at_speed(mill, c.speed));
                 if (l.ok) {
-                    const DelayRootCount n = nominal_delay_root_count(l.transfer, 0.0);
-                    const RightmostDelayRoot r = rightmost_delay_root(l.transfer, n);
-                    if (r.found) {
-                        const std::complex<double> root = r.root.s;
-                        describe(c, mill, root.imag() / (2.0 * std::numbers::pi),
-                                 delay_root_vector(l.transfer, root),
-                                 [root](const TransportTransfer& t) {
-                                     const DelayRoot moved = delay_root(t, root);
-                                     return moved.converged ? moved.s.real() : std::nan("");
-                                 });
+                    const double f_valid = valid_frequency_Hz(at_speed(mill, c.speed), l.steady);
+                    if (f_valid > 0.0) {
+                        const BandRootCount n =
+                            band_root_count(l.transfer, 2.0 * std::numbers::pi * f_valid, 0.0);
+                        const RightmostDelayRoot r = band_rightmost_root(l.transfer, n);
+                        if (r.found) describe_root(c, mill, l.transfer, r.root.s);
                     }
+                    // the lobe period at the crossing root's frequency (f_valid if none found)
+                    const double f_lobe = c.frequency_Hz > 0.0 ? c.frequency_Hz : f_valid;
+                    c.lobe_period =
+                        c.speed / (std::max(f_lobe, 1e-9) * std::max(tau_max_of(l.transfer), 1e-9));
                 }
             }
         }

@@ -57,7 +57,10 @@ struct MillCrossing {
 };
 
 struct MillCriticalSpeeds {
-    MillCrossing frozen, delay_independent, nominal_delay;
+    // nominal_delay: the first speed where a root inside the model's band crosses (0 < Im s <
+    // 2 pi f_valid of that speed, band_root_count); first_any: the first where any root does,
+    // valid or not (not a candidate for the headline; never dropped)
+    MillCrossing frozen, delay_independent, nominal_delay, first_any;
     // the lowest found crossing inside the model's range; -1 if none is
     int headline = -1;  // 0 frozen, 1 delay_independent, 2 nominal_delay
     // found crossings below the headline (or all, when none is valid) that lie outside the range
@@ -79,8 +82,12 @@ MillRootDescription describe_rightmost_root(const Mill& mill, const MillSpeedSta
 // frozen: the single stand's search on A0 (§7.3); delay_independent: the same search on
 // g = rho - 1 while A0 is stable (+1 where it is not; rho grows without bound as A0 nears
 // instability, so g crosses zero first); nominal_delay: from the delay-independent speed (below
-// it every set of delays is stable) upwards in steps of half a lobe period until a root crosses,
-// at most 400 steps, then bisection on "a root right of the axis" to the search's tolerance.
+// it every set of delays is stable) upwards in steps of half a lobe period at the model's top
+// valid frequency f_valid (Delta V = V / (f_valid tau_max), recomputed each block) until a root
+// inside the band 0 < Im s < 2 pi f_valid lies right of the axis (band_root_count), at most 400
+// steps, then bisection on that count to the search's tolerance; first_any: the same search on
+// "any root right of the axis" (nominal_delay_root_count) in steps of half a lobe period at the
+// delay-independent frequency.
 MillCriticalSpeeds mill_critical_speeds(const Mill& mill, const CriticalSpeedOptions& options = {},
                                         const Control& control = {});
 
