@@ -230,6 +230,10 @@ const ResultTable<core::MillRootDescription>& root_table() {
              [](const core::MillRootDescription& r) {
                  return quantity_json(r.s.real(), per_second);
              }},
+            {"damping_ratio", "-Re / |s|: negative while the root grows.", number_schema(one),
+             [](const core::MillRootDescription& r) {
+                 return quantity_json(-r.s.real() / std::abs(r.s), one);
+             }},
             {"verified", "No root lies right of it (the argument-principle count).",
              boolean_schema(), [](const core::MillRootDescription& r) { return r.verified; }},
         };

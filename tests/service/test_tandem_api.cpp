@@ -114,6 +114,9 @@ TEST_CASE("the two-stand answer: mass flow, stands numbered from 1, a consistent
     CHECK(std::abs(total - 1.0) < 1e-9);
     // chatter marks: u2 / f per stand
     const double f = root["frequency_Hz"].get<double>();
+    const double sigma = root["growth_rate_per_s"].get<double>();
+    CHECK(std::abs(root["damping_ratio"].get<double>() +
+                   sigma / std::hypot(sigma, 2.0 * M_PI * f)) < 1e-12);
     for (const json& row : stands) {
         CHECK(std::abs(row["chatter_mark_spacing_mm"].get<double>() -
                        row["exit_speed_m_per_s"].get<double>() / f * 1e3) < 1e-9);
