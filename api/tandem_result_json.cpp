@@ -260,7 +260,7 @@ const ResultTable<core::MillCrossing>& crossing_table() {
             {"kind",
              "frozen: A0 crosses (the tension path alone); delay_independent: A0 unstable or "
              "rho >= 1 (some set of delays destabilises the mill: the robust limit); "
-             "nominal_delay: a root with the actual delays crosses.",
+             "nominal_delay: a root with the actual delays crosses (first_any: of any frequency).",
              enum_schema({"frozen", "delay_independent", "nominal_delay"}),
              [](const core::MillCrossing& c) { return core::to_string(c.kind); }},
             {"status",
@@ -338,11 +338,19 @@ const ResultTable<core::MillCriticalSpeeds>& critical_table() {
              [](const core::MillCriticalSpeeds& c) {
                  return crossing_table().write(c.delay_independent);
              }},
-            {"nominal_delay", "The first root with the actual delays to cross.",
+            {"nominal_delay",
+             "The first root with the actual delays inside the model's band (0 < f <= the "
+             "highest frequency the model's range admits at that speed) to cross.",
              ref_schema("TandemCrossing"),
              [](const core::MillCriticalSpeeds& c) {
                  return crossing_table().write(c.nominal_delay);
              }},
+            {"first_any",
+             "The first root with the actual delays of any frequency to cross (kind "
+             "nominal_delay): often a span's or a stand's upper mode outside the model's range; "
+             "reported, never a headline.",
+             ref_schema("TandemCrossing"),
+             [](const core::MillCriticalSpeeds& c) { return crossing_table().write(c.first_any); }},
         }};
     return table;
 }

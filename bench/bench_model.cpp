@@ -373,9 +373,13 @@ int bench_mill(const Config& cfg) {
     // the three critical speeds: two stands (the default mill's last two, 5 m span) and five
     const auto print_speeds = [&](const std::string& name, const core::Mill& m, long reps) {
         const core::MillCriticalSpeeds speeds = core::mill_critical_speeds(m, {}, control);
-        for (const core::MillCrossing* c :
-             {&speeds.frozen, &speeds.delay_independent, &speeds.nominal_delay}) {
-            const std::string kind = core::to_string(c->kind);
+        const std::pair<const char*, const core::MillCrossing*> crossings[] = {
+            {"frozen", &speeds.frozen},
+            {"delay_independent", &speeds.delay_independent},
+            {"nominal_delay", &speeds.nominal_delay},
+            {"first_any", &speeds.first_any}};
+        for (const auto& [label, c] : crossings) {
+            const std::string kind = label;
             print_figure(name + "." + kind + ".speed", c->speed, "m/s");
             print_figure(name + "." + kind + ".frequency", c->frequency_Hz, "Hz");
             print_count(name + "." + kind + ".moving_stand", c->moving_stand + 1);

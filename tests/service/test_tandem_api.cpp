@@ -138,6 +138,11 @@ TEST_CASE("the two-stand answer: mass flow, stands numbered from 1, a consistent
             lowest_kind = kind;
         }
     }
+    // the first crossing of any root is reported beside them, never above the band's crossing
+    REQUIRE(critical["first_any"]["status"] == "found");
+    if (critical["nominal_delay"]["status"] == "found")
+        CHECK(critical["first_any"]["speed_m_per_s"].get<double>() <=
+              critical["nominal_delay"]["speed_m_per_s"].get<double>());
     REQUIRE(!lowest_kind.empty());
     CHECK(critical["headline"] == lowest_kind);
     CHECK(critical["critical_speed_m_per_s"] == lowest);

@@ -98,11 +98,11 @@ void identities(std::ostream& md) {
     // 5: one span, rho = 1 against the nominal crossing
     {
         const core::MillCriticalSpeeds speeds = core::mill_critical_speeds(two_stand_mill(5.0));
-        md << "| one span: rho = 1 within a lobe of the nominal crossing | delay-independent "
-           << fixed(speeds.delay_independent.speed, 4) << " m/s, nominal-delay "
-           << fixed(speeds.nominal_delay.speed, 4) << " m/s, lobe period "
-           << fixed(speeds.nominal_delay.lobe_period, 4)
-           << " m/s | `test_mill_critical_speed.cpp` |\n";
+        md << "| one span: rho = 1 within a lobe of the nominal crossing (the first root of any "
+              "frequency to cross) | delay-independent "
+           << fixed(speeds.delay_independent.speed, 4) << " m/s, first nominal-delay crossing "
+           << fixed(speeds.first_any.speed, 4) << " m/s, lobe period "
+           << fixed(speeds.first_any.lobe_period, 4) << " m/s | `test_mill_critical_speed.cpp` |\n";
     }
     // spring law
     {
@@ -214,7 +214,9 @@ void critical_speed_map(std::ostream& md, const rollgap::core::Control& control)
     md << "## 4. The default mill's critical speeds over span length and interstand tension\n\n"
           "Every interstand span at the length, every interstand set point at the tension; the "
           "rest is the default mill (docs/model.md §12.3). Per cell: frozen / delay-independent / "
-          "nominal-delay speed in m/s with its frequency; ✓ inside the model's range, ✗ outside "
+          "nominal-delay (the first root inside the model's band to cross) / the first root of "
+          "any frequency to cross, speed in m/s with its frequency; ✓ inside the model's range, "
+          "✗ outside "
           "it with the reason: `spring` where a span's spring-law error exceeds 25 %, `bite` where "
           "a stand's bite transit exceeds 0.2 of the period (judged at every span and every stand, "
           "docs/model.md §12.7); **bold** the headline; `unstable_at_lower_bound`: already at "
@@ -230,8 +232,8 @@ void critical_speed_map(std::ostream& md, const rollgap::core::Control& control)
             std::fprintf(stderr, "verify_mill: %.1f m, %.0f MPa\n", span, tension / 1e6);
             const core::MillCriticalSpeeds speeds = core::mill_critical_speeds(m, {}, control);
             const core::MillCrossing* crossings[] = {&speeds.frozen, &speeds.delay_independent,
-                                                     &speeds.nominal_delay};
-            for (int k = 0; k < 3; ++k) {
+                                                     &speeds.nominal_delay, &speeds.first_any};
+            for (int k = 0; k < 4; ++k) {
                 const core::MillCrossing& c = *crossings[k];
                 md << (k == 0 ? " " : " / ");
                 if (c.status != core::CriticalSpeedStatus::found) {
@@ -252,7 +254,11 @@ void critical_speed_map(std::ostream& md, const rollgap::core::Control& control)
         }
         md << "\n";
     }
-    md << "\nWhere a regenerative crossing sits near 500 Hz, at the 5 m spans' first longitudinal "
+    md << "\nThe nominal-delay crossings inside the model's band, near 95-100 Hz, are the "
+          "third-octave mode destabilised by the thickness path, below the frozen crossings on "
+          "2.5 and 5 m spans (the headline there); on 10 m spans the spring law ends the band "
+          "below ~70 Hz, and no root inside it crosses. "
+          "Where a regenerative crossing sits near 500 Hz, at the 5 m spans' first longitudinal "
           "mode (c/2L = 517 Hz) and the stands' upper modes, the spring law is outside its range "
           "(ωL/c ≈ 3) and so is the quasi-static bite (the strip crosses a bite in up to ~0.8 of a "
           "period): those speeds are the model's, not a mill's, and the `segments` span model (to "
