@@ -52,6 +52,15 @@ std::string numeric_text(bool integer, bool even, const api::Unit& unit,
                   range.text(), ".");
 }
 
+// A choice field's enum (null too in a patch: it restores the default); its description.
+std::string choice_members(json& schema, std::span<const std::string_view> choices, bool patch) {
+    json values = json::array();
+    for (const std::string_view choice : choices) values.push_back(choice);
+    if (patch) values.push_back(nullptr);
+    schema["enum"] = std::move(values);
+    return concat("One of: ", api::choices_text(choices), ".");
+}
+
 json leaf_schema(const api::ScenarioField& field, const json& default_value, bool patch) {
     json schema = json::object();
     const auto nullable = [patch](std::string_view type) {
@@ -74,11 +83,7 @@ json leaf_schema(const api::ScenarioField& field, const json& default_value, boo
             description = "Boolean.";
             break;
         case api::FieldKind::choice: {
-            json choices = json::array();
-            for (const std::string_view choice : field.choices) choices.push_back(choice);
-            if (patch) choices.push_back(nullptr);
-            schema["enum"] = std::move(choices);
-            description = concat("One of: ", api::choices_text(field.choices), ".");
+            description = choice_members(schema, field.choices, patch);
             break;
         }
     }
@@ -376,11 +381,7 @@ json tandem_leaf_schema(const api::TandemField& field, const json& default_value
             break;
         }
         case api::TandemFieldKind::choice: {
-            json choices = json::array();
-            for (const std::string_view choice : field.choices) choices.push_back(choice);
-            if (patch) choices.push_back(nullptr);
-            schema["enum"] = std::move(choices);
-            description = concat("One of: ", api::choices_text(field.choices), ".");
+            description = choice_members(schema, field.choices, patch);
             break;
         }
     }

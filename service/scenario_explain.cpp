@@ -87,53 +87,64 @@ std::string padded(std::string text, std::size_t width) {
 
 }  // namespace
 
-std::string scenario_explanation() {
-    const nlohmann::json defaults = api::default_scenario_json();
-    struct Row {
-        std::string pointer, unit, bounds, default_value;
-        const api::ScenarioField* field;
-    };
-    std::vector<Row> rows;
-    for (const api::ScenarioField& field : api::scenario_fields()) {
-        const nlohmann::json& value = defaults.at(nlohmann::json::json_pointer(field.path));
-        rows.push_back({field.path, unit_column(field), bounds_column(field),
-                        value.is_string() ? value.get<std::string>() : value.dump(), &field});
-    }
-    const Row header{"pointer", "unit", "bounds", "default", nullptr};
+namespace {
+
+// One entry of the glossary: its line (pointer, unit, bounds, default) and its text below.
+struct GlossaryRow {
+    std::string pointer, unit, bounds, default_value, description;
+};
+
+std::string default_text(const nlohmann::json& value) {
+    return value.is_string() ? value.get<std::string>() : value.dump();
+}
+
+// The header line, then each row's line and its wrapped description, columns as wide as their
+// widest entry.
+std::string glossary_table(const std::vector<GlossaryRow>& rows) {
+    const GlossaryRow header{"pointer", "unit", "bounds", "default", ""};
     std::size_t pointer_width = header.pointer.size(), unit_width = header.unit.size();
     std::size_t bounds_width = header.bounds.size();
-    for (const Row& row : rows) {
+    for (const GlossaryRow& row : rows) {
         pointer_width = std::max(pointer_width, row.pointer.size());
         unit_width = std::max(unit_width, row.unit.size());
         bounds_width = std::max(bounds_width, row.bounds.size());
     }
-    const auto line = [&](const Row& row) {
+    const auto line = [&](const GlossaryRow& row) {
         return concat(padded(row.pointer, pointer_width + 2), padded(row.unit, unit_width + 2),
                       padded(row.bounds, bounds_width + 2), row.default_value, "\n");
     };
+    std::string out = line(header);
+    for (const GlossaryRow& row : rows) {
+        out += '\n';
+        out += line(row);
+        append_wrapped(out, row.description);
+    }
+    return out;
+}
 
+}  // namespace
+
+std::string scenario_explanation() {
+    const nlohmann::json defaults = api::default_scenario_json();
+    std::vector<GlossaryRow> rows;
+    for (const api::ScenarioField& field : api::scenario_fields()) {
+        rows.push_back({field.path, unit_column(field), bounds_column(field),
+                        default_text(defaults.at(nlohmann::json::json_pointer(field.path))),
+                        field.description});
+    }
     std::string out =
         "The scenario's fields. A request's \"scenario\" is a JSON merge patch onto the defaults: give only the\n"
         "fields you change, at these JSON pointers (relative to \"scenario\"), in the unit their name carries.\n"
         "The model and its symbols: docs/model.md.\n\n";
-    out += line(header);
-    for (const Row& row : rows) {
-        out += '\n';
-        out += line(row);
-        append_wrapped(out, row.field->description);
-    }
+    out += glossary_table(rows);
     out += tandem_explanation();
     return out;
 }
 
 std::string tandem_explanation() {
     const nlohmann::json defaults = api::default_tandem_json();
-    struct Row {
-        std::string pointer, unit, bounds, default_value, description;
-    };
-    std::vector<Row> rows;
+    std::vector<GlossaryRow> rows;
     for (const api::TandemField& field : api::tandem_fields()) {
-        const nlohmann::json& value = defaults.at(nlohmann::json::json_pointer(field.path));
         const bool choice = field.kind == api::TandemFieldKind::choice;
         std::string bounds = choice ? api::choices_text(field.choices) : field.range.text();
         if (field.kind == api::TandemFieldKind::number_list) {
@@ -141,7 +152,7 @@ std::string tandem_explanation() {
                             field.length == api::ListLength::stands ? " per stand" : " per span");
         }
         rows.push_back({field.path, choice ? "-" : std::string(field.unit.code), std::move(bounds),
-                        value.is_string() ? value.get<std::string>() : value.dump(),
+                        default_text(defaults.at(nlohmann::json::json_pointer(field.path))),
                         field.description});
     }
     rows.push_back({concat("/", api::stand_defaults_member), "-", "scenario patch", "{}",
@@ -153,27 +164,10 @@ std::string tandem_explanation() {
                     "One scenario merge patch per stand, from the entry: the default scenario, "
                     "then stand_defaults, then this patch. A violation in stand 4 is reported at "
                     "/tandem/stands/3/...; its structure group keeps the scenario's name `mill`."});
-    std::size_t pointer_width = 7, unit_width = 4, bounds_width = 6;
-    for (const Row& row : rows) {
-        pointer_width = std::max(pointer_width, row.pointer.size());
-        unit_width = std::max(unit_width, row.unit.size());
-        bounds_width = std::max(bounds_width, row.bounds.size());
-    }
-    const auto line = [&](const Row& row) {
-        return concat(padded(row.pointer, pointer_width + 2), padded(row.unit, unit_width + 2),
-                      padded(row.bounds, bounds_width + 2), row.default_value, "\n");
-    };
-    std::string out =
-        "\n\nThe tandem mill's fields (analysis \"tandem\", docs/model.md §12). A request's "
-        "\"tandem\" is a JSON merge\npatch onto the default 5-stand mill, at these pointers "
-        "(relative to \"tandem\"); arrays are replaced whole.\n\n";
-    out += line({"pointer", "unit", "bounds", "default", ""});
-    for (const Row& row : rows) {
-        out += '\n';
-        out += line(row);
-        append_wrapped(out, row.description);
-    }
-    return out;
+    return "\n\nThe tandem mill's fields (analysis \"tandem\", docs/model.md §12). A request's "
+           "\"tandem\" is a JSON merge\npatch onto the default 5-stand mill, at these pointers "
+           "(relative to \"tandem\"); arrays are replaced whole.\n\n" +
+           glossary_table(rows);
 }
 
 }  // namespace rollgap::service
