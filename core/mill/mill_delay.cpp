@@ -21,14 +21,127 @@ Eigen::MatrixXcd loop(const TransportTransfer& transfer, Complex s) {
 }
 
 // The sum of the principal arguments of the eigenvalues of I - M E: arg F where every
-// eigenvalue stays in the right half plane (|M E| < 1), continuous there.
-double eigen_argument(const Eigen::MatrixXcd& x) {
+// eigenvalue stays in the right half plane (|M E| < 1), continuous there. Where the structured
+// gain is below 1/2 every eigenvalue lies within 1/2 of 1, its argument within pi/6 of 0, so for
+// up to five spans (six stands, the mill's limit) the sum lies in (-5pi/6, 5pi/6) and is the
+// principal argument of det F itself: no eigenvalues needed.
+double small_gain_argument(const Eigen::MatrixXcd& x, Complex determinant) {
+    if (x.rows() <= 5) return std::arg(determinant);
     const Eigen::VectorXcd values =
         Eigen::ComplexEigenSolver<Eigen::MatrixXcd>(x, false).eigenvalues();
     double sum = 0.0;
     for (Eigen::Index k = 0; k < values.size(); ++k) sum += std::arg(values(k));
     return sum;
 }
+
+// arg F followed along a polyline (the line of nominal_delay_root_count, the band's edges):
+// where the structured gain at both ends of a grid interval is below 1/2, by the eigenvalues'
+// principal arguments (no winding possible in between); elsewhere in steps of at most 1/tau_max
+// (no delay phase turns by more than a radian) and a quarter of the distance to A0's nearest
+// pole, halved until each increment is under pi/4. The one edge tracker of both counts.
+struct ArgumentTracker {
+    const TransportTransfer& transfer;
+    double tau_max = 0.0;
+    int evaluations = 0;
+    bool failed = false;
+    static constexpr int budget = 4'000'000;
+    static constexpr double small = 0.5;
+
+    explicit ArgumentTracker(const TransportTransfer& t) : transfer(t) {
+        for (double tau : t.delay) tau_max = std::max(tau_max, tau);
+    }
+
+    // the structured gain of the loop M E at s (below 1/2: no winding possible): rho(M E) <=
+    // sigma(D M D^-1 E) <= sigma(D M D^-1) max_i exp(-Re s tau_i) for every diagonal E of
+    // modulus <= exp(-Re s tau_i) (D and E commute). The mill's M is nearly lower triangular at
+    // low frequency (the thickness passes downstream; only the tension path comes back), where
+    // sigma(M) alone is ~0.8. Only compared with 1/2: below it, any upper bound of the gain
+    // under 1/2 may stand for it (balanced_bound's Frobenius shortcut).
+    double gain(Complex s) const {
+        double shrink = 0.0;
+        for (double tau : transfer.delay) shrink = std::max(shrink, std::exp(-s.real() * tau));
+        return balanced_bound(transfer.at(s), small / shrink) * shrink;
+    }
+
+    std::vector<double> gains(const std::vector<Complex>& grid) const {
+        std::vector<double> g(grid.size());
+        for (std::size_t k = 0; k < grid.size(); ++k) g[k] = gain(grid[k]);
+        return g;
+    }
+
+    double pole_distance(Complex s) const {
+        double d2 = std::numeric_limits<double>::infinity();
+        for (Eigen::Index k = 0; k < transfer.poles.size(); ++k)
+            d2 = std::min(d2, std::norm(s - transfer.poles(k)));
+        return std::sqrt(d2);
+    }
+
+    // arg F at s where the gain is below 1/2 (small_gain_argument), and F there
+    double argument(Complex s, Complex& value) {
+        const Eigen::MatrixXcd x = loop(transfer, s);
+        value = x.partialPivLu().determinant();
+        ++evaluations;
+        return small_gain_argument(x, value);
+    }
+
+    // The change of arg F along the polyline through `grid`, the gain at its points `gains`;
+    // the local minima of |F| met where it is followed step by step go to `dips` as (|F|, s).
+    double follow(const std::vector<Complex>& grid, const std::vector<double>& gains,
+                  std::vector<std::pair<double, Complex>>& dips) {
+        constexpr double quarter_turn = std::numbers::pi / 4.0;
+        double theta = 0.0;
+        Complex previous = delay_characteristic(transfer, grid.front());
+        ++evaluations;
+        double before = std::abs(previous), at = before;
+        double argument_value = 0.0;
+        std::size_t argument_at = grid.size();  // the grid point `argument_value` belongs to
+        for (std::size_t k = 0; k + 1 < grid.size(); ++k) {
+            const Complex a = grid[k], b = grid[k + 1];
+            const double length = std::abs(b - a);
+            if (!(length > 0.0)) continue;
+            if (gains[k] < small && gains[k + 1] < small) {
+                Complex value;
+                if (argument_at != k) argument_value = argument(a, value);
+                const double next_argument = argument(b, value);
+                theta += next_argument - argument_value;
+                argument_value = next_argument;
+                argument_at = k + 1;
+                previous = value;
+                before = at = std::abs(previous);
+                continue;
+            }
+            const Complex direction = (b - a) / length;
+            double t = 0.0;
+            while (t < length) {
+                const Complex s = a + t * direction;
+                double h =
+                    std::min({length - t, 1.0 / std::max(tau_max, 1e-12), 0.25 * pole_distance(s)});
+                for (;;) {
+                    const Complex next = delay_characteristic(transfer, s + h * direction);
+                    ++evaluations;
+                    if (evaluations > budget) {
+                        failed = true;
+                        return theta;
+                    }
+                    const double step = std::arg(next / previous);
+                    if (std::abs(step) <= quarter_turn || h <= 1e-12 * std::max(1.0, std::abs(s))) {
+                        theta += step;
+                        const double after = std::abs(next);
+                        if (at < before && at <= after) dips.push_back({at, s});
+                        before = at;
+                        at = after;
+                        previous = next;
+                        t = (length - t - h <= 1e-15 * length) ? length : t + h;
+                        break;
+                    }
+                    h *= 0.5;
+                }
+            }
+            argument_at = grid.size();
+        }
+        return theta;
+    }
+};
 
 }  // namespace
 
@@ -63,25 +176,6 @@ DelayRootCount nominal_delay_root_count(const TransportTransfer& transfer, doubl
         return out;
     }
 
-    double tau_max = 0.0, shrink = 0.0;  // max_i exp(-alpha tau_i) bounds |E| on the line
-    for (double tau : transfer.delay) {
-        tau_max = std::max(tau_max, tau);
-        shrink = std::max(shrink, std::exp(-alpha * tau));
-    }
-    // the structured gain: below 1/2, rho(M E) <= sigma(D M D^-1 E) = sigma(D M D^-1) < 1/2 for
-    // every diagonal E of modulus <= 1 (D and E commute), so the eigenvalues of I - M E stay
-    // within 1/2 of 1. The mill's M is nearly lower triangular at low frequency (the thickness
-    // passes downstream; only the tension path comes back), where sigma(M) alone is ~0.8.
-    const auto gain = [&](double omega) {
-        return balanced_bound(transfer.at({alpha, omega})) * shrink;
-    };
-    const auto pole_distance = [&](double omega) {
-        double d = std::numeric_limits<double>::infinity();
-        for (Eigen::Index k = 0; k < poles.size(); ++k)
-            d = std::min(d, std::abs(Complex(alpha, omega) - poles(k)));
-        return d;
-    };
-
     // the coarse grid: log-spaced over 1e-2 .. 1e7 rad/s, and around every pole of A0
     std::vector<double> grid{0.0};
     constexpr int decades = 9, per_decade = 60;
@@ -99,68 +193,27 @@ DelayRootCount nominal_delay_root_count(const TransportTransfer& transfer, doubl
     }
     std::sort(grid.begin(), grid.end());
     grid.erase(std::unique(grid.begin(), grid.end()), grid.end());
-    std::vector<double> gains(grid.size());
-    for (std::size_t k = 0; k < grid.size(); ++k) gains[k] = gain(grid[k]);
-    if (gains.back() >= 0.5) {
+    std::vector<Complex> line;
+    line.reserve(grid.size());
+    for (double w : grid) line.emplace_back(alpha, w);
+    ArgumentTracker tracker(transfer);
+    const std::vector<double> gains = tracker.gains(line);
+    if (gains.back() >= ArgumentTracker::small) {
         out.message = "the loop gain does not fall below 1/2 by 1e7 rad/s";
         return out;
     }
 
-    double theta = 0.0;                           // the change of arg F from omega = 0
-    std::vector<std::pair<double, double>> dips;  // (|F|, omega) at local minima
-    Complex previous = delay_characteristic(transfer, {alpha, 0.0});
-    ++out.evaluations;
-    double before = std::abs(previous), at = before;  // |F| at the last two points followed
-    double argument = 0.0, argument_at = -1.0;        // the eigenvalues' arguments' sum, and where
-    constexpr double small = 0.5, quarter_turn = std::numbers::pi / 4.0;
-    constexpr int budget = 4'000'000;
-    for (std::size_t k = 0; k + 1 < grid.size(); ++k) {
-        const double a = grid[k], b = grid[k + 1];
-        if (gains[k] < small && gains[k + 1] < small) {
-            // no winding possible: the eigenvalues' principal arguments carry arg F
-            if (!(argument_at == a)) {
-                argument = eigen_argument(loop(transfer, {alpha, a}));
-                ++out.evaluations;
-            }
-            const Eigen::MatrixXcd xb = loop(transfer, {alpha, b});
-            const double next_argument = eigen_argument(xb);
-            theta += next_argument - argument;
-            argument = next_argument;
-            argument_at = b;
-            previous = xb.partialPivLu().determinant();
-            before = at = std::abs(previous);
-            ++out.evaluations;
-            continue;
-        }
-        double omega = a;
-        while (omega < b) {
-            double h =
-                std::min({b - omega, 1.0 / std::max(tau_max, 1e-12), 0.25 * pole_distance(omega)});
-            for (;;) {
-                const Complex next = delay_characteristic(transfer, {alpha, omega + h});
-                ++out.evaluations;
-                if (out.evaluations > budget) {
-                    out.message = "the argument principle needed more than 4e6 evaluations";
-                    return out;
-                }
-                const double step = std::arg(next / previous);
-                if (std::abs(step) <= quarter_turn || h <= 1e-12 * std::max(1.0, omega)) {
-                    theta += step;
-                    const double after = std::abs(next);
-                    if (at < before && at <= after) dips.push_back({at, omega});
-                    before = at;
-                    at = after;
-                    previous = next;
-                    omega += h;
-                    break;
-                }
-                h *= 0.5;
-            }
-        }
+    std::vector<std::pair<double, Complex>> dips;  // (|F|, s) at local minima
+    double theta = tracker.follow(line, gains, dips);
+    out.evaluations = tracker.evaluations;
+    if (tracker.failed) {
+        out.message = "the argument principle needed more than 4e6 evaluations";
+        return out;
     }
     // the tail: from the last point, where every eigenvalue of I - M E is within 1/2 of 1, to
     // infinity, where M = O(1/s^2) and F -> 1
-    theta -= eigen_argument(loop(transfer, {alpha, grid.back()}));
+    Complex last;
+    theta -= tracker.argument(line.back(), last);
     // omega = 0: F is real there, so arg F(alpha) is 0 or pi; the increments start from it
     const double winding = -theta / std::numbers::pi;
     const double total = out.frozen_right + winding;
@@ -168,9 +221,10 @@ DelayRootCount nominal_delay_root_count(const TransportTransfer& transfer, doubl
     out.count = static_cast<int>(std::lround(total));
     out.integer_error = std::abs(total - out.count);
     out.ok = out.integer_error < 1e-2;
-    std::sort(dips.begin(), dips.end());
+    std::sort(dips.begin(), dips.end(),
+              [](const auto& x, const auto& y) { return x.first < y.first; });
     if (dips.size() > 16) dips.resize(16);
-    for (const auto& [value, omega] : dips) out.dips.emplace_back(alpha, omega);
+    for (const auto& dip : dips) out.dips.push_back(dip.second);
     out.message = out.ok ? "" : "the winding number is not an integer: F vanishes near the line";
     return out;
 }
@@ -234,96 +288,6 @@ RightmostDelayRoot rightmost_delay_root(const TransportTransfer& transfer,
 }
 
 namespace {
-
-// arg F followed along a polyline (the band's edges): the same rules as the line's count.
-struct ArgumentTracker {
-    const TransportTransfer& transfer;
-    double tau_max = 0.0;
-    int evaluations = 0;
-    bool failed = false;
-    static constexpr int budget = 4'000'000;
-
-    explicit ArgumentTracker(const TransportTransfer& t) : transfer(t) {
-        for (double tau : t.delay) tau_max = std::max(tau_max, tau);
-    }
-
-    // the structured gain of the loop M E at s (below 1/2: no winding possible)
-    double gain(Complex s) const {
-        double shrink = 0.0;
-        for (double tau : transfer.delay) shrink = std::max(shrink, std::exp(-s.real() * tau));
-        return balanced_bound(transfer.at(s)) * shrink;
-    }
-
-    double pole_distance(Complex s) const {
-        double d = std::numeric_limits<double>::infinity();
-        for (Eigen::Index k = 0; k < transfer.poles.size(); ++k)
-            d = std::min(d, std::abs(s - transfer.poles(k)));
-        return d;
-    }
-
-    // The change of arg F along the polyline through `grid`; the local minima of |F| met where
-    // it is followed step by step go to `dips` as (|F|, s).
-    double follow(const std::vector<Complex>& grid, std::vector<std::pair<double, Complex>>& dips) {
-        constexpr double small = 0.5, quarter_turn = std::numbers::pi / 4.0;
-        std::vector<double> gains(grid.size());
-        for (std::size_t k = 0; k < grid.size(); ++k) gains[k] = gain(grid[k]);
-        double theta = 0.0;
-        Complex previous = delay_characteristic(transfer, grid.front());
-        ++evaluations;
-        double before = std::abs(previous), at = before;
-        double argument = 0.0;
-        std::size_t argument_at = grid.size();  // the grid point `argument` belongs to
-        for (std::size_t k = 0; k + 1 < grid.size(); ++k) {
-            const Complex a = grid[k], b = grid[k + 1];
-            const double length = std::abs(b - a);
-            if (!(length > 0.0)) continue;
-            if (gains[k] < small && gains[k + 1] < small) {
-                if (argument_at != k) {
-                    argument = eigen_argument(loop(transfer, a));
-                    ++evaluations;
-                }
-                const Eigen::MatrixXcd xb = loop(transfer, b);
-                const double next_argument = eigen_argument(xb);
-                theta += next_argument - argument;
-                argument = next_argument;
-                argument_at = k + 1;
-                previous = xb.partialPivLu().determinant();
-                before = at = std::abs(previous);
-                ++evaluations;
-                continue;
-            }
-            const Complex direction = (b - a) / length;
-            double t = 0.0;
-            while (t < length) {
-                const Complex s = a + t * direction;
-                double h =
-                    std::min({length - t, 1.0 / std::max(tau_max, 1e-12), 0.25 * pole_distance(s)});
-                for (;;) {
-                    const Complex next = delay_characteristic(transfer, s + h * direction);
-                    ++evaluations;
-                    if (evaluations > budget) {
-                        failed = true;
-                        return theta;
-                    }
-                    const double step = std::arg(next / previous);
-                    if (std::abs(step) <= quarter_turn || h <= 1e-12 * std::max(1.0, std::abs(s))) {
-                        theta += step;
-                        const double after = std::abs(next);
-                        if (at < before && at <= after) dips.push_back({at, s});
-                        before = at;
-                        at = after;
-                        previous = next;
-                        t = (length - t - h <= 1e-15 * length) ? length : t + h;
-                        break;
-                    }
-                    h *= 0.5;
-                }
-            }
-            argument_at = grid.size();
-        }
-        return theta;
-    }
-};
 
 // Points on [from, to] for an edge's gain grid: log-spaced (60 a decade) from `from` > 0, or
 // `uniform` equal intervals, plus the points around each coordinate in `centres` at the given
@@ -456,14 +420,18 @@ BandRootCount band_root_count(const TransportTransfer& transfer, double omega_ma
         return p;
     };
     std::vector<std::pair<double, Complex>> left_dips, edge_dips;
+    const auto follow = [&](const std::vector<Complex>& edge,
+                            std::vector<std::pair<double, Complex>>& dips) {
+        return tracker.follow(edge, tracker.gains(edge), dips);
+    };
     const double left =
-        tracker.follow(path(heights, [&](double w) { return Complex(alpha, w); }), left_dips);
+        follow(path(heights, [&](double w) { return Complex(alpha, w); }), left_dips);
     const double right_edge =
-        tracker.follow(path(heights, [&](double w) { return Complex(right, w); }), edge_dips);
-    const double top = tracker.follow(
+        follow(path(heights, [&](double w) { return Complex(right, w); }), edge_dips);
+    const double top = follow(
         path(abscissae(omega_max), [&](double x) { return Complex(x, omega_max); }), edge_dips);
-    const double bottom = tracker.follow(
-        path(abscissae(epsilon), [&](double x) { return Complex(x, epsilon); }), edge_dips);
+    const double bottom =
+        follow(path(abscissae(epsilon), [&](double x) { return Complex(x, epsilon); }), edge_dips);
     out.evaluations = tracker.evaluations;
     if (tracker.failed) {
         out.message = "the argument principle needed more than 4e6 evaluations";

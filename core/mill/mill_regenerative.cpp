@@ -1,9 +1,12 @@
 #include "core/mill/mill_regenerative.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
+#include <vector>
 
+#include "core/golden_section.h"
 #include "core/stability.h"
 
 namespace rollgap::core {
@@ -36,15 +39,68 @@ TransportTransfer transport_transfer(const MillLinearisation& lin) {
     return out;
 }
 
-Eigen::MatrixXcd TransportTransfer::at(std::complex<double> s) const {
-    const Eigen::Index n = poles.size(), p = input.cols();
-    if (p == 0) return Eigen::MatrixXcd(0, 0);
-    Eigen::MatrixXcd right(n, p);
-    for (Eigen::Index k = 0; k < n; ++k) {
-        const std::complex<double> r = 1.0 / (s - poles(k));
-        right.row(k) = r * (input.row(k) + s * input_rate.row(k));
+namespace {
+
+// M(s) for P spans (P = 0: any count): the sum over the modes k of (C V)_k r_k
+// (V^-1 (B + s B'))_k, a rank-one update per mode, in real arithmetic on the parts (no library
+// call per complex product or quotient; 1 / (s - lambda) as conj / |.|^2, the library's overflow
+// guard being moot at distances of 1e-12 .. 1e9) with the accumulators in fixed-size arrays
+// the compiler keeps in registers. A p x n by n x p product is too small for the blocked GEMM,
+// which cost ten times more; the counts of docs/model.md §12.6 evaluate M ~10^3 times a speed.
+template <int P>
+Eigen::MatrixXcd transfer_at(const TransportTransfer& t, std::complex<double> s) {
+    const Eigen::Index n = t.poles.size(), p = P > 0 ? P : t.input.cols();
+    constexpr std::size_t fixed = P > 0 ? static_cast<std::size_t>(P * P) : 1;
+    std::array<double, fixed> fixed_re{}, fixed_im{};
+    std::vector<double> any_re, any_im;
+    double* re = fixed_re.data();
+    double* im = fixed_im.data();
+    if constexpr (P == 0) {
+        any_re.assign(static_cast<std::size_t>(p * p), 0.0);
+        any_im.assign(any_re.size(), 0.0);
+        re = any_re.data();
+        im = any_im.data();
     }
-    return output * right;
+    const double sr = s.real(), si = s.imag();
+    const std::complex<double>* poles = t.poles.data();
+    const std::complex<double>* input = t.input.data();
+    const std::complex<double>* rate = t.input_rate.data();
+    const std::complex<double>* output = t.output.data();
+    for (Eigen::Index k = 0; k < n; ++k) {
+        const double dr = sr - poles[k].real(), di = si - poles[k].imag();
+        const double norm = dr * dr + di * di;
+        const double rr = dr / norm, ri = -di / norm;    // 1 / (s - lambda_k)
+        const std::complex<double>* c = output + k * p;  // column k of C V
+        for (Eigen::Index j = 0; j < p; ++j) {
+            const std::complex<double> b = input[k + j * n], b_rate = rate[k + j * n];
+            // (b + s b') / (s - lambda_k)
+            const double xr = b.real() + sr * b_rate.real() - si * b_rate.imag();
+            const double xi = b.imag() + sr * b_rate.imag() + si * b_rate.real();
+            const double yr = xr * rr - xi * ri, yi = xr * ri + xi * rr;
+            for (Eigen::Index i = 0; i < p; ++i) {
+                re[j * p + i] += c[i].real() * yr - c[i].imag() * yi;
+                im[j * p + i] += c[i].real() * yi + c[i].imag() * yr;
+            }
+        }
+    }
+    Eigen::MatrixXcd m(p, p);
+    for (Eigen::Index j = 0; j < p; ++j)
+        for (Eigen::Index i = 0; i < p; ++i) m(i, j) = {re[j * p + i], im[j * p + i]};
+    return m;
+}
+
+}  // namespace
+
+Eigen::MatrixXcd TransportTransfer::at(std::complex<double> s) const {
+    switch (input.cols()) {
+        case 0: return Eigen::MatrixXcd(0, 0);
+        case 1: return transfer_at<1>(*this, s);
+        case 2: return transfer_at<2>(*this, s);
+        case 3: return transfer_at<3>(*this, s);
+        case 4: return transfer_at<4>(*this, s);
+        case 5: return transfer_at<5>(*this, s);
+        default: return transfer_at<0>(*this, s);
+    }
 }
 
 Eigen::VectorXcd delay_root_vector(const TransportTransfer& transfer, std::complex<double> s) {
@@ -73,16 +129,21 @@ Eigen::VectorXcd transport_response(const TransportTransfer& transfer, std::comp
 
 namespace {
 
+// The largest singular value: the square root of the largest eigenvalue of the Hermitian
+// m^H m (p <= 5; an order cheaper than a Jacobi SVD, and as accurate for the largest value).
 double largest_singular_value(const Eigen::MatrixXcd& m) {
     if (m.size() == 1) return std::abs(m(0, 0));
-    return Eigen::JacobiSVD<Eigen::MatrixXcd>(m).singularValues()(0);
+    const Eigen::MatrixXcd gram = m.adjoint() * m;
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXcd> eig(gram, Eigen::EigenvaluesOnly);
+    return std::sqrt(std::max(eig.eigenvalues().maxCoeff(), 0.0));
 }
 
 double scaled(const Eigen::MatrixXcd& m, const Eigen::VectorXd& x) {
     const Eigen::Index p = m.rows();
+    const Eigen::VectorXd d = x.array().exp();
     Eigen::MatrixXcd s(p, p);
-    for (Eigen::Index i = 0; i < p; ++i)
-        for (Eigen::Index j = 0; j < p; ++j) s(i, j) = m(i, j) * std::exp(x(i) - x(j));
+    for (Eigen::Index j = 0; j < p; ++j)
+        for (Eigen::Index i = 0; i < p; ++i) s(i, j) = m(i, j) * (d(i) / d(j));
     return largest_singular_value(s);
 }
 
@@ -91,16 +152,21 @@ double scaled(const Eigen::MatrixXcd& m, const Eigen::VectorXd& x) {
 Eigen::VectorXd osborne(const Eigen::MatrixXcd& m, int sweeps) {
     const Eigen::Index p = m.rows();
     Eigen::VectorXd x = Eigen::VectorXd::Zero(p);
-    const Eigen::MatrixXd a = m.cwiseAbs();
+    Eigen::VectorXd d = Eigen::VectorXd::Ones(p);  // exp(x)
+    const Eigen::MatrixXd a = m.cwiseAbs2();
     for (int sweep = 0; sweep < sweeps; ++sweep) {
         for (Eigen::Index i = 0; i < p; ++i) {
             double row = 0.0, col = 0.0;
             for (Eigen::Index j = 0; j < p; ++j) {
                 if (j == i) continue;
-                row += a(i, j) * a(i, j) * std::exp(2.0 * (x(i) - x(j)));
-                col += a(j, i) * a(j, i) * std::exp(2.0 * (x(j) - x(i)));
+                const double ratio = d(i) / d(j);
+                row += a(i, j) * ratio * ratio;
+                col += a(j, i) / (ratio * ratio);
             }
-            if (row > 0.0 && col > 0.0) x(i) += 0.25 * std::log(col / row);
+            if (row > 0.0 && col > 0.0) {
+                x(i) += 0.25 * std::log(col / row);
+                d(i) = std::exp(x(i));
+            }
         }
     }
     if (p > 0) x.array() -= x(0);
@@ -116,33 +182,14 @@ double structured_bound(const Eigen::MatrixXcd& m, Eigen::VectorXd* scaling) {
         const Eigen::VectorXd balanced = osborne(m, 20);
         if (scaled(m, balanced) < scaled(m, x)) x = balanced;
         // cyclic golden-section searches on each log d_i (i >= 1), the function convex in x
-        constexpr double golden = 0.6180339887498949;
         for (int sweep = 0; sweep < 3; ++sweep) {
             for (Eigen::Index i = 1; i < p; ++i) {
-                double lo = x(i) - 8.0, hi = x(i) + 8.0;
                 Eigen::VectorXd trial = x;
                 const auto f = [&](double xi) {
                     trial(i) = xi;
                     return scaled(m, trial);
                 };
-                double c = hi - golden * (hi - lo), d = lo + golden * (hi - lo);
-                double fc = f(c), fd = f(d);
-                for (int k = 0; k < 40; ++k) {
-                    if (fc < fd) {
-                        hi = d;
-                        d = c;
-                        fd = fc;
-                        c = hi - golden * (hi - lo);
-                        fc = f(c);
-                    } else {
-                        lo = c;
-                        c = d;
-                        fc = fd;
-                        d = lo + golden * (hi - lo);
-                        fd = f(d);
-                    }
-                }
-                const double best = 0.5 * (lo + hi);
+                const double best = golden_section_minimum(f, x(i) - 8.0, x(i) + 8.0, 40).x;
                 trial(i) = best;
                 if (scaled(m, trial) < scaled(m, x)) x(i) = best;
             }
@@ -152,10 +199,21 @@ double structured_bound(const Eigen::MatrixXcd& m, Eigen::VectorXd* scaling) {
     return p == 0 ? 0.0 : scaled(m, x);
 }
 
-double balanced_bound(const Eigen::MatrixXcd& m) {
+double balanced_bound(const Eigen::MatrixXcd& m, double enough) {
     if (m.rows() == 0) return 0.0;
     if (m.rows() == 1) return std::abs(m(0, 0));
-    return scaled(m, osborne(m, 10));
+    const Eigen::VectorXd x = osborne(m, 10);
+    if (enough > 0.0) {
+        // the Frobenius norm bounds sigma from above: below `enough` it answers the question
+        const Eigen::VectorXd d = x.array().exp();
+        double sum = 0.0;
+        for (Eigen::Index j = 0; j < m.cols(); ++j)
+            for (Eigen::Index i = 0; i < m.rows(); ++i)
+                sum += std::norm(m(i, j)) * d(i) * d(i) / (d(j) * d(j));
+        const double frobenius = std::sqrt(sum);
+        if (frobenius < enough) return frobenius;
+    }
+    return scaled(m, x);
 }
 
 RegenerativeMargin regenerative_margin(const TransportTransfer& transfer,
@@ -202,27 +260,13 @@ RegenerativeMargin regenerative_margin(const TransportTransfer& transfer,
     if (peaks.size() > 3) peaks.resize(3);
     out.margin = -1.0;
     for (std::size_t k : peaks) {
-        double a = std::log(frequencies[k == 0 ? 0 : k - 1]);
-        double b = std::log(frequencies[std::min(k + 1, frequencies.size() - 1)]);
-        constexpr double golden = 0.6180339887498949;
-        double c = b - golden * (b - a), d = a + golden * (b - a);
-        double fc = scan_bound(std::exp(c)), fd = scan_bound(std::exp(d));
-        for (int it = 0; it < 40 && b - a > 1e-10; ++it) {
-            if (fc > fd) {
-                b = d;
-                d = c;
-                fd = fc;
-                c = b - golden * (b - a);
-                fc = scan_bound(std::exp(c));
-            } else {
-                a = c;
-                c = d;
-                fc = fd;
-                d = a + golden * (b - a);
-                fd = scan_bound(std::exp(d));
-            }
-        }
-        const double f = std::exp(0.5 * (a + b));
+        const double a = std::log(frequencies[k == 0 ? 0 : k - 1]);
+        const double b = std::log(frequencies[std::min(k + 1, frequencies.size() - 1)]);
+        // the bound's maximum: the minimum of its negative
+        const double peak = golden_section_minimum(
+                                [&](double x) { return -scan_bound(std::exp(x)); }, a, b, 40, 1e-10)
+                                .x;
+        const double f = std::exp(peak);
         Eigen::VectorXd scaling;
         ++out.evaluations;
         const Eigen::MatrixXcd m = transfer.at({0.0, two_pi * f});
