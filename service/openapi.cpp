@@ -216,24 +216,37 @@ json component_ref(std::string_view component) {
     return {{"$ref", concat("#/components/schemas/", component)}};
 }
 
-// "base" in every request that carries a scenario patch (the analysis routes' bodies and the
-// full request of a job), typed once here rather than in each request schema.
+// "base" in every request that carries a scenario or a tandem patch (the analysis routes' bodies
+// and the full request of a job), typed once here rather than in each request schema.
 void add_base(json& schemas) {
-    const json base = {
-        {"allOf", json::array({component_ref("ScenarioName")})},
-        {"description",
-         "The name of a stored scenario (PUT /v1/scenarios/{name}): `scenario` is merged onto it "
-         "instead of the default (null in the patch still restores the built-in default). The "
-         "result echoes it as `base` {name, version}. 422 at /base when no such scenario is "
-         "stored; 503 store_unavailable when the store cannot be reached. Absent: the store is "
-         "not used."},
+    const auto base = [](std::string_view description) {
+        return json{{"allOf", json::array({component_ref("ScenarioName")})},
+                    {"description", description}};
     };
+    const json stand = base(
+        "The name of a stored scenario (PUT /v1/scenarios/{name}): `scenario` is merged onto it "
+        "instead of the default (null in the patch still restores the built-in default). The "
+        "result echoes it as `base` {name, version}. 422 at /base when no such scenario is "
+        "stored; 503 store_unavailable when the store cannot be reached. Absent: the store is "
+        "not used.");
+    const json mill = base(
+        "The name of a stored mill (PUT /v1/mills/{name}): `tandem` is merged onto it instead of "
+        "the default mill (arrays such as `stands` are replaced whole). The result echoes it as "
+        "`base` {name, version}. 422 at /base when no such mill is stored or the name holds a "
+        "stand scenario; 503 store_unavailable when the store cannot be reached. Absent: the "
+        "store is not used.");
+    const json either = base(
+        "The name of a stored scenario (a stand's analysis: `scenario` is merged onto it) or of "
+        "a stored mill (a mill's analysis, `tandem`: PUT /v1/mills/{name}); the kind must match "
+        "the analysis. The result echoes it as `base` {name, version}. 422 at /base when no "
+        "such document is stored; 503 store_unavailable when the store cannot be reached.");
     for (auto& [name, schema] : schemas.items()) {
-        if (!std::string_view(name).ends_with("Request") || !schema.contains("properties") ||
-            !schema["properties"].contains("scenario")) {
+        if (!std::string_view(name).ends_with("Request") || !schema.contains("properties"))
             continue;
-        }
-        schema["properties"]["base"] = base;
+        const bool of_stand = schema["properties"].contains("scenario");
+        const bool of_mill = schema["properties"].contains("tandem");
+        if (of_stand || of_mill)
+            schema["properties"]["base"] = of_stand && of_mill ? either : of_stand ? stand : mill;
     }
 }
 

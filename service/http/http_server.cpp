@@ -3,6 +3,7 @@
 #include "api/json_text.h"
 #include "api/problem.h"
 #include "api/scenario_json.h"
+#include "api/tandem_json.h"
 #include "api/text.h"
 #include "service/http/admin_endpoints.h"
 #include "service/http/job_endpoints.h"
@@ -74,7 +75,8 @@ struct HttpServer::Impl {
     SyncDispatch sync{state};
     JobRunner runner{state};
     JobEndpoints job_endpoints{state, runner};
-    ScenarioEndpoints scenario_endpoints{state};
+    ScenarioEndpoints scenario_endpoints{state, store::StoredKind::stand};
+    ScenarioEndpoints mill_endpoints{state, store::StoredKind::mill};
     Listener server{limits_for(state.config)};
     Listener admin{limits_for(state.config)};
     std::thread server_thread, admin_thread;
@@ -86,6 +88,7 @@ struct HttpServer::Impl {
     std::mutex shutdown_mutex;
 
     const std::string default_scenario_text = dump(api::default_scenario_json());
+    const std::string default_mill_text = dump(api::default_tandem_json());
 
     Impl(ServerConfig resolved, Evaluator evaluate, std::shared_ptr<spdlog::logger> logger)
         : request_logger(logger ? std::move(logger) : spdlog::default_logger()),
@@ -193,6 +196,18 @@ struct HttpServer::Impl {
                 response.status = 200;
                 response.set_content(default_scenario_text, "application/json");
                 return;
+            case RouteId::mills:
+            case RouteId::mill:
+                mill_endpoints.get_or_delete(request, t_context.client, response);
+                return;
+            case RouteId::mills_default:
+                if (request.method == "DELETE") {
+                    mill_endpoints.get_or_delete(request, t_context.client, response);  // 422
+                    return;
+                }
+                response.status = 200;
+                response.set_content(default_mill_text, "application/json");
+                return;
             case RouteId::openapi:
                 response.status = 200;
                 response.set_content(openapi_text(), "application/json");
@@ -273,7 +288,9 @@ struct HttpServer::Impl {
                 job_endpoints.create(std::move(document),
                                      request.get_header_value("Idempotency-Key"), response);
             } else if (request.method == "PUT") {
-                scenario_endpoints.put(request, std::move(document), t_context.client, response);
+                const bool mill = route->id == RouteId::mill || route->id == RouteId::mills_default;
+                (mill ? mill_endpoints : scenario_endpoints)
+                    .put(request, std::move(document), t_context.client, response);
             } else {
                 run_route(*route, request, std::move(document), response);
             }

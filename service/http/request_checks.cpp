@@ -85,7 +85,9 @@ Scope route_scope(const Route& route, std::string_view method) {
     const bool reads = method == "GET" || method == "HEAD";
     switch (route.id) {
         case RouteId::scenarios:
-        case RouteId::scenario: return reads ? scope_read : scope_write;
+        case RouteId::scenario:
+        case RouteId::mills:
+        case RouteId::mill: return reads ? scope_read : scope_write;
         case RouteId::jobs:
         case RouteId::job: return reads ? scope_read : scope_compute;
         default: return scope_compute;

@@ -16,6 +16,10 @@ constexpr std::array scenario_routes{
     Route{RouteId::scenarios_default, "/v1/scenarios/default", get | put | del, false, "", false},
     Route{RouteId::scenarios, "/v1/scenarios", get, true, "", false},
     Route{RouteId::scenario, "/v1/scenarios/{name}", get | put | del, true, "", false},
+    // Stored mills (tandem documents), the same rules; `default` is the default mill.
+    Route{RouteId::mills_default, "/v1/mills/default", get | put | del, false, "", false},
+    Route{RouteId::mills, "/v1/mills", get, true, "", false},
+    Route{RouteId::mill, "/v1/mills/{name}", get | put | del, true, "", false},
 };
 constexpr std::array other_routes{
     Route{RouteId::jobs, "/v1/jobs", get | post, true, "", false},
@@ -51,9 +55,11 @@ const Route* match_route(std::string_view path) {
     for (const Route& route : route_table()) {
         if (route.id == RouteId::static_file) {
             if (path.starts_with(static_prefix)) return &route;
-        } else if (route.id == RouteId::job || route.id == RouteId::scenario) {
-            const std::string_view prefix =
-                route.id == RouteId::job ? jobs_prefix : scenario_prefix;
+        } else if (route.id == RouteId::job || route.id == RouteId::scenario ||
+                   route.id == RouteId::mill) {
+            const std::string_view prefix = route.id == RouteId::job        ? jobs_prefix
+                                            : route.id == RouteId::scenario ? scenario_prefix
+                                                                            : mill_prefix;
             if (path.size() > prefix.size() && path.starts_with(prefix) &&
                 path.find('/', prefix.size()) == std::string_view::npos) {
                 return &route;

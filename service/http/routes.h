@@ -14,6 +14,9 @@ enum class RouteId {
     scenarios_default,
     scenarios,
     scenario,
+    mills_default,
+    mills,
+    mill,
     analysis,  // the synchronous route of an analysis (Route::analysis names it)
     jobs,
     job,
@@ -37,6 +40,7 @@ struct Route {
 inline constexpr std::string_view unmatched_route = "unmatched";
 inline constexpr std::string_view jobs_prefix = "/v1/jobs/";
 inline constexpr std::string_view scenario_prefix = "/v1/scenarios/";
+inline constexpr std::string_view mill_prefix = "/v1/mills/";
 
 std::span<const Route> all_routes();
 

@@ -3,6 +3,7 @@
 #include "api/json_text.h"
 #include "api/request_json.h"
 #include "api/text.h"
+#include "service/analyses/table.h"
 #include "service/http/responses.h"
 
 namespace rollgap::service::http {
@@ -32,6 +33,17 @@ std::optional<Outcome> resolve_base(json& request, ServiceState& state) {
                             concat("must be a string, not ", api::json_type_name(*found)));
     }
     const std::string name = found->get<std::string>();
+    // A stand's analysis takes a stored scenario and merges "scenario" onto it; a mill's takes
+    // a stored mill and merges "tandem". An unknown analysis is the facade's to report.
+    const auto analysis_name = request.find("analysis");
+    const Analysis* analysis =
+        analysis_name != request.end() && analysis_name->is_string()
+            ? find_analysis(analyses(), analysis_name->get_ref<const std::string&>())
+            : nullptr;
+    const bool mill = analysis != nullptr && analysis->subject() == Subject::mill;
+    const store::StoredKind kind = mill ? store::StoredKind::mill : store::StoredKind::stand;
+    const std::string_view member = mill ? "tandem" : "scenario";
+    const std::string_view noun = mill ? "mill" : "scenario";
     if (auto error = api::stored_scenario_name_error(name, "/base")) {
         return problem_outcome(api::make_problem(api::ProblemCode::invalid_request,
                                                  "\"base\" is not a stored scenario's name",
@@ -49,8 +61,9 @@ std::optional<Outcome> resolve_base(json& request, ServiceState& state) {
     auto stored = store->get_scenario(name);
     state.store.report(stored.status);
     if (stored.status == store::StoreStatus::not_found) {
-        return base_problem(concat("no stored scenario ", api::quoted_for_message(name)),
-                            "names no stored scenario; GET /v1/scenarios lists them");
+        return base_problem(concat("no stored ", noun, " ", api::quoted_for_message(name)),
+                            concat("names no stored ", noun, "; GET ",
+                                   mill ? "/v1/mills" : "/v1/scenarios", " lists them"));
     }
     if (!stored.ok()) {
         return problem_outcome(
@@ -58,17 +71,26 @@ std::optional<Outcome> resolve_base(json& request, ServiceState& state) {
                               "the scenario store did not answer, so \"base\" cannot be "
                               "resolved; retry later, or send the scenario itself"));
     }
+    if (stored.value->kind != kind) {
+        return base_problem(
+            concat(api::quoted_for_message(name), " is a stored ", mill ? "stand scenario" : "mill",
+                   ", not a ", noun),
+            mill ? concat("names a stored stand scenario; a mill's analysis (", analysis->name,
+                          ") takes a stored mill (GET /v1/mills lists them)")
+                 : std::string("names a stored mill; a stand's analysis takes a stored scenario "
+                               "(GET /v1/scenarios lists them), a mill's is POST /v1/tandem"));
+    }
     auto parsed = api::parse_json_text(stored.value->body);
     if (std::holds_alternative<api::Problem>(parsed)) {
         // Only this service writes the table, always valid JSON: a corrupted row is a fault.
         return problem_outcome(api::make_problem(api::ProblemCode::internal,
                                                  concat("stored scenario ", name, " is not JSON")));
     }
-    json scenario = std::move(std::get<json>(parsed));
+    json document = std::move(std::get<json>(parsed));
     // null and absent are the same patch: nothing changes.
-    if (const auto patch = request.find("scenario"); patch != request.end() && !patch->is_null())
-        scenario.merge_patch(*patch);
-    request["scenario"] = std::move(scenario);
+    if (const auto patch = request.find(member); patch != request.end() && !patch->is_null())
+        document.merge_patch(*patch);
+    request[std::string(member)] = std::move(document);
     request["base"] = api::scenario_base_json({name, stored.value->version});
     return std::nullopt;
 }

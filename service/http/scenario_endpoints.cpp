@@ -11,6 +11,7 @@
 #include "api/field_errors.h"
 #include "api/request_json.h"
 #include "api/scenario_json.h"
+#include "api/tandem_json.h"
 #include "api/text.h"
 #include "service/http/responses.h"
 
@@ -110,29 +111,63 @@ std::string http_date(store::Millis millis) {
     return std::string(text, length);
 }
 
+}  // namespace
+
+ScenarioEndpoints::ScenarioEndpoints(ServiceState& state, store::StoredKind kind)
+    : state_(state), kind_(kind),
+      prefix_(kind == store::StoredKind::mill ? mill_prefix : scenario_prefix),
+      noun_(kind == store::StoredKind::mill ? "mill" : "scenario") {}
+
 // 422 for a name in the path that cannot be stored (the pattern, or `default`).
-bool refuse_name(const std::string& name, httplib::Response& response) {
+bool ScenarioEndpoints::refuse_name(const std::string& name, httplib::Response& response) const {
     auto error = api::stored_scenario_name_error(name, "/name");
     if (!error) return false;
     error->detail = concat("the {name} of the path: ", error->detail);
     set_problem(response, api::ProblemCode::invalid_request,
                 name == api::reserved_scenario_name
-                    ? concat("'", api::reserved_scenario_name,
-                             "' is the built-in default scenario: it can be read, not stored or "
-                             "deleted")
-                    : concat(api::quoted_for_message(name), " is not a scenario name"),
+                    ? concat("'", api::reserved_scenario_name, "' is the built-in default ", noun_,
+                             ": it can be read, not stored or deleted")
+                    : concat(api::quoted_for_message(name), " is not a ", noun_, " name"),
                 {std::move(*error)});
     return true;
 }
 
-void precondition_failed(httplib::Response& response, const std::string& name) {
+void ScenarioEndpoints::precondition_failed(httplib::Response& response,
+                                            const std::string& name) const {
     set_problem(response, api::ProblemCode::precondition_failed,
-                concat("scenario ", name,
+                concat(noun_, " ", name,
                        ": If-Match or If-None-Match does not hold for its current version (it "
                        "changed, was created or deleted since); GET it again"));
 }
 
-}  // namespace
+void ScenarioEndpoints::not_found(const std::string& name, httplib::Response& response) const {
+    // A name holds one kind at a time; one of the other kind is in the other collection.
+    set_problem(response, api::ProblemCode::not_found,
+                concat("no stored ", noun_, " ", name, "; GET ",
+                       prefix_.substr(0, prefix_.size() - 1), " lists them"));
+}
+
+bool ScenarioEndpoints::resolve_body(const json& body, json& resolved,
+                                     httplib::Response& response) const {
+    // The same reading as an analysis' "scenario" or "tandem": a merge patch onto the default,
+    // every violation reported with its pointer (into this body), bound and unit. Nothing is
+    // stored unless the whole document is valid.
+    api::FieldErrors errors;
+    if (kind_ == store::StoredKind::mill) {
+        const core::Mill mill = api::mill_from_patch(body, "", errors);
+        if (errors.empty()) resolved = api::resolved_tandem_json(mill);
+    } else {
+        const core::Scenario scenario = api::scenario_from_patch(body, "", errors);
+        if (errors.empty()) resolved = api::resolved_scenario_json(scenario);
+    }
+    if (errors.empty()) return true;
+    set_problem(response,
+                errors.to_problem(api::ProblemCode::invalid_scenario,
+                                  concat(std::to_string(errors.size()),
+                                         errors.size() == 1 ? " violation" : " violations",
+                                         " in the ", noun_, "; nothing was stored")));
+    return false;
+}
 
 bool ScenarioEndpoints::expected_version(store::JobStore& store, const std::string& name,
                                          const EntityTags& if_match,
@@ -154,8 +189,10 @@ bool ScenarioEndpoints::expected_version(store::JobStore& store, const std::stri
         state_.store_unavailable(response, std::string(store_down));
         return false;
     }
-    const std::optional<std::int64_t> version =
-        current.ok() ? std::optional(current.value->version) : std::nullopt;
+    // A name of the other kind is no version of this collection's document.
+    const std::optional<std::int64_t> version = current.ok() && current.value->kind == kind_
+                                                    ? std::optional(current.value->version)
+                                                    : std::nullopt;
     if (!preconditions_hold(if_match, if_none_match, version)) {
         precondition_failed(response, name);
         return false;
@@ -166,11 +203,11 @@ bool ScenarioEndpoints::expected_version(store::JobStore& store, const std::stri
 
 void ScenarioEndpoints::get_or_delete(const httplib::Request& request, const std::string& client,
                                       httplib::Response& response) {
-    if (!request.path.starts_with(scenario_prefix)) {
+    if (!request.path.starts_with(prefix_)) {
         list(request, response);
         return;
     }
-    const std::string name = request.path.substr(scenario_prefix.size());
+    const std::string name = request.path.substr(prefix_.size());
     if (request.method == "DELETE") {
         remove(name, request, client, response);
     } else {
@@ -180,6 +217,7 @@ void ScenarioEndpoints::get_or_delete(const httplib::Request& request, const std
 
 void ScenarioEndpoints::list(const httplib::Request& request, httplib::Response& response) {
     store::ScenarioQuery query;
+    query.kind = kind_;
     query.limit = default_page;
     if (!read_page_limit(request, response, max_page, query.limit)) return;
     if (request.has_param("cursor")) query.cursor = request.get_param_value("cursor");
@@ -199,7 +237,7 @@ void ScenarioEndpoints::list(const httplib::Request& request, httplib::Response&
                              {"updated_at", rfc3339(scenario.updated_ms)},
                              {"author", scenario.author}});
     }
-    json body = {{"scenarios", std::move(scenarios)}};
+    json body = {{kind_ == store::StoredKind::mill ? "mills" : "scenarios", std::move(scenarios)}};
     if (listed.value->next_cursor) body["next_cursor"] = *listed.value->next_cursor;
     set_json(response, 200, body, "application/json");
 }
@@ -210,12 +248,12 @@ void ScenarioEndpoints::get(const std::string& name, httplib::Response& response
     if (!store) return state_.store_unavailable(response, std::string(store_down));
     auto found = store->get_scenario(name);
     state_.store.report(found.status);
-    if (found.status == StoreStatus::not_found) {
-        set_problem(response, api::ProblemCode::not_found,
-                    concat("no stored scenario ", name, "; GET /v1/scenarios lists them"));
+    if (!found.ok() && found.status != StoreStatus::not_found)
+        return state_.store_unavailable(response, std::string(store_down));
+    if (found.status == StoreStatus::not_found || found.value->kind != kind_) {
+        not_found(name, response);
         return;
     }
-    if (!found.ok()) return state_.store_unavailable(response, std::string(store_down));
     response.status = 200;
     response.set_header("ETag", etag(found.value->version));
     // Who wrote this version and when; the body stays the scenario itself.
@@ -232,13 +270,11 @@ void ScenarioEndpoints::remove(const std::string& name, const httplib::Request& 
     std::optional<std::int64_t> expected;
     if (!expected_version(*store, name, entity_tags(request, "If-Match"), {}, expected, response))
         return;
-    const StoreStatus status = store->delete_scenario(name, expected, client);
+    const StoreStatus status = store->delete_scenario(name, expected, client, kind_);
     state_.store.report(status);
     switch (status) {
         case StoreStatus::ok: response.status = 204; return;
-        case StoreStatus::not_found:
-            set_problem(response, api::ProblemCode::not_found, concat("no stored scenario ", name));
-            return;
+        case StoreStatus::not_found: not_found(name, response); return;
         case StoreStatus::conflict: precondition_failed(response, name); return;
         default: state_.store_unavailable(response, std::string(store_down)); return;
     }
@@ -246,23 +282,10 @@ void ScenarioEndpoints::remove(const std::string& name, const httplib::Request& 
 
 void ScenarioEndpoints::put(const httplib::Request& request, json body, const std::string& client,
                             httplib::Response& response) {
-    const std::string name = request.path.substr(scenario_prefix.size());
+    const std::string name = request.path.substr(prefix_.size());
     if (refuse_name(name, response)) return;
-
-    // The same reading as an analysis' "scenario": a merge patch onto the default, every
-    // violation reported with its pointer (into this body), bound and unit. Nothing is stored
-    // unless the whole scenario is valid.
-    api::FieldErrors errors;
-    const core::Scenario scenario = api::scenario_from_patch(body, "", errors);
-    if (!errors.empty()) {
-        set_problem(response,
-                    errors.to_problem(api::ProblemCode::invalid_scenario,
-                                      concat(std::to_string(errors.size()),
-                                             errors.size() == 1 ? " violation" : " violations",
-                                             " in the scenario; nothing was stored")));
-        return;
-    }
-    const json resolved = api::resolved_scenario_json(scenario);
+    json resolved;
+    if (!resolve_body(body, resolved, response)) return;
 
     const auto store = state_.store.get();
     if (!store) return state_.store_unavailable(response, std::string(store_down));
@@ -270,16 +293,22 @@ void ScenarioEndpoints::put(const httplib::Request& request, json body, const st
     const EntityTags if_none_match = entity_tags(request, "If-None-Match");
     std::optional<std::int64_t> expected;
     if (!expected_version(*store, name, if_match, if_none_match, expected, response)) return;
-    auto written = store->put_scenario(name, dump(resolved), expected, client);
+    auto written = store->put_scenario(name, dump(resolved), expected, client, kind_);
     state_.store.report(written.status);
     switch (written.status) {
         case StoreStatus::ok: break;
         case StoreStatus::conflict:
-            if (if_match.present || if_none_match.present) {
+            if (written.detail == store::kind_conflict_detail) {
+                set_problem(response, api::ProblemCode::conflict,
+                            concat(api::quoted_for_message(name), " is a stored ",
+                                   kind_ == store::StoredKind::mill ? "stand scenario" : "mill",
+                                   ": a name holds one kind at a time; DELETE it there first or "
+                                   "choose another name"));
+            } else if (if_match.present || if_none_match.present) {
                 precondition_failed(response, name);
             } else {
                 set_problem(response, api::ProblemCode::precondition_required,
-                            concat("scenario ", name,
+                            concat(noun_, " ", name,
                                    " exists: replacing it needs If-Match with the ETag of the "
                                    "version you edited (GET it), so that no other edit is lost"));
             }
@@ -298,7 +327,7 @@ void ScenarioEndpoints::put(const httplib::Request& request, json body, const st
     }
     const bool created = written.value->created;
     response.set_header("ETag", etag(written.value->version));
-    if (created) response.set_header("Location", concat(scenario_prefix, name));
+    if (created) response.set_header("Location", concat(prefix_, name));
     set_json(response, created ? 201 : 200, resolved, "application/json");
 }
 

@@ -6,6 +6,11 @@
 // patch onto the default scenario, validated as an analysis' scenario is; the resolved full
 // scenario is stored. `default` is the built-in default, served from code (GET
 // /v1/scenarios/default) and never stored.
+//
+// Stored mills (docs/http-api.md): PUT/GET/DELETE /v1/mills/{name} and GET /v1/mills, the same
+// rules over the same versions with kind `mill`: a body is a merge patch onto the default
+// tandem document, the resolved document is stored, and a tandem request names it in "base".
+// A name is a stand or a mill at a time (one version counter per name).
 
 #include <cstdint>
 #include <optional>
@@ -24,7 +29,8 @@ struct EntityTags;
 
 class ScenarioEndpoints {
 public:
-    explicit ScenarioEndpoints(ServiceState& state) : state_(state) {}
+    // The stand scenarios (kind stand, /v1/scenarios/) or the mills (kind mill, /v1/mills/).
+    ScenarioEndpoints(ServiceState& state, store::StoredKind kind);
 
     // Page sizes of GET /v1/scenarios (?limit=&cursor=), as GET /v1/jobs.
     static constexpr std::size_t default_page = 50;
@@ -52,7 +58,19 @@ private:
                           const EntityTags& if_match, const EntityTags& if_none_match,
                           std::optional<std::int64_t>& expected, httplib::Response& response);
 
+    // The request's body read as this collection's document: the resolved document to store, or
+    // false when refused (422 answered).
+    bool resolve_body(const nlohmann::json& body, nlohmann::json& resolved,
+                      httplib::Response& response) const;
+    // 404 naming this collection; a name of the other kind is pointed to its own collection.
+    void not_found(const std::string& name, httplib::Response& response) const;
+    bool refuse_name(const std::string& name, httplib::Response& response) const;
+    void precondition_failed(httplib::Response& response, const std::string& name) const;
+
     ServiceState& state_;
+    store::StoredKind kind_;
+    std::string_view prefix_;  // "/v1/scenarios/" or "/v1/mills/"
+    std::string_view noun_;    // "scenario" or "mill"
 };
 
 }  // namespace rollgap::service::http

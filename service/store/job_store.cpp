@@ -19,6 +19,10 @@ std::string_view status_name(StoreStatus status) {
     return "unknown";
 }
 
+std::string_view stored_kind_name(StoredKind kind) {
+    return kind == StoredKind::mill ? "mill" : "stand";
+}
+
 namespace {
 constexpr std::array<std::string_view, 5> state_names = {"queued", "running", "succeeded", "failed",
                                                          "cancelled"};

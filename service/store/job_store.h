@@ -142,6 +142,14 @@ struct ChunkResult {
 
 // One version of a stored scenario (table scenario_versions): versions of a name count up
 // for ever, across deletes, so an ETag never names two different scenarios.
+// What a stored document is (column scenario_versions.kind): a stand scenario or a tandem
+// mill's document (docs/http-api.md, stored mills). A name is one thing at a time: the
+// versions of a name count up across kinds, and a write of the other kind over a live name is
+// refused (`conflict`, detail kind_conflict_detail).
+enum class StoredKind { stand, mill };
+std::string_view stored_kind_name(StoredKind kind);
+inline constexpr std::string_view kind_conflict_detail = "the name holds the other kind";
+
 struct StoredScenario {
     std::string name;
     std::string body;  // JSON text
@@ -149,11 +157,13 @@ struct StoredScenario {
     Millis updated_ms = 0;  // when this version was written
     std::string author;     // who wrote it: the client key's name, or "anonymous"
     bool created = false;   // put_scenario: the name held no scenario before this version
+    StoredKind kind = StoredKind::stand;
 };
 
 struct ScenarioQuery {
     std::size_t limit = 50;
-    std::optional<std::string> cursor;  // next_cursor of the previous page
+    std::optional<std::string> cursor;    // next_cursor of the previous page
+    StoredKind kind = StoredKind::stand;  // the page lists names of this kind only
 };
 
 struct ScenarioPage {
@@ -214,18 +224,24 @@ public:
     // Deletes finished jobs older than the retention; returns how many.
     virtual Result<std::size_t> purge() = 0;
 
-    // Stored stand scenarios; `default` is reserved (invalid). `if_match`: the version the
-    // caller last saw; a mismatch (or a missing scenario) is a conflict. A new name beyond
-    // StoreLimits::max_scenarios is `full`. `author` is recorded on the version written (a
-    // delete is a version too: who removed the stand).
+    // Stored stand scenarios and mills (`kind`); `default` is reserved (invalid). `if_match`:
+    // the version the caller last saw; a mismatch (or a missing scenario) is a conflict, as is
+    // replacing a live name of the other kind (detail kind_conflict_detail). A new name beyond
+    // StoreLimits::max_scenarios (both kinds together) is `full`. `author` is recorded on the
+    // version written (a delete is a version too: who removed the stand).
     virtual Result<StoredScenario> put_scenario(const std::string& name, const std::string& body,
                                                 std::optional<std::int64_t> if_match,
-                                                const std::string& author = "anonymous") = 0;
+                                                const std::string& author = "anonymous",
+                                                StoredKind kind = StoredKind::stand) = 0;
+    // Any kind: the caller compares StoredScenario::kind with what it expects.
     virtual Result<StoredScenario> get_scenario(const std::string& name) = 0;
+    // A live name of another kind than `kind` is not_found (it is not in that collection).
     virtual StoreStatus delete_scenario(const std::string& name,
                                         std::optional<std::int64_t> if_match,
-                                        const std::string& author = "anonymous") = 0;
-    virtual Result<std::vector<StoredScenario>> list_scenarios() = 0;  // by name, bodies omitted
+                                        const std::string& author = "anonymous",
+                                        StoredKind kind = StoredKind::stand) = 0;
+    // Stand scenarios by name, bodies omitted.
+    virtual Result<std::vector<StoredScenario>> list_scenarios() = 0;
     // A page of list_scenarios(); a cursor that is no scenario name is `invalid`.
     virtual Result<ScenarioPage> list_scenario_page(const ScenarioQuery& query) = 0;
 };

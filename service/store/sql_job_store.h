@@ -49,19 +49,19 @@ public:
     // Stored scenarios: their own rules (sql_scenario_store.cpp).
     Result<StoredScenario> put_scenario(const std::string& name, const std::string& body,
                                         std::optional<std::int64_t> if_match,
-                                        const std::string& author) override {
-        return scenarios_.put(name, body, if_match, author);
+                                        const std::string& author, StoredKind kind) override {
+        return scenarios_.put(name, body, if_match, author, kind);
     }
     Result<StoredScenario> get_scenario(const std::string& name) override {
         return scenarios_.get(name);
     }
     StoreStatus delete_scenario(const std::string& name, std::optional<std::int64_t> if_match,
-                                const std::string& author) override {
-        return scenarios_.remove(name, if_match, author);
+                                const std::string& author, StoredKind kind) override {
+        return scenarios_.remove(name, if_match, author, kind);
     }
     Result<std::vector<StoredScenario>> list_scenarios() override {
         // Bounded by max_scenarios: one page holding them all.
-        auto all = scenarios_.page({limits_.max_scenarios + 1, std::nullopt});
+        auto all = scenarios_.page({limits_.max_scenarios + 1, std::nullopt, StoredKind::stand});
         if (!all.ok()) return Result<std::vector<StoredScenario>>::failure(all.status, all.detail);
         return {StoreStatus::ok, std::move(all.value->scenarios), {}};
     }

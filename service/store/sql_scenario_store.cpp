@@ -18,10 +18,14 @@ namespace {
 
 constexpr std::string_view kind_stand = "stand";
 
-// The newest version of a name: version, deleted, body, created, author; none if never stored.
+std::string kind_text(StoredKind kind) { return std::string(stored_kind_name(kind)); }
+
+// The newest version of a name: version, deleted, body, created, author, kind; none if never
+// stored.
 std::optional<Row> newest(Session& s, const std::string& name, std::string_view lock) {
     const Rows rows = s.exec(
-        "SELECT version, deleted, body, created, author FROM scenario_versions WHERE name = $1 "
+        "SELECT version, deleted, body, created, author, kind FROM scenario_versions WHERE "
+        "name = $1 "
         "ORDER BY version DESC LIMIT 1" +
             std::string(lock),
         {name});
@@ -84,10 +88,10 @@ bool valid_scenario_name(const std::string& name) { return api::is_stored_scenar
 
 Result<StoredScenario> SqlScenarioStore::put(const std::string& name, const std::string& body,
                                              std::optional<std::int64_t> if_match,
-                                             const std::string& author) {
+                                             const std::string& author, StoredKind kind) {
     if (auto refused = refuse_name(name)) return Result<StoredScenario>::failure(*refused, "name");
     const bool postgresql = backend_.dialect() == Dialect::postgresql;
-    StoredScenario stored{name, body, 0, 0, author, false};
+    StoredScenario stored{name, body, 0, 0, author, false, kind};
     std::string detail;
     const StoreStatus status = run(
         backend_, true,
@@ -106,6 +110,9 @@ Result<StoredScenario> SqlScenarioStore::put(const std::string& name, const std:
                     static_cast<std::int64_t>(limits_.max_scenarios)) {
                     throw Abort{StoreStatus::full, "max_scenarios"};
                 }
+            } else if (current->at(5).value_or(kind_stand.data()) != stored_kind_name(kind)) {
+                // A name is one thing at a time: a mill does not replace a stand.
+                throw Abort{StoreStatus::conflict, std::string(kind_conflict_detail)};
             } else if (!if_match || *if_match != to_int(current->at(0))) {
                 // Replacing a stored scenario needs the version the editor started from, so
                 // that two editors cannot overwrite each other.
@@ -118,8 +125,7 @@ Result<StoredScenario> SqlScenarioStore::put(const std::string& name, const std:
             if (s.exec("INSERT INTO scenario_versions (name, version, kind, body, author, created, "
                        "deleted) VALUES ($1, $2, $3, $4, $5, $6, 0) "
                        "ON CONFLICT (name, version) DO NOTHING RETURNING version",
-                       {name, stored.version, std::string(kind_stand), body, author,
-                        stored.updated_ms})
+                       {name, stored.version, kind_text(kind), body, author, stored.updated_ms})
                     .empty()) {
                 throw Abort{StoreStatus::conflict, "created meanwhile"};
             }
@@ -142,12 +148,16 @@ Result<StoredScenario> SqlScenarioStore::get(const std::string& name) {
         [&](Session& s) {
             const auto current = newest(s, name, "");
             if (!current || to_int(current->at(1)) != 0) throw Abort{StoreStatus::not_found, {}};
-            found = {name,
-                     current->at(2).value_or(""),
-                     to_int(current->at(0)),
-                     to_int(current->at(3)),
-                     current->at(4).value_or(""),
-                     false};
+            found = {
+                name,
+                current->at(2).value_or(""),
+                to_int(current->at(0)),
+                to_int(current->at(3)),
+                current->at(4).value_or(""),
+                false,
+                current->at(5).value_or(kind_stand.data()) == stored_kind_name(StoredKind::mill)
+                    ? StoredKind::mill
+                    : StoredKind::stand};
         },
         detail);
     if (status != StoreStatus::ok) return Result<StoredScenario>::failure(status, detail);
@@ -155,7 +165,7 @@ Result<StoredScenario> SqlScenarioStore::get(const std::string& name) {
 }
 
 StoreStatus SqlScenarioStore::remove(const std::string& name, std::optional<std::int64_t> if_match,
-                                     const std::string& author) {
+                                     const std::string& author, StoredKind kind) {
     if (auto refused = refuse_name(name)) return *refused;
     const bool postgresql = backend_.dialect() == Dialect::postgresql;
     std::string detail;
@@ -163,7 +173,10 @@ StoreStatus SqlScenarioStore::remove(const std::string& name, std::optional<std:
         backend_, true,
         [&](Session& s) {
             const auto current = newest(s, name, postgresql ? " FOR UPDATE" : "");
-            if (!current || to_int(current->at(1)) != 0) throw Abort{StoreStatus::not_found, {}};
+            if (!current || to_int(current->at(1)) != 0 ||
+                current->at(5).value_or(kind_stand.data()) != stored_kind_name(kind)) {
+                throw Abort{StoreStatus::not_found, {}};
+            }
             const std::int64_t version = to_int(current->at(0));
             if (if_match && *if_match != version)
                 throw Abort{StoreStatus::conflict, "version mismatch"};
@@ -172,7 +185,7 @@ StoreStatus SqlScenarioStore::remove(const std::string& name, std::optional<std:
             s.exec(
                 "INSERT INTO scenario_versions (name, version, kind, body, author, created, "
                 "deleted) VALUES ($1, $2, $3, '', $4, $5, 1)",
-                {name, version + 1, std::string(kind_stand), author, clock_()});
+                {name, version + 1, kind_text(kind), author, clock_()});
             s.exec("DELETE FROM scenario_versions WHERE name = $1 AND version <= $2",
                    {name, version});
             bound_deleted_names(s, std::max<std::size_t>(limits_.deleted_names, 1), clock_());
@@ -191,8 +204,9 @@ Result<ScenarioPage> SqlScenarioStore::page(const ScenarioQuery& query) {
         [&](Session& s) {
             const Rows rows = s.exec(
                 "SELECT v.name, v.version, v.created, v.author FROM scenario_versions v WHERE " +
-                    std::string(live) + " AND v.name > $1 ORDER BY v.name LIMIT $2",
-                {query.cursor.value_or(""), static_cast<std::int64_t>(limit + 1)});
+                    std::string(live) + " AND v.kind = $1 AND v.name > $2 ORDER BY v.name LIMIT $3",
+                {kind_text(query.kind), query.cursor.value_or(""),
+                 static_cast<std::int64_t>(limit + 1)});
             for (std::size_t i = 0; i < rows.size() && i < limit; ++i) {
                 const Row& r = rows[i];
                 page.scenarios.push_back({r.at(0).value_or(""),
@@ -200,7 +214,8 @@ Result<ScenarioPage> SqlScenarioStore::page(const ScenarioQuery& query) {
                                           to_int(r.at(1)),
                                           to_int(r.at(2)),
                                           r.at(3).value_or(""),
-                                          false});
+                                          false,
+                                          query.kind});
             }
             if (rows.size() > limit) page.next_cursor = page.scenarios.back().name;
         },

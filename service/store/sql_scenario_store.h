@@ -14,10 +14,11 @@ public:
         : backend_(backend), limits_(limits), clock_(clock) {}
 
     Result<StoredScenario> put(const std::string& name, const std::string& body,
-                               std::optional<std::int64_t> if_match, const std::string& author);
+                               std::optional<std::int64_t> if_match, const std::string& author,
+                               StoredKind kind);
     Result<StoredScenario> get(const std::string& name);
     StoreStatus remove(const std::string& name, std::optional<std::int64_t> if_match,
-                       const std::string& author);
+                       const std::string& author, StoredKind kind);
     Result<ScenarioPage> page(const ScenarioQuery& query);
 
 private:

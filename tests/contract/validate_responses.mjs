@@ -193,6 +193,20 @@ async function scenarioCases(run) {
   await run(['unknown base', 'POST', '/v1/stability', json({ base: 'stand-9' }), 422, equals('/errors/0/pointer', '/base')]);
   await run(['delete scenario', 'DELETE', '/v1/scenarios/stand-1', { headers: { 'If-Match': '"2"' } }, 204]);
   await run(['deleted scenario', 'GET', '/v1/scenarios/stand-1', {}, 404]);
+  // Stored mills: the same rules over the tandem document, base in a tandem request.
+  const twoStands = { entry_thickness_mm: 1.88, exit_thickness_mm: [1.6, 1.36],
+    spans: { length_m: [5], tension_MPa: [60] }, stands: [{}, {}] };
+  await run(['default mill', 'GET', '/v1/mills/default', {}, 200]);
+  await run(['create mill', 'PUT', '/v1/mills/line-2', put(twoStands, { 'If-None-Match': '*' }), 201,
+    equals('/spans/tension_MPa/0', 60)]);
+  await run(['list mills', 'GET', '/v1/mills', {}, 200, equals('/mills/0/name', 'line-2')]);
+  await run(['get mill', 'GET', '/v1/mills/line-2', {}, 200, equals('/exit_thickness_mm/1', 1.36)]);
+  await run(['invalid stored mill', 'PUT', '/v1/mills/line-3', put({ stands: [{ rolls: { radius_mm: -5 } }] }), 422]);
+  await run(['mill over a stand', 'PUT', '/v1/mills/stand-2', put(twoStands), 201]);
+  await run(['stand over a mill', 'PUT', '/v1/scenarios/stand-2', put({}), 409]);
+  await run(['tandem on a base', 'POST', '/v1/tandem', json({ base: 'line-2', options: { critical_speed: false } }), 200,
+    every(equals('/base/name', 'line-2'), equals('/tandem/exit_thickness_mm/1', 1.36))]);
+  await run(['delete mill', 'DELETE', '/v1/mills/line-2', { headers: { 'If-Match': '"1"' } }, 204]);
 }
 
 function templateMatch(template, path) {

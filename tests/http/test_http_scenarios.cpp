@@ -375,3 +375,115 @@ TEST_CASE("scenarios: the OpenAPI document types the routes, the headers and bas
     CHECK_FALSE(json(schemas["RollGapResponse"]["required"]).dump().find("base") !=
                 std::string::npos);
 }
+
+namespace {
+
+httplib::Result put_mill(httplib::Client& client, const std::string& name, const json& body,
+                         const httplib::Headers& headers = {}) {
+    return client.Put(("/v1/mills/" + name).c_str(), headers, body.dump(), "application/json");
+}
+
+// A small mill (2 stands, docs/model.md §12.3) that differs from the default mill everywhere
+// the answer depends on: its stand count, schedule, span and set point.
+const json two_stands = {{"entry_thickness_mm", 1.88},
+                         {"exit_thickness_mm", {1.6, 1.36}},
+                         {"spans", {{"length_m", {5}}, {"tension_MPa", {60}}}},
+                         {"stands", json::array({json::object(), json::object()})}};
+
+}  // namespace
+
+TEST_CASE("stored mills over http: create, read, list, base in a tandem request and in a job") {
+    TempDir dir;
+    TestServer server(config_with_store("sqlite:" + (dir.path / "jobs.db").string()));
+    auto client = server.client();
+
+    CHECK(body_json(client.Get("/v1/mills")) == json{{"mills", json::array()}});
+    // The default mill is served from code, the document a tandem patch is merged onto.
+    const json default_mill = body_json(client.Get("/v1/mills/default"));
+    CHECK(default_mill["stands"].size() == 5);
+    CHECK(put_mill(client, "default", json::object())->status == 422);
+
+    auto created = put_mill(client, "line-2", two_stands);
+    REQUIRE(created);
+    CHECK(created->status == 201);
+    CHECK(created->get_header_value("ETag") == "\"1\"");
+    CHECK(created->get_header_value("Location") == "/v1/mills/line-2");
+    const json stored = body_json(created);
+    CHECK(stored["stands"].size() == 2);
+    CHECK(stored["spans"]["tension_MPa"] == json::array({60.0}));
+    CHECK(body_json(client.Get("/v1/mills/line-2")) == stored);
+    const json listed = body_json(client.Get("/v1/mills"));
+    REQUIRE(listed["mills"].size() == 1);
+    CHECK(listed["mills"][0]["name"] == "line-2");
+    // A mill is not a stand scenario: the stand collection does not list or serve it.
+    CHECK(body_json(client.Get("/v1/scenarios"))["scenarios"].empty());
+    CHECK(client.Get("/v1/scenarios/line-2")->status == 404);
+
+    // Validation points into the body, per stand.
+    json invalid = two_stands;
+    invalid["stands"][1] = {{"rolls", {{"radius_mm", -5}}}};
+    const json refused = body_json(put_mill(client, "line-3", invalid));
+    CHECK(refused["status"] == 422);
+    CHECK(refused["errors"][0]["pointer"] == "/stands/1/rolls/radius_mm");
+    CHECK(client.Get("/v1/mills/line-3")->status == 404);  // nothing stored
+
+    // A request with base: the stored mill with the request's patch on top, the same answer as
+    // the whole mill sent by hand.
+    const json options = {{"critical_speed", false}};
+    const json patch = {{"speed_m_per_s", 12.0}};
+    const json with_base = body_json(post_json(
+        client, "/v1/tandem", {{"base", "line-2"}, {"tandem", patch}, {"options", options}}));
+    json by_hand = two_stands;
+    by_hand["speed_m_per_s"] = 12.0;
+    const json without_base =
+        body_json(post_json(client, "/v1/tandem", {{"tandem", by_hand}, {"options", options}}));
+    REQUIRE(with_base.contains("result"));
+    CHECK(with_base["base"] == json{{"name", "line-2"}, {"version", 1}});
+    CHECK(with_base["tandem"] == without_base["tandem"]);
+    CHECK(with_base["result"] == without_base["result"]);
+
+    // A job stores the resolved request: it runs on the version it was answered with, even
+    // after the mill is replaced.
+    const std::string location = submit_job(
+        client,
+        {{"analysis", "tandem"}, {"base", "line-2"}, {"tandem", patch}, {"options", options}});
+    json three = two_stands;
+    three["exit_thickness_mm"] = {1.6, 1.36, 1.2};
+    three["spans"] = {{"length_m", {5, 5}}, {"tension_MPa", {60, 60}}};
+    three["stands"] = json::array({json::object(), json::object(), json::object()});
+    REQUIRE(put_mill(client, "line-2", three, {{"If-Match", "\"1\""}})->status == 200);
+    const json job = poll_until_finished(client, location);
+    REQUIRE(job["state"] == "succeeded");
+    CHECK(job["result"]["base"] == json{{"name", "line-2"}, {"version", 1}});
+    CHECK(job["result"]["result"] == with_base["result"]);
+
+    SUBCASE("a name holds one kind: a stand analysis cannot take a mill, nor a mill a stand") {
+        const json stand_on_mill =
+            body_json(post_json(client, "/v1/roll-gap", {{"base", "line-2"}}));
+        CHECK(stand_on_mill["status"] == 422);
+        CHECK(stand_on_mill["errors"][0]["pointer"] == "/base");
+        REQUIRE(put_scenario(client, "stand-3", stand_patch)->status == 201);
+        const json mill_on_stand =
+            body_json(post_json(client, "/v1/tandem", {{"base", "stand-3"}, {"options", options}}));
+        CHECK(mill_on_stand["status"] == 422);
+        CHECK(mill_on_stand["errors"][0]["pointer"] == "/base");
+        // Storing the other kind under a live name is a conflict, in either collection, whatever
+        // the precondition.
+        CHECK(put_mill(client, "stand-3", two_stands)->status == 409);
+        CHECK(put_scenario(client, "line-2", json::object(), {{"If-Match", "\"2\""}})->status ==
+              409);
+        CHECK(put_scenario(client, "line-2", json::object())->status == 409);
+        CHECK(client.Delete("/v1/scenarios/line-2")->status == 404);
+        CHECK(client.Get("/v1/mills/line-2")->status == 200);
+    }
+    SUBCASE("delete, then the name is free for a stand; versions count on") {
+        CHECK(client.Delete("/v1/mills/line-2", {{"If-Match", "\"2\""}})->status == 204);
+        CHECK(client.Get("/v1/mills/line-2")->status == 404);
+        const json refused_base = body_json(post_json(client, "/v1/tandem", {{"base", "line-2"}}));
+        CHECK(refused_base["errors"][0]["pointer"] == "/base");
+        auto stand = put_scenario(client, "line-2", json::object());
+        REQUIRE(stand);
+        CHECK(stand->status == 201);
+        CHECK(stand->get_header_value("ETag") == "\"4\"");  // 1, 2 mill; 3 its delete
+    }
+}

@@ -64,6 +64,53 @@ httplib::Result put(httplib::Client& client, const std::string& name,
 
 }  // namespace
 
+// Stored mills (kind `mill`, docs/http-api.md) share the table and a name's version counter
+// with the stands: a name is one kind at a time, each collection lists its own kind, and a
+// write or delete of the other kind never touches it.
+TEST_CASE_TEMPLATE("scenario versions: a name holds a stand or a mill, never both", Db, SqliteDb,
+                   PostgresDb) {
+    Db db;
+    auto store = open(db);
+    const auto mill =
+        store->put_scenario("line-2", "{\"m\":1}", std::nullopt, "alice", StoredKind::mill);
+    REQUIRE(mill.ok());
+    CHECK(mill.value->kind == StoredKind::mill);
+    REQUIRE(store->put_scenario("stand-1", "{}", std::nullopt, "bob").ok());
+
+    const auto read = store->get_scenario("line-2");
+    REQUIRE(read.ok());
+    CHECK(read.value->kind == StoredKind::mill);
+    CHECK(store->get_scenario("stand-1").value->kind == StoredKind::stand);
+
+    // Each kind's page lists only its own names; list_scenarios() is the stands'.
+    const auto mills = store->list_scenario_page({10, std::nullopt, StoredKind::mill});
+    REQUIRE(mills.ok());
+    REQUIRE(mills.value->scenarios.size() == 1);
+    CHECK(mills.value->scenarios[0].name == "line-2");
+    CHECK(mills.value->scenarios[0].kind == StoredKind::mill);
+    const auto stands = store->list_scenarios();
+    REQUIRE(stands.ok());
+    REQUIRE(stands.value->size() == 1);
+    CHECK(stands.value->front().name == "stand-1");
+
+    // The other kind over a live name: a conflict that says so, with or without the version.
+    for (const std::optional<std::int64_t> version :
+         {std::optional<std::int64_t>(), std::optional<std::int64_t>(1)}) {
+        const auto over = store->put_scenario("line-2", "{}", version, "carol");
+        CHECK(over.status == StoreStatus::conflict);
+        CHECK(over.detail == kind_conflict_detail);
+    }
+    CHECK(store->delete_scenario("line-2", std::nullopt, "carol") == StoreStatus::not_found);
+    CHECK(store->get_scenario("line-2").value->body == "{\"m\":1}");
+
+    // Deleted as a mill, the name may become a stand; its versions count on.
+    CHECK(store->delete_scenario("line-2", 1, "dave", StoredKind::mill) == StoreStatus::ok);
+    const auto stand = store->put_scenario("line-2", "{}", std::nullopt, "erin");
+    REQUIRE(stand.ok());
+    CHECK(stand.value->version == 3);
+    CHECK(stand.value->kind == StoredKind::stand);
+}
+
 TEST_CASE_TEMPLATE("scenario versions: never repeat for a name; authors; bounded history", Db,
                    SqliteDb, PostgresDb) {
     Db db;
