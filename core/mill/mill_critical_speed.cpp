@@ -4,6 +4,8 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <memory>
+#include <mutex>
 #include <numbers>
 
 #include "core/chatter_type.h"
@@ -37,13 +39,17 @@ CrossingValidity crossing_validity(const Mill& mill, const MillSteadyState& stea
     CrossingValidity out;
     const double omega = 2.0 * std::numbers::pi * frequency_Hz;
     const double c = std::sqrt(mill.youngs_modulus / mill.strip_density);
+    // under `segments` each segment is a spring of length L / n (§12.1): its error is judged
+    const double segments =
+        mill.span_model == SpanModel::segments ? static_cast<double>(mill.span_segments) : 1.0;
     for (double length : mill.span_length) {
         const double x = omega * length / c;
         out.span_wave_number.push_back(x);
-        const double error = x > 0.0 ? 1.0 - x / std::tan(x) : 0.0;
+        const double xs = x / segments;
+        const double error = xs > 0.0 ? 1.0 - xs / std::tan(xs) : 0.0;
         out.spring_law_error.push_back(error);
         // beyond x = pi/2 the spring's sign is wrong (tan < 0): outside as well
-        if (!(error <= 0.25) || x >= 0.5 * std::numbers::pi) out.spring_law_valid = false;
+        if (!(error <= 0.25) || xs >= 0.5 * std::numbers::pi) out.spring_law_valid = false;
     }
     for (const MillStandState& stand : steady.stands) {
         const double ratio = stand.entry_speed > 0.0
@@ -95,9 +101,11 @@ Linearised linearised(const Mill& mill, std::vector<double> gains = {}) {
 // Frequency, moving and feeding stands, band and validity of a crossing at its speed, from a
 // state vector z; `growth` measures the crossing on a transfer (its root's real part, or rho),
 // differentiated in each stand's bite gain by central differences (kappa = +-1e-3).
+// The 2N linearisations run on the control's threads (each writes its own value).
 void describe(MillCrossing& crossing, const Mill& mill, double frequency_Hz,
               const Eigen::VectorXcd& z,
-              const std::function<double(const TransportTransfer&)>& growth) {
+              const std::function<double(const TransportTransfer&)>& growth,
+              const Control& control = {}) {
     crossing.frequency_Hz = frequency_Hz;
     crossing.band = chatter_band(frequency_Hz);
     crossing.participation = mill_participation(mill, z);
@@ -108,15 +116,18 @@ void describe(MillCrossing& crossing, const Mill& mill, double frequency_Hz,
     const MillSteadyState steady = mill_steady_state(m);
     crossing.validity = crossing_validity(mill, steady, frequency_Hz);
     constexpr double kappa = 1e-3;
+    std::vector<double> value(2 * static_cast<std::size_t>(mill.size()), 0.0);  // (+, -) per stand
+    parallel_for(2 * mill.size(), control, [&](int k) {
+        const int i = k / 2, side = k % 2;
+        std::vector<double> gains(static_cast<std::size_t>(mill.size()), 1.0);
+        gains[static_cast<std::size_t>(i)] += side == 0 ? kappa : -kappa;
+        const Linearised l = linearised(m, std::move(gains));
+        value[static_cast<std::size_t>(k)] = l.ok ? growth(l.transfer) : std::nan("");
+    });
     for (int i = 0; i < mill.size(); ++i) {
-        double value[2] = {0.0, 0.0};
-        for (int side = 0; side < 2; ++side) {
-            std::vector<double> gains(static_cast<std::size_t>(mill.size()), 1.0);
-            gains[static_cast<std::size_t>(i)] += side == 0 ? kappa : -kappa;
-            const Linearised l = linearised(m, std::move(gains));
-            value[side] = l.ok ? growth(l.transfer) : std::nan("");
-        }
-        crossing.feeding_sensitivity.push_back((value[0] - value[1]) / (2.0 * kappa));
+        const double plus = value[2 * static_cast<std::size_t>(i)];
+        const double minus = value[2 * static_cast<std::size_t>(i) + 1];
+        crossing.feeding_sensitivity.push_back((plus - minus) / (2.0 * kappa));
     }
     double best = -std::numeric_limits<double>::infinity();
     for (int i = 0; i < mill.size(); ++i) {
@@ -165,12 +176,14 @@ double valid_frequency_Hz(const Mill& mill, const MillSteadyState& steady) {
 
 // A nominal-delay crossing described by its root s at the crossing's speed.
 void describe_root(MillCrossing& c, const Mill& mill, const TransportTransfer& transfer,
-                   std::complex<double> root) {
-    describe(c, mill, root.imag() / (2.0 * std::numbers::pi), delay_root_vector(transfer, root),
-             [root](const TransportTransfer& t) {
-                 const DelayRoot moved = delay_root(t, root);
-                 return moved.converged ? moved.s.real() : std::nan("");
-             });
+                   std::complex<double> root, const Control& control) {
+    describe(
+        c, mill, root.imag() / (2.0 * std::numbers::pi), delay_root_vector(transfer, root),
+        [root](const TransportTransfer& t) {
+            const DelayRoot moved = delay_root(t, root);
+            return moved.converged ? moved.s.real() : std::nan("");
+        },
+        control);
 }
 
 // The first speed from `start` upwards where count_at turns positive: blocks of speeds in
@@ -277,12 +290,15 @@ MillCriticalSpeeds mill_critical_speeds(const Mill& mill, const CriticalSpeedOpt
                 z = l.transfer.modes.col(best);
             }
             const std::complex<double> root = r.unstable_mode.eigenvalue;
-            describe(c, mill, r.unstable_mode.frequency_Hz, z, [root](const TransportTransfer& t) {
-                Eigen::Index best = 0;
-                for (Eigen::Index k = 1; k < t.poles.size(); ++k)
-                    if (std::abs(t.poles(k) - root) < std::abs(t.poles(best) - root)) best = k;
-                return t.poles(best).real();
-            });
+            describe(
+                c, mill, r.unstable_mode.frequency_Hz, z,
+                [root](const TransportTransfer& t) {
+                    Eigen::Index best = 0;
+                    for (Eigen::Index k = 1; k < t.poles.size(); ++k)
+                        if (std::abs(t.poles(k) - root) < std::abs(t.poles(best) - root)) best = k;
+                    return t.poles(best).real();
+                },
+                control);
         }
     }
 
@@ -317,8 +333,10 @@ MillCriticalSpeeds mill_critical_speeds(const Mill& mill, const CriticalSpeedOpt
             if (l.ok) {
                 const RegenerativeMargin margin = regenerative_margin(l.transfer);
                 const std::complex<double> at{0.0, 2.0 * std::numbers::pi * margin.frequency_Hz};
-                describe(c, mill, margin.frequency_Hz, margin_response(l.transfer, margin),
-                         [at](const TransportTransfer& t) { return structured_bound(t.at(at)); });
+                describe(
+                    c, mill, margin.frequency_Hz, margin_response(l.transfer, margin),
+                    [at](const TransportTransfer& t) { return structured_bound(t.at(at)); },
+                    control);
             }
         }
     }
@@ -354,23 +372,45 @@ MillCriticalSpeeds mill_critical_speeds(const Mill& mill, const CriticalSpeedOpt
                 const DelayRootCount n = nominal_delay_root_count(l.transfer, 0.0);
                 return n.ok ? n.count : -1;
             };
-            const auto band_count_at = [&mill](double speed) {
-                const Linearised l = linearised(at_speed(mill, speed));
-                if (!l.ok) return -1;
-                const double f_valid = valid_frequency_Hz(at_speed(mill, speed), l.steady);
-                if (!(f_valid > 0.0)) return 0;  // an empty band
+            // the linearisation and f_valid at a speed; the step's, taken at each block's first
+            // speed, is kept for that speed's band count (one linearisation fewer a block)
+            struct BandPoint {
+                Linearised l;
+                double f_valid = 0.0;
+            };
+            const auto band_point = [&mill](double speed) {
+                auto p = std::make_shared<BandPoint>();
+                p->l = linearised(at_speed(mill, speed));
+                if (p->l.ok) p->f_valid = valid_frequency_Hz(at_speed(mill, speed), p->l.steady);
+                return std::shared_ptr<const BandPoint>(std::move(p));
+            };
+            std::mutex kept_mutex;
+            double kept_speed = -1.0;
+            std::shared_ptr<const BandPoint> kept;
+            const auto band_count_at = [&](double speed) {
+                std::shared_ptr<const BandPoint> p;
+                {
+                    const std::lock_guard lock(kept_mutex);
+                    if (kept && kept_speed == speed) p = kept;
+                }
+                if (!p) p = band_point(speed);
+                if (!p->l.ok) return -1;
+                if (!(p->f_valid > 0.0)) return 0;  // an empty band
                 const BandRootCount n =
-                    band_root_count(l.transfer, 2.0 * std::numbers::pi * f_valid, 0.0);
+                    band_root_count(p->l.transfer, 2.0 * std::numbers::pi * p->f_valid, 0.0);
                 return n.ok ? n.count : -1;
             };
             const auto band_step = [&](double speed) {
-                const Linearised l = linearised(at_speed(mill, speed));
-                const double f_valid =
-                    l.ok ? valid_frequency_Hz(at_speed(mill, speed), l.steady) : 0.0;
-                const double tau_max = l.ok ? tau_max_of(l.transfer) : 0.0;
+                const std::shared_ptr<const BandPoint> p = band_point(speed);
+                {
+                    const std::lock_guard lock(kept_mutex);
+                    kept_speed = speed;
+                    kept = p;
+                }
+                const double tau_max = p->l.ok ? tau_max_of(p->l.transfer) : 0.0;
                 // half a lobe period at f_valid; half the first one's where it is not defined
-                if (!(f_valid > 0.0) || !(tau_max > 0.0)) return 0.5 * lobe;
-                return 0.5 * speed / (f_valid * tau_max);
+                if (!(p->f_valid > 0.0) || !(tau_max > 0.0)) return 0.5 * lobe;
+                return 0.5 * speed / (p->f_valid * tau_max);
             };
             if (!first_positive(
                     any, count_at, start, [&](double) { return 0.5 * lobe; }, options, control)) {
@@ -383,7 +423,7 @@ MillCriticalSpeeds mill_critical_speeds(const Mill& mill, const CriticalSpeedOpt
                 if (l.ok) {
                     const DelayRootCount n = nominal_delay_root_count(l.transfer, 0.0);
                     const RightmostDelayRoot r = rightmost_delay_root(l.transfer, n);
-                    if (r.found) describe_root(any, mill, l.transfer, r.root.s);
+                    if (r.found) describe_root(any, mill, l.transfer, r.root.s, control);
                 }
             }
             if (!first_positive(c, band_count_at, start, band_step, options, control)) return out;
@@ -396,7 +436,7 @@ MillCriticalSpeeds mill_critical_speeds(const Mill& mill, const CriticalSpeedOpt
                         const BandRootCount n =
                             band_root_count(l.transfer, 2.0 * std::numbers::pi * f_valid, 0.0);
                         const RightmostDelayRoot r = band_rightmost_root(l.transfer, n);
-                        if (r.found) describe_root(c, mill, l.transfer, r.root.s);
+                        if (r.found) describe_root(c, mill, l.transfer, r.root.s, control);
                     }
                     // the lobe period at the crossing root's frequency (f_valid if none found)
                     const double f_lobe = c.frequency_Hz > 0.0 ? c.frequency_Hz : f_valid;

@@ -16,8 +16,29 @@ using Complex = std::complex<double>;
 Eigen::MatrixXcd loop(const TransportTransfer& transfer, Complex s) {
     Eigen::MatrixXcd m = transfer.at(s);
     for (Eigen::Index j = 0; j < m.cols(); ++j)
-        m.col(j) *= std::exp(-s * transfer.delay[static_cast<std::size_t>(j)]);
-    return Eigen::MatrixXcd::Identity(m.rows(), m.cols()) - m;
+        m.col(j) *= -std::exp(-s * transfer.delay[static_cast<std::size_t>(j)]);
+    m.diagonal().array() += 1.0;  // I - M E, in place
+    return m;
+}
+
+// det x by LU with partial pivoting, on the stack for up to five spans (the mill's limit): the
+// same factorisation as the dynamic one, without its allocations (F is evaluated ~10^3 times a
+// count).
+template <int P>
+Complex fixed_determinant(const Eigen::MatrixXcd& x) {
+    const Eigen::Matrix<Complex, P, P> fixed = x;
+    return fixed.partialPivLu().determinant();
+}
+
+Complex determinant(const Eigen::MatrixXcd& x) {
+    switch (x.rows()) {
+        case 1: return x(0, 0);
+        case 2: return fixed_determinant<2>(x);
+        case 3: return fixed_determinant<3>(x);
+        case 4: return fixed_determinant<4>(x);
+        case 5: return fixed_determinant<5>(x);
+        default: return x.partialPivLu().determinant();
+    }
 }
 
 // The sum of the principal arguments of the eigenvalues of I - M E: arg F where every
@@ -79,7 +100,7 @@ struct ArgumentTracker {
     // arg F at s where the gain is below 1/2 (small_gain_argument), and F there
     double argument(Complex s, Complex& value) {
         const Eigen::MatrixXcd x = loop(transfer, s);
-        value = x.partialPivLu().determinant();
+        value = determinant(x);
         ++evaluations;
         return small_gain_argument(x, value);
     }
@@ -147,7 +168,7 @@ struct ArgumentTracker {
 
 Complex delay_characteristic(const TransportTransfer& transfer, Complex s) {
     if (transfer.spans() == 0) return 1.0;
-    return loop(transfer, s).partialPivLu().determinant();
+    return determinant(loop(transfer, s));
 }
 
 DelayRootCount nominal_delay_root_count(const TransportTransfer& transfer, double alpha) {
