@@ -119,8 +119,13 @@ void read_group(const std::string& group, const json& node, const std::string& b
         const std::string at = base + path;
         switch (field->kind) {
             case TandemFieldKind::number:
-                if (const auto number = read_number(*value, at, field->range, field->unit, errors))
+                if (field->integer) {
+                    if (const auto count = read_integer(*value, at, field->range, false, errors))
+                        field->set(reading.mill, static_cast<double>(*count));
+                } else if (const auto number =
+                               read_number(*value, at, field->range, field->unit, errors)) {
                     field->set(reading.mill, to_si(*number, field->unit));
+                }
                 break;
             case TandemFieldKind::choice:
                 if (const auto choice = read_choice(*value, at, field->choices, errors))
@@ -281,7 +286,10 @@ nlohmann::json resolved_tandem_json(const core::Mill& mill) {
     for (const TandemField& field : tandem_fields()) {
         json& slot = document[json::json_pointer(field.path)];
         switch (field.kind) {
-            case TandemFieldKind::number: slot = from_si(field.get(mill), field.unit); break;
+            case TandemFieldKind::number:
+                if (field.integer) slot = static_cast<long long>(field.get(mill));
+                else slot = from_si(field.get(mill), field.unit);
+                break;
             case TandemFieldKind::choice: slot = std::string(field.read_choice(mill)); break;
             case TandemFieldKind::number_list: {
                 slot = json::array();

@@ -163,8 +163,9 @@ const ResultTable<core::CrossingValidity>& validity_table() {
             {"valid", "Both the spring law and the quasi-static bite hold.", boolean_schema(),
              [](const core::CrossingValidity& v) { return v.valid(); }},
             {"spring_law_valid",
-             "Every interstand span's spring-law stiffness error is at most 25 % (else use a "
-             "model that carries strip waves).",
+             "Every interstand span's spring-law stiffness error is at most 25 % (else use "
+             "segments: /tandem/spans/model, which carries strip waves; under segments the law "
+             "is judged on one segment of length L / n).",
              boolean_schema(), [](const core::CrossingValidity& v) { return v.spring_law_valid; }},
             {"quasi_static_bite_valid",
              "Every stand's bite transit time is at most 0.2 of the period.", boolean_schema(),
@@ -174,7 +175,9 @@ const ResultTable<core::CrossingValidity>& validity_table() {
              [](const core::CrossingValidity& v) {
                  return quantities_json(v.span_wave_number, one);
              }},
-            {"spring_law_error", "1 - x / tan x per interstand span, x = omega L / c.",
+            {"spring_law_error",
+             "1 - x / tan x per interstand span, x = omega L / c (under segments one segment's, "
+             "x = omega L / (n c)).",
              numbers_schema(one),
              [](const core::CrossingValidity& v) {
                  return quantities_json(v.spring_law_error, one);

@@ -171,6 +171,36 @@ std::vector<TandemField> make_fields() {
                           "(docs/model.md §12.1). A span at zero tension is slack. Typically "
                           "60-210 MPa, rising towards the last stands.",
                           &core::Mill::interstand_tension));
+    {
+        TandemField model;
+        model.path = "/spans/model";
+        model.kind = TandemFieldKind::choice;
+        model.choices = {"spring", "segments"};
+        model.description =
+            "How every span (entry, interstand, exit) carries its strip force (docs/model.md "
+            "§12.1): spring = one force per span, the strip massless (the default; valid well "
+            "below the span's first longitudinal mode c / 2L, about 517 Hz on 5 m of steel); "
+            "segments = the span cut into segment_count springs with the strip's mass between "
+            "them, which carries longitudinal strip waves (2 segment_count - 1 states per span "
+            "instead of 1).";
+        model.read_choice = [](const core::Mill& mill) {
+            return mill.span_model == core::SpanModel::segments ? "segments"sv : "spring"sv;
+        };
+        model.write_choice = [](core::Mill& mill, std::string_view choice) {
+            mill.span_model =
+                choice == "segments" ? core::SpanModel::segments : core::SpanModel::spring;
+        };
+        fields.push_back(std::move(model));
+        TandemField count = number(
+            "/spans/segment_count", one, closed(2.0, core::max_span_segments),
+            "Number of segments n per span under the segments model, a whole number (ignored "
+            "under spring): the first strip wave is within 1 % of c / 2L from n = 10 (docs/model.md "
+            "§12.1); each segment adds two states per span.",
+            [](const core::Mill& mill) { return static_cast<double>(mill.span_segments); },
+            [](core::Mill& mill, double value) { mill.span_segments = static_cast<int>(value); });
+        count.integer = true;
+        fields.push_back(std::move(count));
+    }
     for (const bool entry : {true, false}) {
         fields.push_back(boundary(entry));
         const std::string group = entry ? "/entry" : "/exit";
@@ -213,7 +243,7 @@ constexpr std::array root_members{"entry_thickness_mm"sv,
                                   stand_defaults_member,
                                   stands_member};
 constexpr std::array strip_members{"width_mm"sv, "youngs_modulus_GPa"sv, "density_kg_per_m3"sv};
-constexpr std::array span_members{"length_m"sv, "tension_MPa"sv};
+constexpr std::array span_members{"length_m"sv, "tension_MPa"sv, "model"sv, "segment_count"sv};
 constexpr std::array boundary_members{"boundary"sv, "span_length_m"sv, "tension_MPa"sv};
 
 constexpr std::array owned{

@@ -9,7 +9,8 @@
 //   {"entry_thickness_mm": 2.8, "exit_thickness_mm": [2.25, 1.88, 1.6, 1.36, 1.2],
 //    "speed_m_per_s": 15, "mode": "schedule",
 //    "strip": {"width_mm", "youngs_modulus_GPa", "density_kg_per_m3"},
-//    "spans": {"length_m": [...N-1], "tension_MPa": [...N-1]},
+//    "spans": {"length_m": [...N-1], "tension_MPa": [...N-1], "model": "spring",
+//              "segment_count": 10},
 //    "entry": {"boundary": "span", "span_length_m": 5, "tension_MPa": 18},
 //    "exit": {"boundary": "span", "span_length_m": 5, "tension_MPa": 40},
 //    "stand_defaults": {<scenario patch shared by every stand>},
@@ -46,6 +47,7 @@ struct TandemField {
     // numbers and every element of a list, in `unit` (as the client writes them)
     Unit unit = units::one;
     Interval range{0.0, 0.0};
+    bool integer = false;  // a number that must be whole (a count)
     ListLength length = ListLength::stands;
     std::vector<std::string_view> choices;
 

@@ -51,6 +51,9 @@ const char* mill_defect(const Mill& m) {
     if (!(m.speed > 0.0)) return "the mill speed must be positive";
     if (!(m.width > 0.0) || !(m.youngs_modulus > 0.0) || !(m.strip_density > 0.0))
         return "width, Young's modulus and density must be positive";
+    if (m.span_model == SpanModel::segments &&
+        (m.span_segments < 1 || m.span_segments > max_span_segments))
+        return "a span has 1 to 50 segments";
     if (m.mode != MillMode::schedule) return "only the schedule mode is implemented";
     return "";
 }

@@ -18,8 +18,14 @@ enum class MillBoundary { span, constant };
 // schedule: the last stand runs at the mill speed and every other stand's roll speed follows
 // from the mass flow; speeds: every roll speed given, the interstand tensions follow (not yet).
 enum class MillMode { schedule, speeds };
+// How a span carries its strip force (§12.1): `spring`, one force per span, the strip massless
+// (valid well below the span's first longitudinal mode c / 2L); `segments`, the span cut into n
+// segments of length L / n whose forces are states, the strip's mass lumped at the n - 1 nodes
+// between them, so the span carries longitudinal strip waves. One segment is the spring.
+enum class SpanModel { spring, segments };
 
 inline constexpr int max_mill_stands = 6;
+inline constexpr int max_span_segments = 50;
 
 struct Mill {
     // Each stand's own scenario: rolls, lubricant, roughness, friction, film model, structure,
@@ -43,6 +49,8 @@ struct Mill {
     double exit_tension = 40e6;
     double speed = 15.0;  // V, m/s: the last stand's roll speed
     MillMode mode = MillMode::schedule;
+    SpanModel span_model = SpanModel::spring;
+    int span_segments = 10;  // n per span under `segments` (every span: entry, interstand, exit)
 
     int size() const { return static_cast<int>(stands.size()); }
 };

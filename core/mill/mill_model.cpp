@@ -1,5 +1,6 @@
 #include "core/mill/mill_model.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/bite_jacobian.h"
@@ -25,11 +26,16 @@ MillModel::MillModel(const Mill& mill, const MillSteadyState& steady) {
     front_span_.assign(static_cast<std::size_t>(n), -1);
     back_stress_.assign(static_cast<std::size_t>(n), 0.0);
     front_stress_.assign(static_cast<std::size_t>(n), 0.0);
+    // §12.1: a spring is one segment; `segments` cuts every span into n of length L / n
+    const int segments = mill.span_model == SpanModel::segments ? mill.span_segments : 1;
     const auto add_span = [&](int upstream, int downstream, double thickness, double length) {
         Span span;
-        span.index = next++;
+        span.index = next;
+        span.segments = segments;
+        next += span.size();
         span.thickness = thickness;
-        span.stiffness = mill.youngs_modulus * thickness / length;
+        span.stiffness = mill.youngs_modulus * thickness * segments / length;
+        span.mass = mill.strip_density * thickness * length / segments;
         span.upstream = upstream;
         span.downstream = downstream;
         spans_.push_back(span);
@@ -66,14 +72,38 @@ Eigen::VectorXd MillModel::equilibrium() const {
             span.downstream >= 0
                 ? stands_[static_cast<std::size_t>(span.downstream)].scenario().tensions.back.stress
                 : stands_[static_cast<std::size_t>(span.upstream)].scenario().tensions.front.stress;
-        z(span.index) = stress * span.thickness;
+        // every segment at the span's force, every node at the steady strip speed (zero)
+        for (int k = 0; k < span.segments; ++k) z(span.index + k) = stress * span.thickness;
     }
     return z;
 }
 
 int MillModel::back_span(int stand) const {
     const int k = back_span_[static_cast<std::size_t>(stand)];
-    return k < 0 ? -1 : spans_[static_cast<std::size_t>(k)].index;
+    return k < 0 ? -1 : spans_[static_cast<std::size_t>(k)].last_force();
+}
+
+MillModel::SpanStates MillModel::span_states(int number) const {
+    const int count = stand_count();
+    for (const Span& span : spans_) {
+        if ((span.downstream >= 0 ? span.downstream : count) == number)
+            return {span.index, span.size(), span.segments};
+    }
+    return {};
+}
+
+void MillModel::span_rates(const Span& span, const double* z, double behind, double ahead,
+                           double* zdot) {
+    const int n = span.segments;
+    const double* force = z + span.index;
+    const double* speed = z + span.first_speed();
+    for (int k = 0; k < n; ++k) {
+        const double back = k == 0 ? behind : speed[k - 1];
+        const double front = k + 1 == n ? ahead : speed[k];
+        zdot[span.index + k] = span.stiffness * (front - back);
+    }
+    for (int k = 0; k + 1 < n; ++k)
+        zdot[span.first_speed() + k] = (force[k + 1] - force[k]) / span.mass;
 }
 
 int MillModel::front_span(int stand) const {
@@ -125,9 +155,11 @@ DynamicsStatus MillModel::evaluate_rates(const double* z, const double* entry_de
         return span.downstream >= 0 ? span.downstream : count;
     };
     for (const Span& span : spans_) {
-        if (!(z[span.index] > 0.0)) {
-            if (failure) failure->span = span_number(span);
-            return DynamicsStatus::slack_strip;
+        for (int k = 0; k < span.segments; ++k) {
+            if (!(z[span.index + k] > 0.0)) {  // a slack segment is a slack span
+                if (failure) failure->span = span_number(span);
+                return DynamicsStatus::slack_strip;
+            }
         }
     }
     const std::size_t n = stands_.size();
@@ -160,7 +192,7 @@ DynamicsStatus MillModel::evaluate_rates(const double* z, const double* entry_de
         const double in =
             span.downstream >= 0 ? du1[static_cast<std::size_t>(span.downstream)] : 0.0;
         const double out = span.upstream >= 0 ? du2[static_cast<std::size_t>(span.upstream)] : 0.0;
-        zdot[span.index] = span.stiffness * (in - out);
+        span_rates(span, z, out, in, zdot);
     }
     for (int i = 0; i < size_; ++i) {
         if (!std::isfinite(zdot[i])) return DynamicsStatus::solver_failure;
@@ -190,9 +222,11 @@ void MillModel::assemble(const Eigen::VectorXd& z, bool transport, MillLinearisa
         return;
     }
     for (const Span& span : spans_) {
-        if (!(z(span.index) > 0.0)) {
-            out.status = DynamicsStatus::slack_strip;
-            return;
+        for (int k = 0; k < span.segments; ++k) {
+            if (!(z(span.index + k) > 0.0)) {
+                out.status = DynamicsStatus::slack_strip;
+                return;
+            }
         }
     }
     const int n = size_;
@@ -274,12 +308,31 @@ void MillModel::assemble(const Eigen::VectorXd& z, bool transport, MillLinearisa
         du2[i] = outputs.row(u2_row);
     }
     for (const Span& span : spans_) {
-        Eigen::RowVectorXd row = Eigen::RowVectorXd::Zero(n + p);
-        if (span.downstream >= 0) row += du1[static_cast<std::size_t>(span.downstream)];
-        if (span.upstream >= 0) row -= du2[static_cast<std::size_t>(span.upstream)];
-        a0.row(span.index) = span.stiffness * row.head(n);
+        // the end segments see the stands' speeds; inside, the chain of §12.1 (constant rows)
+        const int segments = span.segments;
+        Eigen::RowVectorXd first = Eigen::RowVectorXd::Zero(n + p);
+        Eigen::RowVectorXd last = Eigen::RowVectorXd::Zero(n + p);
+        if (span.upstream >= 0) first -= du2[static_cast<std::size_t>(span.upstream)];
+        if (span.downstream >= 0) last += du1[static_cast<std::size_t>(span.downstream)];
+        if (segments == 1) {
+            first += last;
+        } else {
+            first(span.first_speed()) += 1.0;
+            last(span.first_speed() + segments - 2) -= 1.0;
+            for (int k = 1; k + 1 < segments; ++k) {
+                a0(span.index + k, span.first_speed() + k) = span.stiffness;
+                a0(span.index + k, span.first_speed() + k - 1) = -span.stiffness;
+            }
+            for (int k = 0; k + 1 < segments; ++k) {
+                a0(span.first_speed() + k, span.index + k + 1) = 1.0 / span.mass;
+                a0(span.first_speed() + k, span.index + k) = -1.0 / span.mass;
+            }
+            a0.row(span.last_force()) = span.stiffness * last.head(n);
+            if (p > 0) input_columns.row(span.last_force()) = span.stiffness * last.tail(p);
+        }
+        a0.row(span.index) = span.stiffness * first.head(n);
         // (a mill of one stand has no delayed input: no zero-width block of an empty matrix)
-        if (p > 0) input_columns.row(span.index) = span.stiffness * row.tail(p);
+        if (p > 0) input_columns.row(span.index) = span.stiffness * first.tail(p);
     }
     if (!a0.allFinite() || !input_columns.allFinite() || !rate_columns.allFinite())
         return;  // solver_failure
@@ -307,9 +360,13 @@ double MillModel::perturbation(int index, const Eigen::VectorXd& z) const {
     if (index < StandBlock::state_size * stand_count()) {
         return StandBlock::perturbation(index % StandBlock::state_size, z(index));
     }
-    // a span force: the single stand's tension step (1 kPa) on the span's thickness
+    // a span force: the single stand's tension step (1 kPa) on the span's thickness; a node
+    // speed: the step whose segment force change over 1 ms is that force step
     for (const Span& span : spans_) {
-        if (span.index == index) return SpanElement::perturbation * span.thickness;
+        if (index >= span.index && index < span.index + span.size()) {
+            const double force = SpanElement::perturbation * span.thickness;
+            return index < span.first_speed() ? force : force / (span.stiffness * 1e-3);
+        }
     }
     return SpanElement::perturbation;
 }
@@ -318,7 +375,10 @@ double MillModel::absolute_tolerance(int index) const {
     if (index < StandBlock::state_size * stand_count())
         return StandBlock::absolute_tolerance(index % StandBlock::state_size);
     for (const Span& span : spans_) {
-        if (span.index == index) return SpanElement::absolute_tolerance * span.thickness;
+        if (index >= span.index && index < span.index + span.size()) {
+            const double force = SpanElement::absolute_tolerance * span.thickness;
+            return index < span.first_speed() ? force : force / (span.stiffness * 1e-3);
+        }
     }
     return SpanElement::absolute_tolerance;
 }
@@ -327,7 +387,12 @@ int MillModel::margin_count() const { return static_cast<int>(spans_.size()) + s
 
 void MillModel::limit_margins(double, const double* z, double* margins) const {
     int k = 0;
-    for (const Span& span : spans_) margins[k++] = z[span.index];
+    // one margin per span: its least segment force (a slack segment is a slack span)
+    for (const Span& span : spans_) {
+        double least = z[span.index];
+        for (int j = 1; j < span.segments; ++j) least = std::min(least, z[span.index + j]);
+        margins[k++] = least;
+    }
     for (int i = 0; i < stand_count(); ++i)
         margins[k++] = stands_[static_cast<std::size_t>(i)].contact_margin(bite_state(i, z));
 }

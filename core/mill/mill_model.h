@@ -9,6 +9,12 @@
 //   stress gives that stress);
 //   T_i' = (E ybar_i / L_i) ((u1_{i+1} - u1_{i+1,ref}) - (u2_i - u2_i,ref)) between stands,
 //   T_0' = (E y1_1 / L_0)(u1_1 - u1_1,ref), T_N' = (E y2_N / L_N)(u2_N,ref - u2_N).
+// Under the `segments` span model (§12.1) a span of n segments has n forces T_1..T_n (T_1 at the
+// stand behind it, T_n at the stand ahead: the forces the stands see) and the n - 1 node speeds
+// v_1..v_{n-1} (deviations from the steady strip speed), in that order:
+//   T_k' = (E ybar n / L)(v_k - v_{k-1}), v_0 = u2 - u2_ref behind, v_n = u1 - u1_ref ahead;
+//   (rho ybar L / n) v_k' = T_{k+1} - T_k.
+// One segment is the spring law exactly.
 
 #include <utility>
 #include <vector>
@@ -71,10 +77,21 @@ public:
     BiteStatus status() const { return status_; }
     int failed_stand() const { return failed_stand_; }
 
-    // The state index of the span behind (back) and ahead of (front) stand i, -1 for a constant
-    // boundary.
+    // The state index of the span force stand i sees behind (back) and ahead of it (front), -1
+    // for a constant boundary (under `segments`: the end segment's force at that stand).
     int back_span(int stand) const;
     int front_span(int stand) const;
+
+    // The states of one span: `count` consecutive indices from `first` (the segments' forces,
+    // then the node speeds; one force under `spring`). Numbered as MillFailure: 0 the entry
+    // span, i + 1 the span between stands i and i + 1, N the exit span; count 0 if that span is
+    // a constant boundary.
+    struct SpanStates {
+        int first = -1;
+        int count = 0;
+        int segments = 0;
+    };
+    SpanStates span_states(int span) const;
 
     // The bite inputs of stand i at state z, its entering thickness moved by `entry_deviation`
     // from the steady one (the transport; zero when frozen).
@@ -118,12 +135,20 @@ private:
                                   double* exit_speed, MillFailure* failure) const;
 
     struct Span {
-        int index = -1;
+        int index = -1;          // T_1's state; T_k at index + k - 1, v_k at index + n + k - 1
+        int segments = 1;        // n
         double thickness = 0.0;  // ybar, m
-        double stiffness = 0.0;  // E ybar / L, N/m per m/s... (N/m)/m
+        double stiffness = 0.0;  // of one segment, E ybar n / L, (N/m)/m
+        double mass = 0.0;       // of one node, rho ybar L / n, kg/m^2 (per width)
         int upstream = -1;       // the stand delivering into it, -1: the entry bridle
         int downstream = -1;     // the stand taking from it, -1: the exit coiler
+        int first_speed() const { return index + segments; }
+        int last_force() const { return index + segments - 1; }
+        int size() const { return 2 * segments - 1; }
     };
+    // the span's rows: z' of its forces and node speeds, given its ends' speed deviations
+    static void span_rates(const Span& span, const double* z, double behind, double ahead,
+                           double* zdot);
 
     std::vector<StandBlock> stands_;
     std::vector<Span> spans_;

@@ -86,7 +86,8 @@ TEST_CASE("every field of the table reaches core::Mill and comes back in its uni
         const json::json_pointer at(field.path);
         switch (field.kind) {
             case TandemFieldKind::number: {
-                const double value = field.path == "/entry_thickness_mm"         ? 2.9
+                const double value = field.integer                               ? 12.0
+                                     : field.path == "/entry_thickness_mm"       ? 2.9
                                      : field.path.ends_with("tension_MPa")       ? 25.0
                                      : field.path == "/strip/density_kg_per_m3"  ? 7800.0
                                      : field.path == "/strip/width_mm"           ? 1250.0
@@ -260,4 +261,29 @@ TEST_CASE("unknown members and wrong types are violations at their pointers, all
     CHECK(has(pointers, "/tandem/spans/length_m"));
     CHECK(has(pointers, "/tandem/stands/1"));
     CHECK(has(pointers_of(json::array()), "/tandem"));
+}
+
+TEST_CASE("the span model: spring by default, segments with its count, a count that is not whole") {
+    const core::Mill spring = read_clean(json::object());
+    CHECK(spring.span_model == core::SpanModel::spring);
+    const core::Mill segments =
+        read_clean(json{{"spans", {{"model", "segments"}, {"segment_count", 20}}}});
+    CHECK(segments.span_model == core::SpanModel::segments);
+    CHECK(segments.span_segments == 20);
+    // the echo reruns to the same model, the count a whole number
+    const json echo = resolved_tandem_json(segments);
+    CHECK(echo["spans"]["model"] == "segments");
+    CHECK(echo["spans"]["segment_count"].is_number_integer());
+    FieldErrors errors;
+    const core::Mill again = mill_from_json(echo, "/tandem", errors);
+    CHECK(errors.empty());
+    CHECK(again.span_segments == 20);
+    // a fractional count, one below the bound and an unknown model: each at its pointer
+    CHECK(has(pointers_of(json{{"spans", {{"segment_count", 10.5}}}}),
+              "/tandem/spans/segment_count"));
+    CHECK(has(pointers_of(json{{"spans", {{"segment_count", 1}}}}), "/tandem/spans/segment_count"));
+    const std::vector<std::string> both =
+        pointers_of(json{{"spans", {{"model", "strings"}, {"segment_count", 51}}}});
+    CHECK(has(both, "/tandem/spans/model"));
+    CHECK(has(both, "/tandem/spans/segment_count"));
 }
