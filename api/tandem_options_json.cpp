@@ -22,7 +22,18 @@ TandemOptions tandem_options_from_json(const nlohmann::json& options, const std:
     parsed.stability = read_stability_options(reader);
     reader.read(OptionId::mill_time_series, parsed.time_series);
     reader.read(OptionId::mill_window, parsed.window);
-    reader.read(OptionId::time_series_points, parsed.time_series_points);
+    if (reader.read(OptionId::time_series_points, parsed.time_series_points) && stands > 0 &&
+        parsed.time_series_points * stands > max_mill_time_series_values) {
+        // Every stand's series is as long: the answer's size is points x stands.
+        const int most = max_mill_time_series_values / stands;
+        errors.add(
+            {reader.at(option_name(OptionId::time_series_points)),
+             concat(std::to_string(parsed.time_series_points), " points x ", std::to_string(stands),
+                    " stands exceeds the ", std::to_string(max_mill_time_series_values),
+                    " points a mill's time series may hold; at most ", std::to_string(most),
+                    " for this mill"),
+             concat("[2, ", std::to_string(most), "]"), std::nullopt});
+    }
     reader.read(OptionId::kick_gap, parsed.kick);
     if (reader.read(OptionId::kick_stand, parsed.kick_stand) && stands > 0 &&
         parsed.kick_stand > stands) {

@@ -4,7 +4,8 @@
 // (docs/model.md §12.9):
 //   time_series          false  whether to integrate the mill in time
 //   window_s             0.5    (0, 5] s simulated
-//   time_series_points   400    [2, 20000] most points kept
+//   time_series_points   400    [2, 20000] most points kept per stand, and at most
+//                               max_mill_time_series_values over all stands
 //   kick_um              0.1    [0, 100] um, the gap kick at t = 0
 //   kick_stand           0      [0, 6], at most the stand count; 0: the rightmost root's moving
 //                               stand (the last stand without one)
@@ -17,6 +18,10 @@
 #include "api/stability_json.h"
 
 namespace rollgap::api {
+
+// The points of a mill's time series over all its stands (the answer's size): 20,000, as one
+// stand's series may hold.
+inline constexpr int max_mill_time_series_values = 20000;
 
 struct TandemOptions {
     StabilityOptions stability;

@@ -11,6 +11,7 @@
 
 #include "api/chatter_json.h"
 #include "api/quantity_json.h"
+#include "api/text.h"
 #include "core/chatter_type.h"
 
 namespace rollgap::api {
@@ -557,6 +558,27 @@ const ResultTable<StandSeries>& stand_series_table() {
     return table;
 }
 
+// What the time series can be trusted for (time_table's range_note).
+std::string time_series_range_note(const TandemReport& r) {
+    if (!r.rightmost.found)
+        return "no rightmost root at this speed to judge the range by: read the series with the "
+               "stability answer";
+    const core::MillCrossing& root = r.rightmost.described;
+    const std::string at =
+        concat("the rightmost root (", format_number(std::round(root.frequency_Hz * 10.0) / 10.0),
+               " Hz, the mode the kick grows or decays with)");
+    if (root.validity.valid()) return concat(at, " lies inside the model's range");
+    std::string why;
+    if (!root.validity.spring_law_valid)
+        why = "the spring law's stiffness error exceeds 25 % there (use the segments span model)";
+    if (!root.validity.quasi_static_bite_valid) {
+        if (!why.empty()) why += "; ";
+        why += "the bite transit exceeds 0.2 of the period there (the quasi-static bite)";
+    }
+    return concat(at, " lies outside the model's range: ", why,
+                  "; the series shows the model, not the mill, at that frequency");
+}
+
 const ResultTable<TandemReport>& time_table() {
     static const ResultTable<TandemReport> table{
         "TandemTimeSeries",
@@ -590,6 +612,18 @@ const ResultTable<TandemReport>& time_table() {
              [](const TandemReport& r) { return quantity_json(r.kick, micrometre); }},
             {"steps", "Integrator steps taken.", integer_schema(),
              [](const TandemReport& r) { return json(r.time->steps); }},
+            {"in_model_range",
+             "Whether the motion the series shows lies inside the model's range (docs/model.md "
+             "§12.7): the time domain carries the same spring law and quasi-static bite as the "
+             "roots, so it is judged at the rightmost root of the mill at its speed, the mode the "
+             "kick grows or decays with; null when there is no such root.",
+             boolean_schema(true),
+             [](const TandemReport& r) {
+                 return r.rightmost.found ? json(r.rightmost.described.validity.valid())
+                                          : json(nullptr);
+             }},
+            {"range_note", "The range judgement in words, for people.", string_schema(),
+             [](const TandemReport& r) { return time_series_range_note(r); }},
             {"stands", "Every stand's time series, from the entry.",
              array_schema(ref_schema("TandemStandTimeSeries")),
              [](const TandemReport& r) {

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <variant>
 
 #include <nlohmann/json.hpp>
 
@@ -227,9 +228,29 @@ TEST_CASE("the time series: the kicked stand, nothing arrives before the transpo
               result["steady_state"]["stands"][0]["entry_thickness_mm"]);
     }
     CHECK(arrived);  // stand 1 moves with the tension: its strip reaches stand 2 after tau
+    // the series is judged by the rightmost root it grows or decays with, as the root is
+    CHECK(series["in_model_range"] == result["stability"]["rightmost_root"]["validity"]["valid"]);
+    CHECK_FALSE(series["range_note"].get<std::string>().empty());
     // a stand that is not there
     const service::Outcome wrong = service::evaluate(
         {{"analysis", "tandem"}, {"tandem", two_stands}, {"options", {{"kick_stand", 3}}}});
     CHECK(wrong.http_status == 422);
     CHECK(wrong.body["errors"][0]["pointer"] == "/options/kick_stand");
+}
+
+TEST_CASE("a mill's time series holds at most 20,000 points over all its stands") {
+    // 10,000 points per stand is fine for two stands, not for three: the answer's size is
+    // points x stands (api/tandem_options_json.h).
+    const json options = {{"critical_speed", false}, {"time_series_points", 10000}};
+    CHECK(std::holds_alternative<service::PreparedRequest>(
+        service::prepare({{"analysis", "tandem"}, {"tandem", two_stands}, {"options", options}})));
+    json three = two_stands;
+    three["exit_thickness_mm"] = {1.6, 1.36, 1.2};
+    three["spans"] = {{"length_m", {5, 5}}, {"tension_MPa", {60, 60}}};
+    three["stands"] = json::array({json::object(), json::object(), json::object()});
+    const service::Outcome refused =
+        service::evaluate({{"analysis", "tandem"}, {"tandem", three}, {"options", options}});
+    CHECK(refused.http_status == 422);
+    CHECK(refused.body["errors"][0]["pointer"] == "/options/time_series_points");
+    CHECK(refused.body["errors"][0]["bound"] == "[2, 6666]");
 }
