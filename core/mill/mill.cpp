@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <Eigen/Dense>
+
 namespace rollgap::core {
 
 Mill default_mill() {
@@ -54,7 +56,11 @@ const char* mill_defect(const Mill& m) {
     if (m.span_model == SpanModel::segments &&
         (m.span_segments < 1 || m.span_segments > max_span_segments))
         return "a span has 1 to 50 segments";
-    if (m.mode != MillMode::schedule) return "only the schedule mode is implemented";
+    if (m.mode == MillMode::speeds) {
+        for (const Scenario& stand : m.stands) {
+            if (!(stand.rolls.speed > 0.0)) return "speeds mode needs every stand's roll speed";
+        }
+    }
     return "";
 }
 
@@ -118,10 +124,195 @@ MillStandState stand_state(const Mill& m, int stand, double v, const BiteResult&
 
 }  // namespace
 
+std::vector<double> mill_roll_speeds(const Mill& m) {
+    std::vector<double> speeds;
+    if (m.stands.empty()) return speeds;
+    const double scale = m.speed / m.stands.back().rolls.speed;
+    for (const Scenario& stand : m.stands) speeds.push_back(stand.rolls.speed * scale);
+    return speeds;
+}
+
+namespace {
+
+// Speeds mode (§12.3): the roll speeds given, the interstand tension stresses sigma (N - 1)
+// solve r_i = (u2_i y2_i - u2_N y2_N) / Q = 0 for i < N. Stand i's flow depends on sigma_{i-1}
+// (its back) and sigma_i (its front), the last stand's on sigma_{N-1}: a difference column
+// re-solves two stands. Newton with the step halved until every tension stays above a tenth of
+// its value and |r| falls; a tension driven towards zero is a slack span (compression is not a
+// steady state), a stand whose bite fails where the search must go is named.
+MillSteadyState speeds_steady_state(const Mill& m) {
+    MillSteadyState out;
+    const int n = m.size();
+    const std::vector<double> v = mill_roll_speeds(m);
+    Mill trial = m;  // its interstand tensions are the iterate
+    struct Flows {
+        std::vector<BiteResult> bites;
+        std::vector<double> r;  // N - 1 residuals, relative to the last stand's flow
+        double norm = 0.0;
+        int failed = -1;  // the stand whose bite failed
+    };
+    int solves = 0;
+    BiteResult failure;  // the last bite that failed, for the stand it names
+    const auto flow = [&](const BiteResult& b, int i) {
+        return b.exit_speed * m.thickness[static_cast<std::size_t>(i + 1)];
+    };
+    const auto residuals = [&](Flows& f) {
+        const double q = flow(f.bites.back(), n - 1);
+        f.r.assign(static_cast<std::size_t>(n - 1), 0.0);
+        f.norm = 0.0;
+        for (int i = 0; i + 1 < n; ++i) {
+            f.r[static_cast<std::size_t>(i)] =
+                (flow(f.bites[static_cast<std::size_t>(i)], i) - q) / q;
+            f.norm = std::max(f.norm, std::abs(f.r[static_cast<std::size_t>(i)]));
+        }
+    };
+    const auto evaluate = [&](const std::vector<double>& sigma) {
+        Flows f;
+        trial.interstand_tension = sigma;
+        f.bites.resize(static_cast<std::size_t>(n));
+        for (int i = 0; i < n; ++i) {
+            f.bites[static_cast<std::size_t>(i)] =
+                steady_bite(trial, i, v[static_cast<std::size_t>(i)]);
+            ++solves;
+            if (f.bites[static_cast<std::size_t>(i)].status != BiteStatus::ok) {
+                failure = f.bites[static_cast<std::size_t>(i)];
+                f.failed = i;
+                return f;
+            }
+        }
+        residuals(f);
+        return f;
+    };
+    std::vector<double> sigma = m.interstand_tension;
+    Flows current = evaluate(sigma);
+    const auto fail = [&](int stand, int span, const char* message) {
+        out.status = MillSteadyStatus::no_steady_state;
+        out.stand = stand;
+        out.span = span;
+        out.message = message;
+        trial.interstand_tension = sigma;
+        out.stands.resize(static_cast<std::size_t>(n));
+        for (int i = 0; i < n; ++i) {
+            const BiteResult b = i < static_cast<int>(current.bites.size())
+                                     ? current.bites[static_cast<std::size_t>(i)]
+                                     : BiteResult{};
+            out.stands[static_cast<std::size_t>(i)] =
+                stand_state(trial, i, v[static_cast<std::size_t>(i)], i == stand ? failure : b, 0);
+        }
+        return out;
+    };
+    if (current.failed >= 0)
+        return fail(current.failed, -1,
+                    "a stand has no steady state at its roll speed and the "
+                    "starting tensions");
+    constexpr double tolerance = 1e-13;
+    constexpr int max_iterations = 40;
+    int iteration = 0;
+    std::vector<int> at_floor(static_cast<std::size_t>(n - 1), 0);  // steps held at sigma/10
+    for (; iteration < max_iterations && current.norm > tolerance; ++iteration) {
+        // the Jacobian dr/dsigma by forward differences: sigma_j moves stands j and j + 1
+        Eigen::MatrixXd jac(n - 1, n - 1);
+        for (int j = 0; j + 1 < n; ++j) {
+            Flows moved = current;
+            const double h = 1e-6 * sigma[static_cast<std::size_t>(j)];
+            std::vector<double> s2 = sigma;
+            s2[static_cast<std::size_t>(j)] += h;
+            trial.interstand_tension = s2;
+            for (const int i : {j, j + 1}) {
+                moved.bites[static_cast<std::size_t>(i)] =
+                    steady_bite(trial, i, v[static_cast<std::size_t>(i)]);
+                ++solves;
+                if (moved.bites[static_cast<std::size_t>(i)].status != BiteStatus::ok) {
+                    failure = moved.bites[static_cast<std::size_t>(i)];
+                    return fail(i, -1,
+                                "a stand has no steady state near the tensions its roll "
+                                "speed needs");
+                }
+            }
+            residuals(moved);
+            for (int i = 0; i + 1 < n; ++i)
+                jac(i, j) = (moved.r[static_cast<std::size_t>(i)] -
+                             current.r[static_cast<std::size_t>(i)]) /
+                            h;
+        }
+        const Eigen::VectorXd r = Eigen::Map<const Eigen::VectorXd>(current.r.data(), n - 1);
+        const Eigen::VectorXd step = jac.fullPivLu().solve(-r);
+        if (!step.allFinite()) return fail(-1, -1, "the tensions' Newton step is singular");
+        // damping: every tension above a tenth of its value, and |r| falling
+        double lambda = 1.0;
+        for (int j = 0; j + 1 < n; ++j) {
+            const double s0 = sigma[static_cast<std::size_t>(j)];
+            if (s0 + lambda * step(j) < 0.1 * s0) lambda = 0.9 * s0 / -step(j);
+        }
+        bool accepted = false;
+        int failed = -1;
+        for (int halving = 0; halving < 30; ++halving, lambda *= 0.5) {
+            std::vector<double> next = sigma;
+            for (int j = 0; j + 1 < n; ++j) next[static_cast<std::size_t>(j)] += lambda * step(j);
+            Flows trial_flows = evaluate(next);
+            if (trial_flows.failed >= 0) {
+                failed = trial_flows.failed;
+                continue;
+            }
+            if (trial_flows.norm < current.norm) {
+                for (int j = 0; j + 1 < n; ++j) {
+                    // a tension held at the floor while the full step wanted it below zero
+                    const bool floored = sigma[static_cast<std::size_t>(j)] + step(j) <= 0.0;
+                    at_floor[static_cast<std::size_t>(j)] =
+                        floored ? at_floor[static_cast<std::size_t>(j)] + 1 : 0;
+                }
+                sigma = std::move(next);
+                current = std::move(trial_flows);
+                accepted = true;
+                break;
+            }
+        }
+        for (int j = 0; j + 1 < n; ++j) {
+            if (at_floor[static_cast<std::size_t>(j)] >= 4)
+                return fail(-1, j + 1, "the roll speeds drive an interstand span slack");
+        }
+        if (!accepted) {
+            if (failed >= 0)
+                return fail(failed, -1,
+                            "a stand has no steady state on the way to the tensions "
+                            "its roll speed needs");
+            break;
+        }
+    }
+    out.newton_iterations = iteration;
+    if (!(current.norm <= 1e-10)) {
+        // stalled: a tension at the floor is a span the speeds would compress
+        for (int j = 0; j + 1 < n; ++j) {
+            if (at_floor[static_cast<std::size_t>(j)] > 0)
+                return fail(-1, j + 1, "the roll speeds drive an interstand span slack");
+        }
+        return fail(-1, -1, "the interstand tensions that carry one mass flow were not found");
+    }
+    trial.interstand_tension = sigma;
+    out.stands.resize(static_cast<std::size_t>(n));
+    for (int i = 0; i < n; ++i)
+        out.stands[static_cast<std::size_t>(i)] =
+            stand_state(trial, i, v[static_cast<std::size_t>(i)],
+                        current.bites[static_cast<std::size_t>(i)], 0);
+    out.stands.front().bite_solves = solves;  // the search's, over all stands
+    const double q = flow(current.bites.back(), n - 1);
+    out.mass_flow = q;
+    for (int i = 0; i < n; ++i)
+        out.mass_flow_residual =
+            std::max(out.mass_flow_residual,
+                     std::abs(flow(current.bites[static_cast<std::size_t>(i)], i) - q) / q);
+    out.status = MillSteadyStatus::ok;
+    out.message = "ok";
+    return out;
+}
+
+}  // namespace
+
 MillSteadyState mill_steady_state(const Mill& m) {
     MillSteadyState out;
     out.message = mill_defect(m);
     if (*out.message != '\0') return out;
+    if (m.mode == MillMode::speeds) return speeds_steady_state(m);
     const int n = m.size();
     out.stands.resize(static_cast<std::size_t>(n));
 

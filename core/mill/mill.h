@@ -16,7 +16,8 @@ namespace rollgap::core {
 // uncoiler or coiler held at its steady speed (its force a state), or a constant tension stress.
 enum class MillBoundary { span, constant };
 // schedule: the last stand runs at the mill speed and every other stand's roll speed follows
-// from the mass flow; speeds: every roll speed given, the interstand tensions follow (not yet).
+// from the mass flow; speeds: every roll speed given (each stand's rolls.speed), the interstand
+// tensions follow (§12.3).
 enum class MillMode { schedule, speeds };
 // How a span carries its strip force (§12.1): `spring`, one force per span, the strip massless
 // (valid well below the span's first longitudinal mode c / 2L); `segments`, the span cut into n
@@ -48,6 +49,9 @@ struct Mill {
     std::vector<double> interstand_tension;  // N - 1 values
     double exit_tension = 40e6;
     double speed = 15.0;  // V, m/s: the last stand's roll speed
+    // schedule: the interstand tensions above are set points; speeds: each stand's roll speed is
+    // its scenario's rolls.speed, scaled by V / (the last stand's) so that a scan over V keeps
+    // the speeds' ratios, and the interstand tensions above are only the search's start
     MillMode mode = MillMode::schedule;
     SpanModel span_model = SpanModel::spring;
     int span_segments = 10;  // n per span under `segments` (every span: entry, interstand, exit)
@@ -98,8 +102,12 @@ const char* to_string(MillSteadyStatus);
 struct MillSteadyState {
     MillSteadyStatus status = MillSteadyStatus::invalid;
     const char* message = "";
-    int stand = -1;          // the stand without a steady state (0-based), or -1
-    double mass_flow = 0.0;  // Q = u2_N y2_N, m^2/s
+    int stand = -1;  // the stand without a steady state (0-based), or -1
+    // speeds mode: the interstand span gone slack (numbered by the stand behind it, 1..N-1, as
+    // MillFailure), or -1
+    int span = -1;
+    int newton_iterations = 0;  // speeds mode
+    double mass_flow = 0.0;     // Q = u2_N y2_N, m^2/s
     // max over stands of |u2_i y2_i - Q| / Q: the schedule's own accuracy
     double mass_flow_residual = 0.0;
     std::vector<MillStandState> stands;
@@ -108,7 +116,15 @@ struct MillSteadyState {
 // The schedule (§12.3): stand N at the mill speed gives Q; every other stand's roll speed solves
 // u2_i(v_i) y2_i = Q by the secant method (v from the stand's own forward slip, then secant to
 // 1e-13 of Q), the tensions at their set points. Failures are values naming the stand.
+// Speeds mode: the roll speeds given (mill_roll_speeds), the N - 1 interstand tensions solve
+// u2_i y2_i = u2_N y2_N (i < N) by a damped Newton with a difference Jacobian, from the set
+// points; the stands report the solved tensions. A span whose tension the speeds drive to zero
+// is named (`span`), a stand that skids or loses contact at every step towards the solution too.
 MillSteadyState mill_steady_state(const Mill& mill);
+
+// The roll speeds of speeds mode at the mill speed: stand i's rolls.speed times V / (the last
+// stand's rolls.speed), m/s.
+std::vector<double> mill_roll_speeds(const Mill& mill);
 
 // A description the mill model cannot take (wrong counts, a thickness that does not fall, a
 // non-positive length or tension where a span needs one), or "" if it is one. The API reports

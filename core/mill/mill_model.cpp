@@ -13,7 +13,11 @@ MillModel::MillModel(const Mill& mill, const MillSteadyState& steady) {
     stands_.reserve(static_cast<std::size_t>(n));
     for (int i = 0; i < n; ++i) {
         const MillStandState& st = steady.stands[static_cast<std::size_t>(i)];
-        const Scenario s = dynamics_scenario(stand_scenario(mill, i, st.roll_speed));
+        // the steady state's tensions: the set points, or those speeds mode solved (§12.3)
+        Scenario given = stand_scenario(mill, i, st.roll_speed);
+        given.tensions.back.stress = st.back_tension;
+        given.tensions.front.stress = st.front_tension;
+        const Scenario s = dynamics_scenario(given);
         const ReferenceState ref = reference_state(s, false);
         if (ref.status != BiteStatus::ok && status_ == BiteStatus::ok) {
             status_ = ref.status;

@@ -329,3 +329,102 @@ TEST_CASE("Lu et al. 2019: the published schedule's own mass flow and forward sl
 }
 
 }  // namespace mill_test
+
+namespace mill_test {
+
+// The default mill's first three stands (2.80 -> 2.25 -> 1.88 -> 1.60 mm) with interstand set
+// points of its own, not the default's.
+Mill three_stands() {
+    Mill m = default_mill();
+    m.stands.resize(3);
+    m.thickness.resize(4);
+    m.span_length.resize(2);
+    m.interstand_tension = {80e6, 95e6};
+    m.exit_tension = 60e6;
+    m.speed = 8.0;
+    return m;
+}
+
+// The mill in speeds mode at the roll speeds `steady` solved, its interstand tensions started
+// from `guess` (the truth forgotten).
+Mill in_speeds_mode(Mill m, const MillSteadyState& steady, std::vector<double> guess) {
+    m.mode = MillMode::speeds;
+    for (int i = 0; i < m.size(); ++i)
+        m.stands[static_cast<std::size_t>(i)].rolls.speed =
+            steady.stands[static_cast<std::size_t>(i)].roll_speed;
+    m.interstand_tension = std::move(guess);
+    return m;
+}
+
+TEST_CASE("mill speeds: a schedule's roll speeds given back recover its tensions and its state") {
+    // A synthetic truth: the schedule mode solves the roll speeds that carry one mass flow at
+    // the set points; given those speeds, speeds mode must find the same tensions from a
+    // different start, the same bites, and a frozen mill with the same eigenvalues.
+    const Mill truth = three_stands();
+    const MillSteadyState schedule = mill_steady_state(truth);
+    REQUIRE(schedule.status == MillSteadyStatus::ok);
+    const Mill m = in_speeds_mode(truth, schedule, {60e6, 60e6});
+    const MillSteadyState speeds = mill_steady_state(m);
+    REQUIRE(speeds.status == MillSteadyStatus::ok);
+    double tension = 0.0, force = 0.0;
+    for (int i = 0; i < m.size(); ++i) {
+        const auto k = static_cast<std::size_t>(i);
+        tension =
+            std::max({tension, rel(speeds.stands[k].back_tension, schedule.stands[k].back_tension),
+                      rel(speeds.stands[k].front_tension, schedule.stands[k].front_tension)});
+        force = std::max(force, rel(speeds.stands[k].force, schedule.stands[k].force));
+        CHECK(speeds.stands[k].roll_speed == schedule.stands[k].roll_speed);
+    }
+    MESSAGE("speeds mode, 3 stands: "
+            << speeds.newton_iterations << " Newton steps, " << speeds.stands.front().bite_solves
+            << " bite solves; worst tension " << tension << ", force " << force
+            << " relative; mass-flow residual " << speeds.mass_flow_residual);
+    CHECK(tension < 1e-7);
+    CHECK(force < 1e-7);
+    CHECK(speeds.mass_flow_residual <= 1e-10);
+    CHECK(rel(speeds.mass_flow, schedule.mass_flow) < 1e-10);
+    // the dynamics run on the solved tensions: the frozen mill is the schedule's
+    const MillStability a = mill_frozen_stability(truth);
+    const MillStability b = mill_frozen_stability(m);
+    REQUIRE(a.frozen.status == DynamicsStatus::ok);
+    REQUIRE(b.frozen.status == DynamicsStatus::ok);
+    const double worst = std::max(worst_nearest(a.frozen.eigenvalues, b.frozen.eigenvalues),
+                                  worst_nearest(b.frozen.eigenvalues, a.frozen.eigenvalues));
+    MESSAGE("frozen eigenvalues, schedule vs speeds mode: worst relative distance " << worst);
+    CHECK(worst < 1e-6);
+}
+
+TEST_CASE("mill speeds: a span the speeds would compress is named, as is a stand that skids") {
+    const Mill truth = three_stands();
+    const MillSteadyState schedule = mill_steady_state(truth);
+    REQUIRE(schedule.status == MillSteadyStatus::ok);
+    // stand 2 3 % slower than the flow from stand 1 needs: span 1 (stands 1-2) would push
+    Mill slow = in_speeds_mode(truth, schedule, truth.interstand_tension);
+    slow.stands[1].rolls.speed *= 0.97;
+    const MillSteadyState slack = mill_steady_state(slow);
+    CHECK(slack.status == MillSteadyStatus::no_steady_state);
+    CHECK(slack.span == 1);
+    CHECK(slack.stand == -1);
+    // stand 2 10 % fast: it delivers more than stand 3 takes, span 2 (stands 2-3) would push
+    Mill fast = in_speeds_mode(truth, schedule, truth.interstand_tension);
+    fast.stands[1].rolls.speed *= 1.10;
+    const MillSteadyState pushed = mill_steady_state(fast);
+    CHECK(pushed.status == MillSteadyStatus::no_steady_state);
+    CHECK(pushed.span == 2);
+    // the last stand 10 % fast: span 2's tension rises until a bite can no longer carry it
+    Mill pulling = in_speeds_mode(truth, schedule, truth.interstand_tension);
+    pulling.stands[2].rolls.speed *= 1.10;
+    pulling.speed *= 1.10;
+    const MillSteadyState pulled = mill_steady_state(pulling);
+    MESSAGE("the last stand 10 % fast: " << std::string(pulled.message) << ", stand "
+                                         << pulled.stand << ", span " << pulled.span);
+    CHECK(pulled.status == MillSteadyStatus::no_steady_state);
+    REQUIRE(pulled.stand >= 0);
+    CHECK(pulled.stands[static_cast<std::size_t>(pulled.stand)].status != BiteStatus::ok);
+    // a stand without its roll speed is no description of a speeds-mode mill
+    Mill missing = in_speeds_mode(truth, schedule, truth.interstand_tension);
+    missing.stands[0].rolls.speed = 0.0;
+    CHECK(mill_steady_state(missing).status == MillSteadyStatus::invalid);
+}
+
+}  // namespace mill_test
