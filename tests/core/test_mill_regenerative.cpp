@@ -11,6 +11,7 @@
 #include <random>
 #include <vector>
 
+#include "core/golden_section.h"
 #include "core/mill/mill.h"
 #include "core/mill/mill_model.h"
 #include "core/mill/mill_regenerative.h"
@@ -165,6 +166,48 @@ TEST_CASE("regenerative margin of the default mill: the peak of the bound, brack
     }
     MESSAGE("fine scan's largest bound " << scanned);
     CHECK(margin.margin >= scanned * (1.0 - 1e-3));
+}
+
+TEST_CASE("balanced bound: the Frobenius shortcut gives the same answer to 'below enough?'") {
+    // any D gives an upper bound of the structured singular value, and the Frobenius norm bounds
+    // sigma from above: asked with `enough`, the answer is at least the bound itself, and below
+    // `enough` exactly when the bound is (the counts' small-gain test, docs/model.md §12.6)
+    std::mt19937 rng(20261204);
+    int below = 0, above = 0;
+    for (int trial = 0; trial < 200; ++trial) {
+        const int p = 1 + trial % 5;
+        const Eigen::MatrixXcd m = random_matrix(rng, p) * (0.05 + 0.01 * (trial % 40));
+        const double exact = balanced_bound(m);
+        for (double enough : {0.25, 0.5, 1.0}) {
+            const double quick = balanced_bound(m, enough);
+            CHECK(quick >= exact * (1.0 - 1e-12));
+            CHECK((quick < enough) == (exact < enough));
+            if (quick >= enough) CHECK(quick == exact);
+            (exact < enough ? below : above) += 1;
+        }
+    }
+    MESSAGE(below << " answers below, " << above << " above");
+    CHECK(below > 0);
+    CHECK(above > 0);
+}
+
+TEST_CASE("golden-section minimum: a convex function's minimiser to the bracket's width") {
+    // (x - c)^2 + 1 over brackets around c: after k steps the bracket is 0.618^k wide and holds c
+    for (double c : {-3.7, 0.0, 0.2, 5.5}) {
+        int calls = 0;
+        const auto f = [&](double x) {
+            ++calls;
+            return (x - c) * (x - c) + 1.0;
+        };
+        const GoldenSectionResult r = golden_section_minimum(f, c - 8.0, c + 3.0, 60);
+        CHECK(std::abs(r.x - c) < 1e-7);
+        CHECK(r.evaluations == calls);
+        CHECK(r.evaluations == 62);
+        // the width stops it early: 11 * 0.618^k <= 1e-3 first at k = 20
+        const GoldenSectionResult w = golden_section_minimum(f, c - 8.0, c + 3.0, 60, 1e-3);
+        CHECK(w.evaluations == 22);
+        CHECK(std::abs(w.x - c) < 1e-3);
+    }
 }
 
 }  // namespace mill_regenerative_test
