@@ -1,5 +1,6 @@
 #include "api/tandem_json.h"
 
+#include <cmath>
 #include <cstddef>
 #include <optional>
 #include <stdexcept>
@@ -196,10 +197,18 @@ void check_mill(const std::string& base, Reading& reading, FieldErrors& errors) 
     }
 }
 
+// The stand's roll speed: the mill's in schedule mode, the stand's own in speeds mode (§12.3).
+constexpr std::string_view roll_speed_path = "/rolls/speed_m_per_s";
+bool given_by_mill(const MillOwnedField& owned, const core::Mill& mill) {
+    return mill.mode != core::MillMode::speeds || owned.stand_path != roll_speed_path;
+}
+
 // A stand's patch (or the shared defaults) setting what the mill gives.
-void reject_mill_owned(const json& patch, const std::string& pointer, FieldErrors& errors) {
+void reject_mill_owned(const json& patch, const std::string& pointer, const core::Mill& mill,
+                       FieldErrors& errors) {
     if (!patch.is_object()) return;
     for (const MillOwnedField& owned : mill_owned_stand_fields()) {
+        if (!given_by_mill(owned, mill)) continue;
         const json::json_pointer at{std::string(owned.stand_path)};
         if (!patch.contains(at) || patch.at(at).is_null()) continue;
         errors.add({pointer + std::string(owned.stand_path),
@@ -218,6 +227,7 @@ json stand_document(const json& shared, const json& patch, const core::Mill& mil
     const core::Scenario given = core::stand_scenario(mill, stand, mill.speed);
     const json resolved = resolved_scenario_json(given);
     for (const MillOwnedField& owned : mill_owned_stand_fields()) {
+        if (!given_by_mill(owned, mill)) continue;
         const json::json_pointer at{std::string(owned.stand_path)};
         document[at] = resolved.at(at);
     }
@@ -228,7 +238,7 @@ void read_stands(const std::string& base, Reading& reading, FieldErrors& errors)
     core::Mill& mill = reading.mill;
     const int stands = static_cast<int>(reading.stands.size());
     const std::string defaults_pointer = concat(base, "/", stand_defaults_member);
-    reject_mill_owned(reading.stand_defaults, defaults_pointer, errors);
+    reject_mill_owned(reading.stand_defaults, defaults_pointer, mill, errors);
     // The shared defaults alone, so that their violations are reported once, where they are.
     const json no_patch = json::object();
     FieldErrors shared_errors;
@@ -258,7 +268,19 @@ void read_stands(const std::string& base, Reading& reading, FieldErrors& errors)
         const std::string pointer = concat(base, "/", stands_member, "/", std::to_string(i));
         const json& patch = reading.stands[static_cast<std::size_t>(i)];
         if (!patch.is_null() && !require_object(patch, pointer, errors)) continue;
-        reject_mill_owned(patch, pointer, errors);
+        reject_mill_owned(patch, pointer, mill, errors);
+        // speeds mode: every stand's roll speed is its own, in its patch or the shared defaults
+        const json::json_pointer speed_at{std::string(roll_speed_path)};
+        const auto gives_speed = [&speed_at](const json& p) {
+            return p.is_object() && p.contains(speed_at) && !p.at(speed_at).is_null();
+        };
+        if (mill.mode == core::MillMode::speeds && !gives_speed(patch) &&
+            !gives_speed(reading.stand_defaults)) {
+            errors.add({pointer + std::string(roll_speed_path),
+                        concat("speeds mode needs every stand's roll speed: stand ",
+                               std::to_string(i + 1), " has none"),
+                        std::nullopt, "m/s"});
+        }
         if (!schedule_valid) continue;
         FieldErrors stand_errors;
         const json document =
@@ -268,7 +290,10 @@ void read_stands(const std::string& base, Reading& reading, FieldErrors& errors)
         for (const FieldError& error : stand_errors.reported()) {
             // A value the mill gives: reported at the mill's field, naming the stand.
             const std::string stand_path = error.pointer.substr(pointer.size());
-            const std::string given = tandem_pointer_of_stand_field(stand_path, i, stands);
+            const bool own_speed =
+                mill.mode == core::MillMode::speeds && stand_path.starts_with(roll_speed_path);
+            const std::string given =
+                own_speed ? std::string() : tandem_pointer_of_stand_field(stand_path, i, stands);
             FieldError moved = error;
             if (!given.empty()) {
                 moved.pointer = base + given;
@@ -277,6 +302,22 @@ void read_stands(const std::string& base, Reading& reading, FieldErrors& errors)
             if (!errors.has_error_at_or_below(moved.pointer)) errors.add(std::move(moved));
         }
     }
+}
+
+// Speeds mode: the mill speed is the last stand's roll speed (§12.3).
+void check_mill_speed(const std::string& base, const core::Mill& mill, FieldErrors& errors) {
+    if (mill.mode != core::MillMode::speeds || mill.stands.empty()) return;
+    const std::string last =
+        concat(base, "/", stands_member, "/", std::to_string(mill.stands.size() - 1),
+               std::string(roll_speed_path));
+    if (errors.has_error_at_or_below(last) || errors.has_error_at_or_below(base + "/speed_m_per_s"))
+        return;
+    const double v = mill.stands.back().rolls.speed;
+    if (std::abs(mill.speed - v) <= 1e-12 * v) return;
+    errors.add({base + "/speed_m_per_s",
+                concat("in speeds mode the mill speed is the last stand's roll speed (",
+                       format_number(v), " m/s at ", last, "), not ", format_number(mill.speed)),
+                format_number(v), "m/s"});
 }
 
 }  // namespace
@@ -304,6 +345,7 @@ nlohmann::json resolved_tandem_json(const core::Mill& mill) {
     for (const core::Scenario& stand : mill.stands) {
         json scenario = resolved_scenario_json(stand);
         for (const MillOwnedField& owned : mill_owned_stand_fields()) {
+            if (!given_by_mill(owned, mill)) continue;  // speeds mode: the stand's own speed
             const std::string path(owned.stand_path);
             const auto slash = path.rfind('/');
             json& parent =
@@ -336,6 +378,7 @@ core::Mill mill_from_json(const nlohmann::json& document, const std::string& poi
     if (reading.stands_valid) {
         check_mill(pointer, reading, errors);
         read_stands(pointer, reading, errors);
+        check_mill_speed(pointer, reading.mill, errors);
     }
     if (errors.empty()) {
         // core's own guard agrees with the field checks; a disagreement is a bug, said plainly

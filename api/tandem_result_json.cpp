@@ -128,7 +128,7 @@ const ResultTable<SteadyView>& steady_table() {
         {
             {"status",
              "ok; no_steady_state when a stand skids, loses contact or fails (failed_stand names "
-             "it).",
+             "it) or, in speeds mode, a span would go slack (slack_span names it).",
              enum_schema({"ok", "no_steady_state", "invalid"}),
              [](const SteadyView& v) { return core::to_string(v.steady->status); }},
             {"message", "Why there is no steady state; empty when ok.", string_schema(),
@@ -136,6 +136,13 @@ const ResultTable<SteadyView>& steady_table() {
             {"failed_stand", "The stand without a steady state, or null.",
              stand_number_schema(true),
              [](const SteadyView& v) { return stand_number(v.steady->stand); }},
+            {"slack_span",
+             "speeds mode: the interstand span (1 = between stands 1 and 2) that the given roll "
+             "speeds would drive slack, or null.",
+             stand_number_schema(true),
+             [](const SteadyView& v) {
+                 return v.steady->span >= 1 ? json(v.steady->span) : json(nullptr);
+             }},
             {"mass_flow_m2_per_s", "Mass flow per width Q = u2 y2 of the last stand.",
              number_schema(square_metre_per_second),
              [](const SteadyView& v) {

@@ -132,14 +132,19 @@ std::vector<TandemField> make_fields() {
         TandemField mode;
         mode.path = "/mode";
         mode.kind = TandemFieldKind::choice;
-        mode.choices = {"schedule"};
+        mode.choices = {"schedule", "speeds"};
         mode.description =
             "How the steady state is set (docs/model.md §12.3): schedule = the thicknesses, the "
             "tension set points and the mill speed are given, every other stand's roll speed "
-            "solves the mass flow.";
-        mode.read_choice = [](const core::Mill&) { return "schedule"sv; };
-        mode.write_choice = [](core::Mill& mill, std::string_view) {
-            mill.mode = core::MillMode::schedule;
+            "solves the mass flow (a stand's rolls/speed_m_per_s is then refused); speeds = every "
+            "stand's roll speed is given in its own patch (rolls/speed_m_per_s, required; the "
+            "last equal to speed_m_per_s) and the interstand tensions solve the mass flow "
+            "(spans/tension_MPa is then only the search's start).";
+        mode.read_choice = [](const core::Mill& mill) {
+            return mill.mode == core::MillMode::speeds ? "speeds"sv : "schedule"sv;
+        };
+        mode.write_choice = [](core::Mill& mill, std::string_view choice) {
+            mill.mode = choice == "speeds" ? core::MillMode::speeds : core::MillMode::schedule;
         };
         fields.push_back(std::move(mode));
     }

@@ -117,6 +117,13 @@ TEST_CASE("every field of the table reaches core::Mill and comes back in its uni
             case TandemFieldKind::choice: {
                 for (const std::string_view choice : field.choices) {
                     patch[at] = choice;
+                    if (choice == "speeds") {  // then every stand gives its roll speed
+                        patch["stands"] = json::array();
+                        for (double v : {5.9, 7.1, 8.5, 10.1, 15.0})
+                            patch["stands"].push_back({{"rolls", {{"speed_m_per_s", v}}}});
+                    } else {
+                        patch.erase("stands");
+                    }
                     const core::Mill mill = read_clean(patch);
                     CHECK(field.read_choice(mill) == choice);
                 }
@@ -286,4 +293,46 @@ TEST_CASE("the span model: spring by default, segments with its count, a count t
         pointers_of(json{{"spans", {{"model", "strings"}, {"segment_count", 51}}}});
     CHECK(has(both, "/tandem/spans/model"));
     CHECK(has(both, "/tandem/spans/segment_count"));
+}
+
+TEST_CASE("speeds mode: every stand's roll speed in its patch, the mill speed the last one's") {
+    const json speeds = {{"mode", "speeds"},
+                         {"speed_m_per_s", 15.0},
+                         {"stands",
+                          {{{"rolls", {{"speed_m_per_s", 5.9}}}},
+                           {{"rolls", {{"speed_m_per_s", 7.1}}}},
+                           {{"rolls", {{"speed_m_per_s", 8.5}}}},
+                           {{"rolls", {{"speed_m_per_s", 10.1}}}},
+                           {{"rolls", {{"speed_m_per_s", 15.0}}}}}}};
+    const core::Mill mill = read_clean(speeds);
+    CHECK(mill.mode == core::MillMode::speeds);
+    CHECK(mill.stands[1].rolls.speed == 7.1);
+    CHECK(core::mill_roll_speeds(mill).back() == 15.0);
+    // the echo keeps each stand's own speed and reads back to the same mill
+    const json echo = resolved_tandem_json(mill);
+    CHECK(echo["mode"] == "speeds");
+    CHECK(echo["stands"][1]["rolls"]["speed_m_per_s"] == 7.1);
+    FieldErrors errors;
+    const core::Mill again = mill_from_json(echo, "/tandem", errors);
+    CHECK(errors.empty());
+    CHECK(again.stands[3].rolls.speed == 10.1);
+
+    // every violation at once: two stands without a speed, and a mill speed that is not the
+    // last stand's
+    json broken = speeds;
+    broken["speed_m_per_s"] = 14.0;
+    broken["stands"][1] = json::object();
+    broken["stands"][3]["rolls"] = json::object();
+    const std::vector<std::string> pointers = pointers_of(broken);
+    CHECK(has(pointers, "/tandem/stands/1/rolls/speed_m_per_s"));
+    CHECK(has(pointers, "/tandem/stands/3/rolls/speed_m_per_s"));
+    CHECK(has(pointers, "/tandem/speed_m_per_s"));
+    CHECK(pointers.size() == 3);
+
+    // schedule mode: a stand's roll speed is the mill's to give, a violation at the stand
+    json schedule = speeds;
+    schedule["mode"] = "schedule";
+    const std::vector<std::string> refused = pointers_of(schedule);
+    for (int i = 0; i < 5; ++i)
+        CHECK(has(refused, "/tandem/stands/" + std::to_string(i) + "/rolls/speed_m_per_s"));
 }
