@@ -375,10 +375,10 @@ json tandem_leaf_schema(const api::TandemField& field, const json& default_value
     std::string description;
     switch (field.kind) {
         case api::TandemFieldKind::number:
-            schema["type"] = nullable("number");
+            schema["type"] = nullable(field.integer ? "integer" : "number");  // a count is whole
             add_bounds(schema, field.range);
             schema["x-unit"] = field.unit.code;
-            description = numeric_text(false, false, field.unit, field.range);
+            description = numeric_text(field.integer, false, field.unit, field.range);
             break;
         case api::TandemFieldKind::number_list: {
             json item = {{"type", "number"}, {"x-unit", field.unit.code}};
