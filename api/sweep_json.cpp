@@ -114,16 +114,13 @@ double tidy(double value) {
     return tidied;
 }
 
-// One sweep point before validation: the JSON value and where a violation of it is reported.
-struct Point {
-    nlohmann::json value;
-    std::string pointer;
-    std::optional<std::size_t> range_index;  // for a point inside a range: its index
-};
+using Point = SweepPoint;
 
-// The points as the client gave them (values or range), or nothing with the violation recorded.
-std::optional<std::vector<Point>> read_points(const OptionsReader& reader,
-                                              nlohmann::json& echo_values) {
+}  // namespace
+
+std::optional<std::vector<SweepPoint>> read_sweep_points(const OptionsReader& reader,
+                                                         nlohmann::json& echo_values,
+                                                         int max_points) {
     const nlohmann::json* values = reader.find(values_name);
     const nlohmann::json* range = reader.find(range_name);
     FieldErrors& errors = reader.errors();
@@ -135,7 +132,7 @@ std::optional<std::vector<Point>> read_points(const OptionsReader& reader,
                     std::nullopt, std::nullopt});
         return std::nullopt;
     }
-    const std::string count_bound = concat("1 to ", std::to_string(max_sweep_points), " values");
+    const std::string count_bound = concat("1 to ", std::to_string(max_points), " values");
     std::vector<Point> points;
     if (values != nullptr) {
         const std::string pointer = reader.at(values_name);
@@ -145,7 +142,7 @@ std::optional<std::vector<Point>> read_points(const OptionsReader& reader,
                         std::nullopt, std::nullopt});
             return std::nullopt;
         }
-        if (values->empty() || values->size() > static_cast<std::size_t>(max_sweep_points)) {
+        if (values->empty() || values->size() > static_cast<std::size_t>(max_points)) {
             errors.add(
                 {pointer,
                  concat("has ", std::to_string(values->size()), " values; give ", count_bound),
@@ -185,12 +182,12 @@ std::optional<std::vector<Point>> read_points(const OptionsReader& reader,
     }
     int count = 0;
     if (range_reader.find("count") == nullptr) {
-        errors.add({range_reader.at("count"),
-                    concat("required: the number of values, in [2, ",
-                           std::to_string(max_sweep_points), "]"),
-                    std::nullopt, std::nullopt});
+        errors.add(
+            {range_reader.at("count"),
+             concat("required: the number of values, in [2, ", std::to_string(max_points), "]"),
+             std::nullopt, std::nullopt});
         valid = false;
-    } else if (!range_reader.integer("count", closed(2.0, max_sweep_points), count)) {
+    } else if (!range_reader.integer("count", closed(2.0, max_points), count)) {
         valid = false;
     }
     if (!valid) return std::nullopt;
@@ -207,6 +204,8 @@ std::optional<std::vector<Point>> read_points(const OptionsReader& reader,
     echo_values = {{range_name, {{"from", from}, {"to", to}, {"count", count}}}};
     return points;
 }
+
+namespace {
 
 std::string value_text(const nlohmann::json& value) {
     if (value.is_number()) return format_number(value.get<double>());
@@ -324,7 +323,7 @@ SweepAxis sweep_axis_from_json(const nlohmann::json& axis, const std::string& po
     if (!reader.is_object()) return out;
     out.field = read_parameter(reader);
     nlohmann::json echo_values;
-    const auto points = read_points(reader, echo_values);
+    const auto points = read_sweep_points(reader, echo_values, max_sweep_points);
     if (out.field != nullptr && points && valid_scenario != nullptr) {
         SweepPlan plan;
         build_scenarios(*out.field, *points, *valid_scenario, plan, errors);
@@ -368,7 +367,7 @@ SweepPlan sweep_plan_from_json(const nlohmann::json& options, const std::string&
     }
 
     nlohmann::json echo_values;
-    const auto points = read_points(reader, echo_values);
+    const auto points = read_sweep_points(reader, echo_values, max_sweep_points);
 
     nlohmann::json quantity_options;
     if (quantity_valid) {
@@ -426,9 +425,9 @@ const ResultTable<core::AmplitudeResult>& amplitude_point_figures_table() {
     return table;
 }
 
-// The swept value's member in the points: "value_" and the unit in a name's spelling
-// ("value_Pa_s", "value_per_MPa", "value_m_per_s"); dimensionless: "value".
-std::string value_name(Unit unit) {
+}  // namespace
+
+std::string sweep_value_name(Unit unit) {
     if (unit.code == "1") return "value";
     std::string name = "value_";
     for (std::size_t i = 0; i < unit.code.size(); ++i) {
@@ -443,6 +442,10 @@ std::string value_name(Unit unit) {
     }
     return name;
 }
+
+namespace {
+
+std::string value_name(Unit unit) { return sweep_value_name(unit); }
 
 // A point's schema: the table's members and the swept value under value_name.
 nlohmann::json point_schema(nlohmann::json schema) {

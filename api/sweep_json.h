@@ -18,12 +18,14 @@
 // problem at /options/values/<i> (or /options/range/from, /to, or /options/range for a point
 // in between) with the field's bound and unit.
 
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "api/field_errors.h"
+#include "api/options_reader.h"
 #include "api/result_table.h"
 #include "api/scenario_schema.h"
 #include "core/amplitude.h"
@@ -66,6 +68,24 @@ struct SweepAxis {
 };
 SweepAxis sweep_axis_from_json(const nlohmann::json& axis, const std::string& pointer,
                                const core::Scenario* valid_scenario, FieldErrors& errors);
+
+// One sweep point before validation: the JSON value and where a violation of it is reported.
+struct SweepPoint {
+    nlohmann::json value;
+    std::string pointer;
+    std::optional<std::size_t> range_index;  // for a point inside a range: its index
+};
+
+// The points as the client gave them in `reader`'s "values" or "range" (1 to max_points), or
+// nothing with the violation recorded; `echo_values` gets {"values"} or {"range"}. Shared by
+// the sweeps of a stand and of a mill (api/tandem_sweep_json.h).
+std::optional<std::vector<SweepPoint>> read_sweep_points(const OptionsReader& reader,
+                                                         nlohmann::json& echo_values,
+                                                         int max_points);
+
+// The swept value's member in the points: "value_" and the unit in a name's spelling
+// ("value_Pa_s", "value_per_MPa", "value_m_per_s"); dimensionless: "value".
+std::string sweep_value_name(Unit unit);
 
 // Sets a numeric field to `value`, in the field's unit (already validated).
 void set_scenario_field(core::Scenario& scenario, const ScenarioField& field, double value);

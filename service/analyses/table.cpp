@@ -15,6 +15,7 @@
 #include "api/stability_json.h"
 #include "api/sweep_json.h"
 #include "api/tandem_result_json.h"
+#include "api/tandem_sweep_json.h"
 #include "api/tension_cycle_json.h"
 #include "api/name_suggestion.h"
 #include "api/text.h"
@@ -27,6 +28,7 @@
 #include "service/analyses/stability.h"
 #include "service/analyses/sweep.h"
 #include "service/analyses/tandem.h"
+#include "service/analyses/tandem_sweep.h"
 #include "service/analyses/tension_cycle.h"
 
 namespace rollgap::service {
@@ -51,6 +53,9 @@ constexpr std::array<OptionsDefaults, 1> map_defaults{{
                         {"parameter": "/strip/entry_thickness_mm", "values": [1.6]}]})"},
 }};
 constexpr std::array<OptionsDefaults, 1> tandem_defaults{{{"TandemOptions", "{}"}}};
+constexpr std::array<OptionsDefaults, 1> tandem_sweep_defaults{{
+    {"TandemSweepOptions", R"({"parameter": "/spans/length_m/0", "values": [5]})"},
+}};
 constexpr std::array<OptionsDefaults, 1> evaluation_defaults{{{"EvaluateOptions", "{}"}}};
 constexpr std::array<OptionsDefaults, 1> calibration_defaults{{
     {"CalibrateOptions",
@@ -63,11 +68,14 @@ constexpr std::array speeds_option{"speeds_m_per_s"sv};
 constexpr std::array sweep_request_options{"parameter"sv, "values"sv, "range"sv,
                                            "speeds_m_per_s"sv};
 constexpr std::array map_request_options{"parameters"sv};
+constexpr std::array tandem_sweep_request_options{"parameter"sv, "values"sv, "range"sv};
 constexpr std::array calibration_request_options{"parameters"sv, "observations"sv};
 
 // The result components a point of a pointwise analysis can be (api/sweep_json.h, map_json.h).
 constexpr std::array sweep_points{"SweepCriticalSpeedPoint"sv, "SweepAmplitudePoint"sv};
 constexpr std::array map_points{"MapCell"sv};
+constexpr std::array tandem_sweep_points{"TandemSweepCriticalSpeedPoint"sv,
+                                         "TandemSweepStabilityPoint"sv};
 
 const std::array table{
     Analysis{"roll_gap", "Roll gap",
@@ -139,6 +147,14 @@ const std::array table{
              {},
              true,
              &prepare_tandem},
+    Analysis{"tandem_sweep", "Mill sweep",
+             "a tandem mill's critical speeds or its stability over the values of one of its "
+             "fields: a stand's field, a span length, a tension set point, the schedule "
+             "(docs/model.md §12.10)",
+             nullptr, "/v1/tandem/sweeps", "TandemSweepResponse", "TandemSweepOptions",
+             "TandemSweepResult", &api::tandem_sweep_result_schemas, tandem_sweep_defaults,
+             tandem_sweep_request_options, &api::tandem_sweep_csv_tables, tandem_sweep_points,
+             false, &prepare_tandem_sweep},
 };
 
 }  // namespace
