@@ -473,6 +473,25 @@ const ResultTable<StabilityView>& stability_table() {
                  const auto& n = v.report->at_speed.nominal;
                  return n.ok ? json(n.count) : json(nullptr);
              }},
+            {"roots_in_band",
+             "Of those, the roots inside the model's band 0 < f < band_top_Hz (docs/model.md "
+             "§12.7), counted as the nominal-delay critical speed counts them: 0 here means "
+             "stable inside the model's range, whatever the roots above the band do; null if "
+             "not counted.",
+             integer_schema(true),
+             [](const StabilityView& v) {
+                 const int n = v.report->rightmost.band_count;
+                 return n >= 0 ? json(n) : json(nullptr);
+             }},
+            {"band_top_Hz",
+             "The top of the model's band at this speed: the largest frequency at which every "
+             "span's spring law and every stand's quasi-static bite hold; 0: none does.",
+             number_schema(hertz),
+             [](const StabilityView& v) {
+                 return v.report->rightmost.band_count >= 0
+                            ? quantity_json(v.report->rightmost.band_top_Hz, hertz)
+                            : json(nullptr);
+             }},
             {"root_count_error",
              "The count's distance from an integer before rounding: its own accuracy.",
              number_schema(one),

@@ -329,6 +329,13 @@ const ResultTable<StabilityPoint>& stability_point_table() {
              }},
             {"frozen_stable", "A0 is stable: the tension path alone does not chatter.",
              boolean_schema(), [](const P& p) { return json(p.at.frozen.stable); }},
+            {"roots_in_band",
+             "Roots right of the axis inside the model's band (what the nominal-delay critical "
+             "speed counts); null when not counted.",
+             integer_schema(true),
+             [](const P& p) {
+                 return p.root.band_count >= 0 ? json(p.root.band_count) : json(nullptr);
+             }},
             {"roots_right_of_axis", "Roots with the nominal delays right of the axis (any band).",
              integer_schema(true),
              [](const P& p) { return p.at.nominal.ok ? json(p.at.nominal.count) : json(nullptr); }},

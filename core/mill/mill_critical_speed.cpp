@@ -245,9 +245,23 @@ bool first_positive(MillCrossing& c, const std::function<int(double)>& count_at,
 
 MillRootDescription describe_rightmost_root(const Mill& mill, const MillSpeedStability& at) {
     MillRootDescription out;
-    if (!at.rightmost.found) return out;
+    if (at.steady.status != MillSteadyStatus::ok) return out;
     const Linearised l = linearised(mill);
     if (!l.ok) return out;
+    // The roots inside the model's band at this speed, counted as the nominal-delay search
+    // counts them (docs/model.md §12.7): what the headline's "stable" means at this speed.
+    out.band_top_Hz = valid_frequency_Hz(mill, l.steady);
+    if (out.band_top_Hz > 0.0) {
+        const BandRootCount band =
+            band_root_count(l.transfer, 2.0 * std::numbers::pi * out.band_top_Hz, 0.0);
+        if (band.ok) {
+            out.band_count = band.count;
+            out.band_count_error = band.integer_error;
+        }
+    } else {
+        out.band_count = 0;  // an empty band holds no root
+    }
+    if (!at.rightmost.found) return out;
     out.found = true;
     out.verified = at.rightmost.verified;
     out.s = at.rightmost.root.s;

@@ -76,6 +76,12 @@ struct MillRootDescription {
     bool verified = false;   // no root right of it (the count)
     std::complex<double> s;  // 1/s
     MillCrossing described;  // kind nominal_delay, speed the mill's; status found when found
+    // The roots right of the axis inside the model's band 0 < f < band_top_Hz (band_root_count,
+    // upper half plane), -1 when not counted (no steady state, or the count did not close);
+    // band_top_Hz 0: the band is empty at this speed.
+    int band_count = -1;
+    double band_top_Hz = 0.0;
+    double band_count_error = 0.0;  // the count's distance from an integer
 };
 MillRootDescription describe_rightmost_root(const Mill& mill, const MillSpeedStability& at);
 

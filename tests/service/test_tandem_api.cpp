@@ -254,3 +254,32 @@ TEST_CASE("a mill's time series holds at most 20,000 points over all its stands"
     CHECK(refused.body["errors"][0]["pointer"] == "/options/time_series_points");
     CHECK(refused.body["errors"][0]["bound"] == "[2, 6666]");
 }
+
+TEST_CASE("the roots in the model's band: none just below the nominal-delay speed, some above") {
+    // The nominal-delay critical speed is the first speed at which a root inside the band
+    // crosses (docs/model.md §12.7): the answer's in-band count at the mill's own speed must say
+    // 0 just below it and at least 1 just above it (0.2 % either side, well inside one lobe
+    // period: ~0.16 m/s here against 0.02 m/s).
+    const json critical = answer_of({{"analysis", "tandem"}, {"tandem", two_stands}});
+    const json& nominal = critical["result"]["critical_speeds"]["nominal_delay"];
+    REQUIRE(nominal["status"] == "found");
+    const double speed = nominal["speed_m_per_s"].get<double>();
+    CHECK(nominal["lobe_period_m_per_s"].get<double>() > 0.004 * speed);
+    const auto at = [&](double v) {
+        json mill = two_stands;
+        mill["speed_m_per_s"] = v;
+        return answer_of({{"analysis", "tandem"},
+                          {"tandem", mill},
+                          {"options", {{"critical_speed", false}}}})["result"]["stability"];
+    };
+    const json below = at(speed * 0.998);
+    const json above = at(speed * 1.002);
+    CHECK(below["roots_in_band"] == 0);
+    CHECK(above["roots_in_band"].get<int>() >= 1);
+    for (const json& s : {below, above}) {
+        CHECK(s["roots_in_band"].get<int>() <= s["roots_right_of_axis"].get<int>());
+        CHECK(s["band_top_Hz"].get<double>() > 0.0);
+    }
+    // the crossing root lies inside the band it is counted in
+    CHECK(nominal["frequency_Hz"].get<double>() < above["band_top_Hz"].get<double>());
+}

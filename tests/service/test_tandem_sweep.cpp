@@ -66,6 +66,7 @@ void check_point_is_tandem(const json& point, const json& mill) {
     CHECK(point["regenerative_margin"] == stability["regenerative_margin"]);
     CHECK(point["frozen_stable"] == stability["frozen_stable"]);
     CHECK(point["roots_right_of_axis"] == stability["roots_right_of_axis"]);
+    CHECK(point["roots_in_band"] == stability["roots_in_band"]);
 }
 
 TEST_CASE("a mill sweep's point is the tandem analysis of the mill with that value") {
