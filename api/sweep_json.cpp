@@ -427,6 +427,15 @@ const ResultTable<core::AmplitudeResult>& amplitude_point_figures_table() {
 
 }  // namespace
 
+nlohmann::json sweep_point_schema(nlohmann::json schema) {
+    schema["patternProperties"] = {
+        {value_pattern,
+         {{"type", "number"},
+          {"description", "The swept value, in the field's unit (see value_name)."}}}};
+    schema["minProperties"] = schema["required"].size() + 1;
+    return schema;
+}
+
 std::string sweep_value_name(Unit unit) {
     if (unit.code == "1") return "value";
     std::string name = "value_";
@@ -446,16 +455,6 @@ std::string sweep_value_name(Unit unit) {
 namespace {
 
 std::string value_name(Unit unit) { return sweep_value_name(unit); }
-
-// A point's schema: the table's members and the swept value under value_name.
-nlohmann::json point_schema(nlohmann::json schema) {
-    schema["patternProperties"] = {
-        {value_pattern,
-         {{"type", "number"},
-          {"description", "The swept value, in the field's unit (see value_name)."}}}};
-    schema["minProperties"] = schema["required"].size() + 1;
-    return schema;
-}
 
 template <class Result, class Table>
 nlohmann::json points_json(const SweepPlan& plan, const std::vector<Result>& results,
@@ -506,10 +505,11 @@ std::vector<std::string> sweep_point_columns(bool amplitude) {
 }
 
 std::vector<ResultSchema> sweep_result_schemas() {
-    return {{critical_point_table().component(), point_schema(critical_point_table().schema())},
-            {amplitude_point_figures_table().component(),
-             point_schema(amplitude_point_figures_table().schema())},
-            result_schema(sweep_result_table())};
+    return {
+        {critical_point_table().component(), sweep_point_schema(critical_point_table().schema())},
+        {amplitude_point_figures_table().component(),
+         sweep_point_schema(amplitude_point_figures_table().schema())},
+        result_schema(sweep_result_table())};
 }
 
 nlohmann::json sweep_critical_speed_points_json(

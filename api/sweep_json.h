@@ -87,6 +87,9 @@ std::optional<std::vector<SweepPoint>> read_sweep_points(const OptionsReader& re
 // ("value_Pa_s", "value_per_MPa", "value_m_per_s"); dimensionless: "value".
 std::string sweep_value_name(Unit unit);
 
+// A point's schema: a point table's members and the swept value under its value_name.
+nlohmann::json sweep_point_schema(nlohmann::json schema);
+
 // Sets a numeric field to `value`, in the field's unit (already validated).
 void set_scenario_field(core::Scenario& scenario, const ScenarioField& field, double value);
 

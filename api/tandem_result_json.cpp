@@ -22,16 +22,6 @@ using namespace units;
 
 constexpr double nan = std::numeric_limits<double>::quiet_NaN();
 
-// A stand number as results give it (1-based), null for "none".
-json stand_number(int index) { return index < 0 ? json(nullptr) : json(index + 1); }
-
-json stand_number_schema(bool nullable) {
-    json schema = integer_schema(nullable);
-    schema["minimum"] = 1;
-    schema["maximum"] = core::max_mill_stands;
-    return schema;
-}
-
 json numbers_schema(Unit unit) { return array_schema(number_schema(unit)); }
 
 // ---- the steady state, per stand ------------------------------------------------------------
@@ -758,5 +748,16 @@ std::vector<ResultSchema> tandem_result_schemas() {
 }
 
 std::span<const CsvTable> tandem_csv_tables() { return csv_tables; }
+
+nlohmann::json stand_number(int index) {
+    return index < 0 ? nlohmann::json(nullptr) : nlohmann::json(index + 1);
+}
+
+nlohmann::json stand_number_schema(bool nullable) {
+    nlohmann::json schema = integer_schema(nullable);
+    schema["minimum"] = 1;
+    schema["maximum"] = core::max_mill_stands;
+    return schema;
+}
 
 }  // namespace rollgap::api

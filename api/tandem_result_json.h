@@ -36,4 +36,9 @@ nlohmann::json tandem_result_json(const TandemReport& report);
 std::vector<ResultSchema> tandem_result_schemas();
 std::span<const CsvTable> tandem_csv_tables();
 
+// A stand number as mill results give it (1-based, as a plant numbers its stands), null for
+// "none" (index -1), and its schema.
+nlohmann::json stand_number(int index);
+nlohmann::json stand_number_schema(bool nullable);
+
 }  // namespace rollgap::api

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cstdlib>
 #include <optional>
 #include <string_view>
 
@@ -13,6 +14,7 @@
 #include "api/stability_json.h"
 #include "api/sweep_json.h"
 #include "api/tandem_json.h"
+#include "api/tandem_result_json.h"
 #include "api/tandem_schema.h"
 #include "api/text.h"
 #include "core/mill/mill_critical_speed.h"
@@ -32,15 +34,6 @@ constexpr std::string_view critical_speed_member = "critical_speed";
 constexpr std::array<std::string_view, 5> sweep_members{parameter_name, "values", "range",
                                                         quantity_name, critical_speed_member};
 constexpr std::array<std::string_view, 2> quantities{"critical_speed", "stability"};
-
-json stand_number(int index) { return index < 0 ? json(nullptr) : json(index + 1); }
-
-json stand_number_schema() {
-    json schema = integer_schema(true);
-    schema["minimum"] = 1;
-    schema["maximum"] = core::max_mill_stands;
-    return schema;
-}
 
 // The reference tokens of a JSON pointer (RFC 6901), unescaped; "" gives none.
 std::vector<std::string> pointer_tokens(std::string_view path) {
@@ -123,7 +116,25 @@ std::optional<std::string> read_parameter(const OptionsReader& reader, const jso
         } catch (const json::exception&) {
             return refuse("is not a JSON pointer");
         }
-        if (!document->contains(location)) return refuse("is not in this mill's document");
+        if (!document->contains(location)) {
+            // A stand's field that the mill gives it (its thickness, tension, speed, ...) is not
+            // in the stand's document: name the mill's field that sets it.
+            const std::vector<std::string> tokens = pointer_tokens(*path);
+            if (tokens.size() >= 3 && tokens.front() == stands_member &&
+                document->contains("stands")) {
+                std::string field;
+                for (std::size_t i = 2; i < tokens.size(); ++i) field += concat("/", tokens[i]);
+                const int stand = std::atoi(tokens[1].c_str());
+                const int count = static_cast<int>((*document)["stands"].size());
+                if (stand >= 0 && stand < count) {
+                    const std::string given = tandem_pointer_of_stand_field(field, stand, count);
+                    if (!given.empty())
+                        return refuse(concat("is given to the stand by the mill: sweep ",
+                                             quoted_for_message(given), " instead"));
+                }
+            }
+            return refuse("is not in this mill's document");
+        }
         const json& target = (*document)[location];
         const bool numbers =
             target.is_array() && !target.empty() &&
@@ -240,13 +251,13 @@ const ResultTable<core::MillCriticalSpeeds>& critical_point_table() {
                  return h != nullptr ? quantity_json(h->frequency_Hz, hertz) : json(nullptr);
              }},
             {"moving_stand", "The stand the headline crossing moves most (1-based).",
-             stand_number_schema(),
+             stand_number_schema(true),
              [](const S& s) {
                  const core::MillCrossing* h = headline_of(s);
                  return h != nullptr ? stand_number(h->moving_stand) : json(nullptr);
              }},
             {"feeding_stand", "The stand whose bite feeds the headline crossing (1-based).",
-             stand_number_schema(),
+             stand_number_schema(true),
              [](const S& s) {
                  const core::MillCrossing* h = headline_of(s);
                  return h != nullptr ? stand_number(h->feeding_stand) : json(nullptr);
@@ -304,12 +315,12 @@ const ResultTable<StabilityPoint>& stability_point_table() {
                                      : json(nullptr);
              }},
             {"moving_stand", "The stand the rightmost root moves most (1-based).",
-             stand_number_schema(),
+             stand_number_schema(true),
              [](const P& p) {
                  return p.root.found ? stand_number(p.root.described.moving_stand) : json(nullptr);
              }},
             {"feeding_stand", "The stand whose bite feeds the rightmost root (1-based).",
-             stand_number_schema(),
+             stand_number_schema(true),
              [](const P& p) {
                  return p.root.found ? stand_number(p.root.described.feeding_stand) : json(nullptr);
              }},
@@ -341,16 +352,6 @@ const ResultTable<StabilityPoint>& stability_point_table() {
              [](const P& p) { return p.at.nominal.ok ? json(p.at.nominal.count) : json(nullptr); }},
         }};
     return table;
-}
-
-// A point's schema: the table's members and the swept value under value_<unit>.
-json point_schema(json schema) {
-    schema["patternProperties"] = {
-        {"^value(_[A-Za-z0-9_]+)?$",
-         {{"type", "number"},
-          {"description", "The swept value, in the field's unit (see value_name)."}}}};
-    schema["minProperties"] = schema["required"].size() + 1;
-    return schema;
 }
 
 struct SweepOutput {
@@ -469,12 +470,11 @@ nlohmann::json tandem_sweep_result_json(const TandemSweepPlan& plan, nlohmann::j
 }
 
 std::vector<ResultSchema> tandem_sweep_result_schemas() {
-    return {
-        {tandem_sweep_detail::critical_point_table().component(),
-         tandem_sweep_detail::point_schema(tandem_sweep_detail::critical_point_table().schema())},
-        {tandem_sweep_detail::stability_point_table().component(),
-         tandem_sweep_detail::point_schema(tandem_sweep_detail::stability_point_table().schema())},
-        result_schema(tandem_sweep_detail::result_table())};
+    return {{tandem_sweep_detail::critical_point_table().component(),
+             sweep_point_schema(tandem_sweep_detail::critical_point_table().schema())},
+            {tandem_sweep_detail::stability_point_table().component(),
+             sweep_point_schema(tandem_sweep_detail::stability_point_table().schema())},
+            result_schema(tandem_sweep_detail::result_table())};
 }
 
 std::span<const CsvTable> tandem_sweep_csv_tables() {

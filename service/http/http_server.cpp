@@ -2,8 +2,6 @@
 
 #include "api/json_text.h"
 #include "api/problem.h"
-#include "api/scenario_json.h"
-#include "api/tandem_json.h"
 #include "api/text.h"
 #include "service/http/admin_endpoints.h"
 #include "service/http/job_endpoints.h"
@@ -86,9 +84,6 @@ struct HttpServer::Impl {
     std::atomic<bool> started{false};
     std::atomic<bool> stopped{false};
     std::mutex shutdown_mutex;
-
-    const std::string default_scenario_text = dump(api::default_scenario_json());
-    const std::string default_mill_text = dump(api::default_tandem_json());
 
     Impl(ServerConfig resolved, Evaluator evaluate, std::shared_ptr<spdlog::logger> logger)
         : request_logger(logger ? std::move(logger) : spdlog::default_logger()),
@@ -185,28 +180,13 @@ struct HttpServer::Impl {
         switch (route.id) {
             case RouteId::scenarios:
             case RouteId::scenario:
+            case RouteId::scenarios_default:  // served from code; DELETE: 422 (reserved)
                 scenario_endpoints.get_or_delete(request, t_context.client, response);
-                return;
-            case RouteId::scenarios_default:
-                if (request.method == "DELETE") {
-                    // 422: reserved
-                    scenario_endpoints.get_or_delete(request, t_context.client, response);
-                    return;
-                }
-                response.status = 200;
-                response.set_content(default_scenario_text, "application/json");
                 return;
             case RouteId::mills:
             case RouteId::mill:
-                mill_endpoints.get_or_delete(request, t_context.client, response);
-                return;
             case RouteId::mills_default:
-                if (request.method == "DELETE") {
-                    mill_endpoints.get_or_delete(request, t_context.client, response);  // 422
-                    return;
-                }
-                response.status = 200;
-                response.set_content(default_mill_text, "application/json");
+                mill_endpoints.get_or_delete(request, t_context.client, response);
                 return;
             case RouteId::openapi:
                 response.status = 200;

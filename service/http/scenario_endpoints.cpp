@@ -116,7 +116,9 @@ std::string http_date(store::Millis millis) {
 ScenarioEndpoints::ScenarioEndpoints(ServiceState& state, store::StoredKind kind)
     : state_(state), kind_(kind),
       prefix_(kind == store::StoredKind::mill ? mill_prefix : scenario_prefix),
-      noun_(kind == store::StoredKind::mill ? "mill" : "scenario") {}
+      noun_(kind == store::StoredKind::mill ? "mill" : "scenario"),
+      default_text_(dump(kind == store::StoredKind::mill ? api::default_tandem_json()
+                                                         : api::default_scenario_json())) {}
 
 // 422 for a name in the path that cannot be stored (the pattern, or `default`).
 bool ScenarioEndpoints::refuse_name(const std::string& name, httplib::Response& response) const {
@@ -243,6 +245,11 @@ void ScenarioEndpoints::list(const httplib::Request& request, httplib::Response&
 }
 
 void ScenarioEndpoints::get(const std::string& name, httplib::Response& response) {
+    if (name == api::reserved_scenario_name) {  // never needs the store
+        response.status = 200;
+        response.set_content(default_text_, "application/json");
+        return;
+    }
     if (refuse_name(name, response)) return;
     const auto store = state_.store.get();
     if (!store) return state_.store_unavailable(response, std::string(store_down));

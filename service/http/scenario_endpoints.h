@@ -36,7 +36,8 @@ public:
     static constexpr std::size_t default_page = 50;
     static constexpr std::size_t max_page = 200;
 
-    // GET /v1/scenarios, GET and DELETE /v1/scenarios/{name} (also `default`: DELETE → 422).
+    // GET /v1/scenarios, GET and DELETE /v1/scenarios/{name}; `default` is the built-in default
+    // (GET: served from code, never the store; DELETE → 422). The same under /v1/mills.
     // `client` (the key's name) is recorded as the author of what a write stores.
     void get_or_delete(const httplib::Request& request, const std::string& client,
                        httplib::Response& response);
@@ -69,8 +70,9 @@ private:
 
     ServiceState& state_;
     store::StoredKind kind_;
-    std::string_view prefix_;  // "/v1/scenarios/" or "/v1/mills/"
-    std::string_view noun_;    // "scenario" or "mill"
+    std::string_view prefix_;   // "/v1/scenarios/" or "/v1/mills/"
+    std::string_view noun_;     // "scenario" or "mill"
+    std::string default_text_;  // the built-in default document (GET .../default)
 };
 
 }  // namespace rollgap::service::http

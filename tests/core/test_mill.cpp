@@ -24,6 +24,7 @@ namespace mill_test {
 
 using namespace rollgap::core;
 using rollgap::test::rel;
+using rollgap::test::worst_nearest;
 
 // The single-stand defaults as a mill of one stand: entry span 5 m at 18 MPa, the exit at the
 // single stand's constant front tension (0).
@@ -40,18 +41,6 @@ Mill one_stand_mill(const Scenario& s = Scenario{}) {
     m.exit_tension = s.tensions.front.stress;
     m.speed = s.rolls.speed;
     return m;
-}
-
-// The largest distance from an eigenvalue of `a` to the nearest of `b`, relative to its size.
-double worst_nearest(const std::vector<std::complex<double>>& a,
-                     const std::vector<std::complex<double>>& b) {
-    double worst = 0.0;
-    for (const auto& x : a) {
-        double nearest = std::abs(b.front() - x);
-        for (const auto& y : b) nearest = std::min(nearest, std::abs(y - x));
-        worst = std::max(worst, nearest / std::abs(x));
-    }
-    return worst;
 }
 
 TEST_CASE("mill identity: one stand with its exit held is the single stand") {

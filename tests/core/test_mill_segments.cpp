@@ -18,12 +18,14 @@
 #include "core/mill/mill_model.h"
 #include "core/mill/mill_stability.h"
 #include "core/stability.h"
+#include "support/compare.h"
 
 #include "tools/verify_mill/mills.h"
 
 namespace mill_segments_test {
 
 using namespace rollgap::core;
+using rollgap::test::worst_nearest;
 using rollgap::tools::mills::two_stand_mill;
 
 Mill with_segments(Mill m, int n) {
@@ -40,18 +42,6 @@ Eigen::MatrixXd frozen_jacobian(const Mill& m) {
     const Linearisation lin = model.jacobian(model.equilibrium(), 0.0);
     REQUIRE(lin.status == DynamicsStatus::ok);
     return lin.jacobian;
-}
-
-// The largest distance from each of `a` to the nearest of `b`, relative to its size.
-double worst_nearest(const std::vector<std::complex<double>>& a,
-                     const std::vector<std::complex<double>>& b) {
-    double worst = 0.0;
-    for (const auto& x : a) {
-        double nearest = std::abs(b.front() - x);
-        for (const auto& y : b) nearest = std::min(nearest, std::abs(y - x));
-        worst = std::max(worst, nearest / std::abs(x));
-    }
-    return worst;
 }
 
 TEST_CASE("mill segments: the held span's modes are the chain's, the first c / 2L within 1 %") {

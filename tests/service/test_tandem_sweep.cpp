@@ -171,6 +171,14 @@ TEST_CASE("a mill sweep refuses what the mill cannot have, at the value's pointe
             CHECK(refused["errors"][0]["pointer"] == "/options/parameter");
         }
     }
+    SUBCASE("a stand's field that the mill gives: the mill's field to sweep instead") {
+        const json refused = refusal_of(sweep({{"parameter", "/stands/1/strip/reduction"},
+                                               {"values", {0.2}},
+                                               {"quantity", "stability"}}));
+        CHECK(refused["errors"][0]["pointer"] == "/options/parameter");
+        CHECK(refused["errors"][0]["detail"].get<std::string>().find("/exit_thickness_mm/1") !=
+              std::string::npos);
+    }
     SUBCASE("more values than a mill sweep takes") {
         const json refused =
             refusal_of(sweep({{"parameter", "/speed_m_per_s"},

@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <complex>
 #include <limits>
+#include <vector>
 
 namespace rollgap::test {
 
@@ -15,5 +17,18 @@ inline double rel(double a, double b) {
 
 // The unit roundoff of double, u = ε/2: the relative error bound of one rounded operation.
 inline constexpr double unit_roundoff = std::numeric_limits<double>::epsilon() / 2;
+
+// The largest distance from each of `a` to the nearest of `b`, relative to its size (eigenvalue
+// sets compared without an order; `b` not empty).
+inline double worst_nearest(const std::vector<std::complex<double>>& a,
+                            const std::vector<std::complex<double>>& b) {
+    double worst = 0.0;
+    for (const auto& x : a) {
+        double nearest = std::abs(b.front() - x);
+        for (const auto& y : b) nearest = std::min(nearest, std::abs(y - x));
+        worst = std::max(worst, nearest / std::abs(x));
+    }
+    return worst;
+}
 
 }  // namespace rollgap::test
