@@ -243,6 +243,43 @@ bool first_positive(MillCrossing& c, const std::function<int(double)>& count_at,
 
 }  // namespace
 
+double mill_band_screen_speed(const Mill& mill, double start, CriticalSpeedOptions options,
+                              const Control& control) {
+    constexpr double threshold = 0.9;
+    options.speed_min = start;
+    if (!(options.speed_max > start)) return start;
+    const auto at = [&mill](double speed, bool) {
+        SpeedStability p;
+        p.speed = speed;
+        const Mill m = at_speed(mill, speed);
+        const Linearised l = linearised(m);
+        p.steady_status =
+            l.steady.status == MillSteadyStatus::ok ? BiteStatus::ok : BiteStatus::skidding;
+        if (!l.ok) return p;
+        p.status = DynamicsStatus::ok;
+        const double f_valid = valid_frequency_Hz(m, l.steady);
+        if (l.transfer.frozen_max_real_part >= 0.0) {
+            p.max_real_part = 1.0;
+        } else if (f_valid > 1e-2) {
+            RegenerativeOptions band;
+            band.frequency_min_Hz = 1e-2;
+            band.frequency_max_Hz = f_valid;
+            band.grid = 200;
+            p.max_real_part = regenerative_margin(l.transfer, band).margin - threshold;
+        } else {
+            p.max_real_part = -threshold;  // an empty band
+        }
+        p.stable = p.max_real_part < 0.0;
+        return p;
+    };
+    const CriticalSpeedResult r = critical_speed_search(at, options, control);
+    switch (r.status) {
+        case CriticalSpeedStatus::found: return std::max(start, r.critical_speed);
+        case CriticalSpeedStatus::stable_in_range: return options.speed_max;
+        default: return start;
+    }
+}
+
 MillRootDescription describe_rightmost_root(const Mill& mill, const MillSpeedStability& at) {
     MillRootDescription out;
     if (at.steady.status != MillSteadyStatus::ok) return out;
@@ -440,7 +477,21 @@ MillCriticalSpeeds mill_critical_speeds(const Mill& mill, const CriticalSpeedOpt
                     if (r.found) describe_root(any, mill, l.transfer, r.root.s, control);
                 }
             }
-            if (!first_positive(c, band_count_at, start, band_step, options, control)) return out;
+            // The band's screen (docs/model.md §12.7): below the first speed where the
+            // structured gain over the band's stretch of the axis reaches 0.9, no root crosses the
+            // axis inside the band for any delays (A0 stable there), so the counted scan starts
+            // there. A root that entered the band across its top edge before it is seen by the
+            // first count; then the scan starts again from the delay-independent speed.
+            const double band_start = mill_band_screen_speed(mill, start, search, control);
+            if (control.should_stop()) {
+                c.status = CriticalSpeedStatus::cancelled;
+                return out;
+            }
+            if (!first_positive(c, band_count_at, band_start, band_step, options, control))
+                return out;
+            if (c.status == CriticalSpeedStatus::unstable_at_lower_bound && band_start > start &&
+                !first_positive(c, band_count_at, start, band_step, options, control))
+                return out;
             if (c.status == CriticalSpeedStatus::found ||
                 c.status == CriticalSpeedStatus::unstable_at_lower_bound) {
                 const Linearised l = linearised(at_speed(mill, c.speed));

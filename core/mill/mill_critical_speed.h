@@ -85,15 +85,27 @@ struct MillRootDescription {
 };
 MillRootDescription describe_rightmost_root(const Mill& mill, const MillSpeedStability& at);
 
+// The band's screen (docs/model.md §12.7): the first speed from `start` up where the structured
+// gain over the model's band 0.01 Hz .. f_valid on the axis reaches 0.9 (or A0 turns unstable),
+// by the single stand's search (a scan of options.speed_step from start, bisected); the gain over
+// the band is the regenerative margin restricted to it (200 frequencies plus A0's poles, peaks
+// refined). A root on the axis at i omega needs rho(M E) = 1 there, which the gain bounds from
+// above for every set of delays: below this speed no root crosses the axis inside the band. 0.9,
+// not 1, leaves room for a peak between the grid's frequencies. options.speed_max when the gain
+// stays below it; `start` when it is above at start.
+double mill_band_screen_speed(const Mill& mill, double start, CriticalSpeedOptions options,
+                              const Control& control = {});
+
 // frozen: the single stand's search on A0 (§7.3); delay_independent: the same search on
 // g = rho - 1 while A0 is stable (+1 where it is not; rho grows without bound as A0 nears
 // instability, so g crosses zero first); nominal_delay: from the delay-independent speed (below
 // it every set of delays is stable) upwards in steps of half a lobe period at the model's top
-// valid frequency f_valid (Delta V = V / (f_valid tau_max), recomputed each block) until a root
-// inside the band 0 < Im s < 2 pi f_valid lies right of the axis (band_root_count), at most 400
-// steps, then bisection on that count to the search's tolerance; first_any: the same search on
-// "any root right of the axis" (nominal_delay_root_count) in steps of half a lobe period at the
-// delay-independent frequency.
+// valid frequency f_valid (Delta V = V / (f_valid tau_max), recomputed each block; from the band's
+// screen, mill_band_screen_speed, and again from the delay-independent speed if a root is in the
+// band already there) until a root inside the band 0 < Im s < 2 pi f_valid lies right of the
+// axis (band_root_count), at most 400 steps, then bisection on that count to the search's
+// tolerance; first_any: the same search on "any root right of the axis"
+// (nominal_delay_root_count) in steps of half a lobe period at the delay-independent frequency.
 MillCriticalSpeeds mill_critical_speeds(const Mill& mill, const CriticalSpeedOptions& options = {},
                                         const Control& control = {});
 

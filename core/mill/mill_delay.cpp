@@ -21,13 +21,34 @@ Eigen::MatrixXcd loop(const TransportTransfer& transfer, Complex s) {
     return m;
 }
 
-// det x by LU with partial pivoting, on the stack for up to five spans (the mill's limit): the
-// same factorisation as the dynamic one, without its allocations (F is evaluated ~10^3 times a
-// count).
+// det x by Gaussian elimination with partial pivoting, on the stack for up to five spans (the
+// mill's limit): the pivot chosen by |.|^2 (the library's LU takes |.| by hypot, a third of the
+// determinant's cost; F is evaluated ~10^3 times a count).
 template <int P>
 Complex fixed_determinant(const Eigen::MatrixXcd& x) {
-    const Eigen::Matrix<Complex, P, P> fixed = x;
-    return fixed.partialPivLu().determinant();
+    Eigen::Matrix<Complex, P, P> a = x;
+    Complex det = 1.0;
+    for (int k = 0; k < P; ++k) {
+        int pivot = k;
+        double largest = std::norm(a(k, k));
+        for (int i = k + 1; i < P; ++i)
+            if (const double v = std::norm(a(i, k)); v > largest) {
+                largest = v;
+                pivot = i;
+            }
+        if (!(largest > 0.0)) return 0.0;
+        if (pivot != k) {
+            a.row(k).swap(a.row(pivot));
+            det = -det;
+        }
+        det *= a(k, k);
+        const Complex inverse = 1.0 / a(k, k);
+        for (int i = k + 1; i < P; ++i) {
+            const Complex factor = a(i, k) * inverse;
+            for (int j = k + 1; j < P; ++j) a(i, j) -= factor * a(k, j);
+        }
+    }
+    return det;
 }
 
 Complex determinant(const Eigen::MatrixXcd& x) {
@@ -41,13 +62,22 @@ Complex determinant(const Eigen::MatrixXcd& x) {
     }
 }
 
-// The sum of the principal arguments of the eigenvalues of I - M E: arg F where every
-// eigenvalue stays in the right half plane (|M E| < 1), continuous there. Where the structured
-// gain is below 1/2 every eigenvalue lies within 1/2 of 1, its argument within pi/6 of 0, so for
-// up to five spans (six stands, the mill's limit) the sum lies in (-5pi/6, 5pi/6) and is the
-// principal argument of det F itself: no eigenvalues needed.
-double small_gain_argument(const Eigen::MatrixXcd& x, Complex determinant) {
-    if (x.rows() <= 5) return std::arg(determinant);
+// I - M E at s from M (`m`, M(s)), in place.
+Eigen::MatrixXcd loop_from(Eigen::MatrixXcd m, const TransportTransfer& transfer, Complex s) {
+    for (Eigen::Index j = 0; j < m.cols(); ++j)
+        m.col(j) *= -std::exp(-s * transfer.delay[static_cast<std::size_t>(j)]);
+    m.diagonal().array() += 1.0;
+    return m;
+}
+
+// The sum of the principal arguments of the eigenvalues of I - M E: arg F, continuous wherever
+// every eigenvalue of M E stays inside the unit disc (docs/model.md §12.6). Where the structured
+// gain is below 1/2 every eigenvalue of I - M E lies within 1/2 of 1, its argument within pi/6
+// of 0, so for up to five spans (six stands, the mill's limit) the sum lies in (-5pi/6, 5pi/6)
+// and is the principal argument of det F itself: no eigenvalues needed. Up to the tracker's
+// threshold 0.9 each argument lies within asin 0.9 = 64 degrees: two spans' sum still does.
+double small_gain_argument(const Eigen::MatrixXcd& x, Complex determinant, double gain) {
+    if (x.rows() <= 2 || (gain < 0.5 && x.rows() <= 5)) return std::arg(determinant);
     const Eigen::VectorXcd values =
         Eigen::ComplexEigenSolver<Eigen::MatrixXcd>(x, false).eigenvalues();
     double sum = 0.0;
@@ -55,18 +85,102 @@ double small_gain_argument(const Eigen::MatrixXcd& x, Complex determinant) {
     return sum;
 }
 
+namespace tracker_detail {
+
+// M along a straight piece s = a + t d, t in [t0, t1], as its Chebyshev interpolant of degree
+// 15: the dense steps of the argument principle need F ~10^3 times across a band a few pole
+// distances wide, where M (a sum over ~70 modes, microseconds) hardly changes while E turns. M
+// is analytic on the piece (its nearest pole at least the piece's length away), its coefficients
+// fall geometrically; the piece is taken only where the last two are below 1e-11 of the largest,
+// which bounds the interpolant's error (|F| itself stays above 1e-8 wherever a count is an
+// integer). One node evaluation of M costs as much as ~8 interpolated ones.
+struct Panel {
+    static constexpr int nodes = 16;
+    Complex a, d;
+    double t0 = 0.0, t1 = -1.0;
+    Eigen::Index p = 0;
+    std::vector<Complex> coefficient;  // nodes x (p x p), column-major per node
+
+    bool covers(Complex origin, Complex direction, double t) const {
+        return origin == a && direction == d && t >= t0 && t <= t1;
+    }
+
+    // false: the coefficients do not fall fast enough on [from, to] (the caller narrows it)
+    bool build(const TransportTransfer& transfer, Complex origin, Complex direction, double from,
+               double to, int& evaluations) {
+        a = origin;
+        d = direction;
+        p = transfer.spans();
+        const std::size_t size = static_cast<std::size_t>(p * p);
+        coefficient.assign(nodes * size, Complex(0.0));
+        const double mid = 0.5 * (from + to), half = 0.5 * (to - from);
+        for (int j = 0; j < nodes; ++j) {
+            const double angle = std::numbers::pi * (j + 0.5) / nodes;
+            const Eigen::MatrixXcd m = transfer.at(a + (mid + half * std::cos(angle)) * d);
+            ++evaluations;
+            for (int k = 0; k < nodes; ++k) {
+                const double weight = (k == 0 ? 1.0 : 2.0) / nodes * std::cos(k * angle);
+                Complex* c = coefficient.data() + k * size;
+                for (std::size_t e = 0; e < size; ++e) c[e] += weight * m.data()[e];
+            }
+        }
+        double largest = 0.0, tail = 0.0;
+        for (int k = 0; k < nodes; ++k)
+            for (std::size_t e = 0; e < size; ++e) {
+                const double v = std::abs(coefficient[k * size + e]);
+                largest = std::max(largest, v);
+                if (k >= nodes - 2) tail = std::max(tail, v);
+            }
+        if (!(tail <= 1e-11 * largest)) {
+            t1 = t0 - 1.0;
+            return false;
+        }
+        t0 = from;
+        t1 = to;
+        return true;
+    }
+
+    Eigen::MatrixXcd at(double t) const {
+        const double y = (2.0 * t - t0 - t1) / (t1 - t0);
+        const std::size_t size = static_cast<std::size_t>(p * p);
+        Eigen::MatrixXcd out(p, p);
+        for (std::size_t e = 0; e < size; ++e) {  // Clenshaw's recurrence per entry
+            Complex b1 = 0.0, b2 = 0.0;
+            for (int k = nodes - 1; k >= 1; --k) {
+                const Complex b = coefficient[k * size + e] + 2.0 * y * b1 - b2;
+                b2 = b1;
+                b1 = b;
+            }
+            out.data()[e] = coefficient[e] + y * b1 - b2;
+        }
+        return out;
+    }
+};
+
+}  // namespace tracker_detail
+
 // arg F followed along a polyline (the line of nominal_delay_root_count, the band's edges):
-// where the structured gain at both ends of a grid interval is below 1/2, by the eigenvalues'
-// principal arguments (no winding possible in between); elsewhere in steps of at most 1/tau_max
-// (no delay phase turns by more than a radian) and a quarter of the distance to A0's nearest
-// pole, halved until each increment is under pi/4. The one edge tracker of both counts.
+// where the structured gain at both ends of a grid interval is below 1/2, or below 0.9 at both
+// ends and its middle, by the eigenvalues' principal arguments (no winding possible in between);
+// elsewhere in steps of at most 1/tau_max (no delay phase turns by more than a radian) and a
+// quarter of the distance to A0's nearest pole, halved until each increment is under pi/4, M
+// interpolated on pieces (tracker_detail::Panel) where they hold enough steps. The one edge
+// tracker of both counts.
 struct ArgumentTracker {
     const TransportTransfer& transfer;
     double tau_max = 0.0;
     int evaluations = 0;
     bool failed = false;
     static constexpr int budget = 4'000'000;
-    static constexpr double small = 0.5;
+    static constexpr double small = 0.5;  // below it everywhere: no winding (the tail, edges)
+    static constexpr double skip = 0.9;   // below it at an interval's ends and middle: none
+
+    // M at a polyline's points, and the gain there
+    struct Samples {
+        std::vector<Complex> s;
+        std::vector<Eigen::MatrixXcd> m;
+        std::vector<double> gain;
+    };
 
     explicit ArgumentTracker(const TransportTransfer& t) : transfer(t) {
         for (double tau : t.delay) tau_max = std::max(tau_max, tau);
@@ -76,18 +190,31 @@ struct ArgumentTracker {
     // sigma(D M D^-1 E) <= sigma(D M D^-1) max_i exp(-Re s tau_i) for every diagonal E of
     // modulus <= exp(-Re s tau_i) (D and E commute). The mill's M is nearly lower triangular at
     // low frequency (the thickness passes downstream; only the tension path comes back), where
-    // sigma(M) alone is ~0.8. Only compared with 1/2: below it, any upper bound of the gain
-    // under 1/2 may stand for it (balanced_bound's Frobenius shortcut).
-    double gain(Complex s) const {
+    // sigma(M) alone is ~0.8. Only compared with the thresholds: below `enough`, any upper bound
+    // of the gain under it may stand for it (balanced_bound's Frobenius shortcut).
+    double gain_of(const Eigen::MatrixXcd& m, Complex s, double enough = skip) const {
         double shrink = 0.0;
         for (double tau : transfer.delay) shrink = std::max(shrink, std::exp(-s.real() * tau));
-        return balanced_bound(transfer.at(s), small / shrink) * shrink;
+        // M's own Frobenius norm bounds the gain too (D = I): far above the resonances, where M
+        // falls as 1/s^2, it answers without the balancing
+        const double frobenius = m.norm() * shrink;
+        if (frobenius < enough) return frobenius;
+        return balanced_bound(m, enough / shrink) * shrink;
+    }
+    double gain(Complex s, double enough = skip) const {
+        return gain_of(transfer.at(s), s, enough);
     }
 
-    std::vector<double> gains(const std::vector<Complex>& grid) const {
-        std::vector<double> g(grid.size());
-        for (std::size_t k = 0; k < grid.size(); ++k) g[k] = gain(grid[k]);
-        return g;
+    Samples sample(const std::vector<Complex>& grid) const {
+        Samples out;
+        out.s = grid;
+        out.m.reserve(grid.size());
+        out.gain.reserve(grid.size());
+        for (Complex s : grid) {
+            out.m.push_back(transfer.at(s));
+            out.gain.push_back(gain_of(out.m.back(), s, small));
+        }
+        return out;
     }
 
     double pole_distance(Complex s) const {
@@ -97,21 +224,55 @@ struct ArgumentTracker {
         return std::sqrt(d2);
     }
 
-    // arg F at s where the gain is below 1/2 (small_gain_argument), and F there
-    double argument(Complex s, Complex& value) {
-        const Eigen::MatrixXcd x = loop(transfer, s);
+    // arg F at sample k where the gain is below the skip threshold (small_gain_argument), and F
+    double argument(const Samples& samples, std::size_t k, Complex& value) {
+        const Eigen::MatrixXcd x = loop_from(samples.m[k], transfer, samples.s[k]);
         value = determinant(x);
         ++evaluations;
-        return small_gain_argument(x, value);
+        return small_gain_argument(x, value, samples.gain[k]);
     }
 
-    // The change of arg F along the polyline through `grid`, the gain at its points `gains`;
-    // the local minima of |F| met where it is followed step by step go to `dips` as (|F|, s).
-    double follow(const std::vector<Complex>& grid, const std::vector<double>& gains,
-                  std::vector<std::pair<double, Complex>>& dips) {
+    // F at a + t d, from the piece's interpolant when it covers t, else from M itself
+    tracker_detail::Panel panel;
+    Complex characteristic(Complex a, Complex d, double t) {
+        ++evaluations;
+        const Complex s = a + t * d;
+        if (!panel.covers(a, d, t)) return determinant(loop(transfer, s));
+        return determinant(loop_from(panel.at(t), transfer, s));
+    }
+
+    // Interpolates M over [t, t + width] of the piece from a in direction d when the width holds
+    // at least 48 of the longest steps (three times the panel's nodes), halving it up to three
+    // times until the coefficients fall fast enough.
+    // After a failure no piece is tried again within 48 steps of where it failed.
+    Complex failed_a, failed_d;
+    double failed_until = -1.0;
+    void prepare_panel(Complex a, Complex d, double t, double width) {
+        const double longest = 1.0 / std::max(tau_max, 1e-12);
+        if (a == failed_a && d == failed_d && t < failed_until) return;
+        for (int attempt = 0; attempt < 4 && width >= 48.0 * longest; ++attempt, width *= 0.5)
+            if (panel.build(transfer, a, d, t, t + width, evaluations)) return;
+        failed_a = a;
+        failed_d = d;
+        failed_until = t + 48.0 * longest;
+    }
+
+    // Whether no winding is possible over samples k..k+1 (see the struct's comment)
+    bool quiet(const Samples& samples, std::size_t k) {
+        const double g0 = samples.gain[k], g1 = samples.gain[k + 1];
+        if (g0 < small && g1 < small) return true;
+        if (!(g0 < skip && g1 < skip)) return false;
+        const Complex middle = 0.5 * (samples.s[k] + samples.s[k + 1]);
+        return gain(middle) < skip;
+    }
+
+    // The change of arg F along the polyline through the samples; the local minima of |F| met
+    // where it is followed step by step go to `dips` as (|F|, s).
+    double follow(const Samples& samples, std::vector<std::pair<double, Complex>>& dips) {
         constexpr double quarter_turn = std::numbers::pi / 4.0;
+        const std::vector<Complex>& grid = samples.s;
         double theta = 0.0;
-        Complex previous = delay_characteristic(transfer, grid.front());
+        Complex previous = determinant(loop_from(samples.m.front(), transfer, grid.front()));
         ++evaluations;
         double before = std::abs(previous), at = before;
         double argument_value = 0.0;
@@ -120,26 +281,36 @@ struct ArgumentTracker {
             const Complex a = grid[k], b = grid[k + 1];
             const double length = std::abs(b - a);
             if (!(length > 0.0)) continue;
-            if (gains[k] < small && gains[k + 1] < small) {
+            if (quiet(samples, k)) {
+                // a run of quiet intervals: arg F changes by its ends' difference (the sum of the
+                // eigenvalues' principal arguments is continuous along it)
+                std::size_t end = k + 1;
+                while (end + 1 < grid.size() && quiet(samples, end)) ++end;
                 Complex value;
-                if (argument_at != k) argument_value = argument(a, value);
-                const double next_argument = argument(b, value);
+                if (argument_at != k) argument_value = argument(samples, k, value);
+                const double next_argument = argument(samples, end, value);
                 theta += next_argument - argument_value;
                 argument_value = next_argument;
-                argument_at = k + 1;
+                argument_at = end;
                 previous = value;
                 before = at = std::abs(previous);
+                k = end - 1;
                 continue;
             }
             const Complex direction = (b - a) / length;
             double t = 0.0;
             while (t < length) {
                 const Complex s = a + t * direction;
-                double h =
-                    std::min({length - t, 1.0 / std::max(tau_max, 1e-12), 0.25 * pole_distance(s)});
+                const double distance = pole_distance(s);
+                if (!panel.covers(a, direction, t))
+                    prepare_panel(a, direction, t, std::min(length - t, 4.0 * distance));
+                double h = std::min({length - t, 1.0 / std::max(tau_max, 1e-12), 0.25 * distance});
                 for (;;) {
-                    const Complex next = delay_characteristic(transfer, s + h * direction);
-                    ++evaluations;
+                    const double t_next = std::min(length, t + h);
+                    const Complex next = t_next == length
+                                             ? determinant(loop_from(samples.m[k + 1], transfer, b))
+                                             : characteristic(a, direction, t_next);
+                    if (t_next == length) ++evaluations;
                     if (evaluations > budget) {
                         failed = true;
                         return theta;
@@ -218,14 +389,14 @@ DelayRootCount nominal_delay_root_count(const TransportTransfer& transfer, doubl
     line.reserve(grid.size());
     for (double w : grid) line.emplace_back(alpha, w);
     ArgumentTracker tracker(transfer);
-    const std::vector<double> gains = tracker.gains(line);
-    if (gains.back() >= ArgumentTracker::small) {
+    const ArgumentTracker::Samples samples = tracker.sample(line);
+    if (samples.gain.back() >= ArgumentTracker::small) {
         out.message = "the loop gain does not fall below 1/2 by 1e7 rad/s";
         return out;
     }
 
     std::vector<std::pair<double, Complex>> dips;  // (|F|, s) at local minima
-    double theta = tracker.follow(line, gains, dips);
+    double theta = tracker.follow(samples, dips);
     out.evaluations = tracker.evaluations;
     if (tracker.failed) {
         out.message = "the argument principle needed more than 4e6 evaluations";
@@ -234,7 +405,7 @@ DelayRootCount nominal_delay_root_count(const TransportTransfer& transfer, doubl
     // the tail: from the last point, where every eigenvalue of I - M E is within 1/2 of 1, to
     // infinity, where M = O(1/s^2) and F -> 1
     Complex last;
-    theta -= tracker.argument(line.back(), last);
+    theta -= tracker.argument(samples, samples.s.size() - 1, last);
     // omega = 0: F is real there, so arg F(alpha) is 0 or pi; the increments start from it
     const double winding = -theta / std::numbers::pi;
     const double total = out.frozen_right + winding;
@@ -409,7 +580,7 @@ BandRootCount band_root_count(const TransportTransfer& transfer, double omega_ma
         small = true;
         for (double w : heights) {
             ++tracker.evaluations;
-            if (!(tracker.gain({right, w}) < 0.5)) {
+            if (!(tracker.gain({right, w}, ArgumentTracker::small) < ArgumentTracker::small)) {
                 small = false;
                 break;
             }
@@ -443,7 +614,7 @@ BandRootCount band_root_count(const TransportTransfer& transfer, double omega_ma
     std::vector<std::pair<double, Complex>> left_dips, edge_dips;
     const auto follow = [&](const std::vector<Complex>& edge,
                             std::vector<std::pair<double, Complex>>& dips) {
-        return tracker.follow(edge, tracker.gains(edge), dips);
+        return tracker.follow(tracker.sample(edge), dips);
     };
     const double left =
         follow(path(heights, [&](double w) { return Complex(alpha, w); }), left_dips);

@@ -32,11 +32,13 @@ struct DelayRootCount {
 };
 
 // The argument principle on the line s = alpha + i omega, omega from 0 to infinity (F is real on
-// the real axis, so the other half mirrors it): where sigma(M) max_i exp(-alpha tau_i) < 1/2 the
-// eigenvalues of I - M E stay within 1/2 of 1 and arg F is their principal arguments' sum, so no
-// delay phase need be followed there; elsewhere arg F is followed with steps of at most 1/tau_max
-// (no delay phase turns by more than a radian) and a quarter of the distance to A0's nearest
-// pole, halved until each increment is under pi/4.
+// the real axis, so the other half mirrors it): where the structured gain sigma(D M D^-1)
+// max_i exp(-alpha tau_i) is below 1/2 at both ends of a grid interval, or below 0.9 at its ends
+// and middle, every eigenvalue of M E stays inside the unit disc and arg F is the sum of the
+// principal arguments of I - M E's eigenvalues (docs/model.md §12.6), so no delay phase need be
+// followed there; elsewhere arg F is followed with steps of at most 1/tau_max (no delay phase
+// turns by more than a radian) and a quarter of the distance to A0's nearest pole, halved until
+// each increment is under pi/4, M interpolated along the walk where it is smooth enough.
 DelayRootCount nominal_delay_root_count(const TransportTransfer& transfer, double alpha = 0.0);
 
 struct DelayRoot {
@@ -75,10 +77,10 @@ RightmostDelayRoot rightmost_delay_root(const TransportTransfer& transfer,
 //   top     Im s = omega_max, from right back to alpha,
 //   left    Re s = alpha, from omega_max down to epsilon: the line of nominal_delay_root_count.
 // Along every edge arg F is followed as on the line: where the gain at both ends of a grid
-// interval is below 1/2 by the eigenvalues' principal arguments, elsewhere in steps of at most
-// 1/tau_max and a quarter of the distance to A0's nearest pole, halved until each increment is
-// under pi/4. An edge on one of A0's poles is moved off it by a hair (alpha and right rightward,
-// epsilon and omega_max upward).
+// interval is below 1/2 (or 0.9 at its ends and middle) by the eigenvalues' principal arguments,
+// elsewhere in steps of at most 1/tau_max and a quarter of the distance to A0's nearest pole,
+// halved until each increment is under pi/4. An edge on one of A0's poles is moved off it by a hair
+// (alpha and right rightward, epsilon and omega_max upward).
 struct BandRootCount {
     bool ok = false;
     const char* message = "";

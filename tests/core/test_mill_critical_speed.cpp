@@ -11,6 +11,7 @@
 #include <cmath>
 #include <numbers>
 #include <string>
+#include <vector>
 
 #include "core/mill/mill.h"
 #include "core/mill/mill_critical_speed.h"
@@ -162,6 +163,61 @@ TEST_CASE("mill critical speeds: ordered, each on its own condition, one span wi
                             c->kind) != speeds.outside_range_below.end());
         }
     }
+}
+
+TEST_CASE("the band's screen: below it no root can cross the axis inside the band, for any delay") {
+    // docs/model.md §12.7: a root on the axis at i omega needs rho(M E) = 1 there, bounded by the
+    // structured gain at omega for every set of delays; the screen is the first speed where the
+    // gain over the band reaches 0.9. Checked here on a grid ten times finer than the screen's
+    // (and A0's resonances), with the optimised bound, and by the band count at speeds between
+    // the delay-independent speed and the screen.
+    const Mill m = two_stand_mill(5.0);
+    CriticalSpeedOptions options;
+    options.stop_at_crossing = true;
+    const MillCriticalSpeeds speeds = mill_critical_speeds(m, options);
+    REQUIRE(speeds.delay_independent.status == CriticalSpeedStatus::found);
+    REQUIRE(speeds.nominal_delay.status == CriticalSpeedStatus::found);
+    const double start = speeds.delay_independent.speed;
+    const double screen = mill_band_screen_speed(m, start, options);
+    MESSAGE("delay-independent " << start << " m/s, band's screen " << screen
+                                 << " m/s, nominal-delay " << speeds.nominal_delay.speed << " m/s");
+    CHECK(screen >= start);
+    CHECK(screen <= speeds.nominal_delay.speed);
+    REQUIRE(screen > start * 1.01);  // the screen skips something on this mill
+
+    // the largest optimised structured bound over the band, on 2,000 frequencies
+    const auto band_gain = [&](double speed) {
+        Mill at = m;
+        at.speed = speed;
+        const MillSteadyState steady = mill_steady_state(at);
+        REQUIRE(steady.status == MillSteadyStatus::ok);
+        const MillModel model(at, steady);
+        const TransportTransfer transfer = transport_transfer(model.linearise(model.equilibrium()));
+        REQUIRE(transfer.ok);
+        REQUIRE(transfer.frozen_max_real_part < 0.0);
+        const double f_valid = at_speed(m, speed).f_valid;
+        std::vector<double> frequencies;
+        for (int k = 0; k <= 2000; ++k)
+            frequencies.push_back(1e-2 * std::pow(f_valid / 1e-2, k / 2000.0));
+        for (Eigen::Index k = 0; k < transfer.poles.size(); ++k) {  // the resonances' peaks
+            const double f = transfer.poles(k).imag() / (2.0 * std::numbers::pi);
+            if (f > 1e-2 && f < f_valid) frequencies.push_back(f);
+        }
+        double largest = 0.0;
+        for (double f : frequencies)
+            largest =
+                std::max(largest, structured_bound(transfer.at({0.0, 2.0 * std::numbers::pi * f})));
+        return largest;
+    };
+    for (double x : {0.0, 0.25, 0.5, 0.75, 0.995}) {
+        const double speed = start + x * (screen - start);
+        const double gain = band_gain(speed);
+        const AtSpeed at = at_speed(m, speed);
+        MESSAGE(speed << " m/s: band's gain " << gain << ", roots in the band " << at.band_count);
+        CHECK(gain < 0.9);
+        CHECK(at.band_count == 0);
+    }
+    CHECK(band_gain(screen * (1.0 + 1e-3)) >= 0.9);
 }
 
 TEST_CASE(
