@@ -215,6 +215,16 @@ std::vector<Member<core::MillCrossing>> crossing_description_members(
          [](const core::MillCrossing& c) {
              return c.frequency_Hz > 0.0 ? json(core::to_string(c.band)) : json(nullptr);
          }},
+        {"chatter_type",
+         "The chatter type from the shape of the moving stand's six masses in this motion "
+         "(docs/model.md, \"Chatter type\", as a single stand's mode): `third_octave`, the roll "
+         "packages move against each other and the gap breathes; `fifth_octave`, the work rolls "
+         "vibrate against their back-up rolls; `other`, the motion hardly changes the gap. "
+         "`band` is the type the frequency alone suggests.",
+         chatter_type_schema(true),
+         [](const core::MillCrossing& c) {
+             return c.frequency_Hz > 0.0 ? json(core::to_string(c.chatter.type)) : json(nullptr);
+         }},
         {"validity", "Whether the root lies inside the model's range.",
          ref_schema("TandemValidity", true),
          [](const core::MillCrossing& c) {

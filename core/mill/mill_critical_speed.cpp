@@ -112,6 +112,12 @@ void describe(MillCrossing& crossing, const Mill& mill, double frequency_Hz,
     crossing.moving_stand = static_cast<int>(
         std::max_element(crossing.participation.begin(), crossing.participation.end()) -
         crossing.participation.begin());
+    Vector6c q = Vector6c::Zero();
+    for (int k = 0; k < 6; ++k) {
+        const Eigen::Index at = StandBlock::state_size * crossing.moving_stand + k;
+        if (at < z.size()) q(k) = z(at);
+    }
+    crossing.chatter = classify_chatter(q, frequency_Hz);
     const Mill m = at_speed(mill, crossing.speed);
     const MillSteadyState steady = mill_steady_state(m);
     crossing.validity = crossing_validity(mill, steady, frequency_Hz);

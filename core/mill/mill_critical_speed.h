@@ -9,6 +9,7 @@
 #include <complex>
 #include <vector>
 
+#include "core/chatter_type.h"
 #include "core/control.h"
 #include "core/mill/mill.h"
 #include "core/mill/mill_stability.h"
@@ -51,6 +52,9 @@ struct MillCrossing {
     std::vector<double> feeding_sensitivity;
     int feeding_stand = -1;
     ChatterType band = ChatterType::other;
+    // the chatter type by shape (docs/model.md "Chatter type"): the moving stand's six masses in
+    // the crossing's motion, as a single stand's mode is classified (its band beside it)
+    ChatterClassification chatter;
     CrossingValidity validity;
     // nominal_delay: the lobe period Delta V ~ V / (f tau_max) beside it, m/s
     double lobe_period = 0.0;

@@ -19,6 +19,7 @@
 
 #include "support/compare.h"
 #include "tools/verify_mill/lu2019.h"
+#include "tools/verify_mill/mills.h"
 
 namespace mill_test {
 
@@ -26,22 +27,7 @@ using namespace rollgap::core;
 using rollgap::test::rel;
 using rollgap::test::worst_nearest;
 
-// The single-stand defaults as a mill of one stand: entry span 5 m at 18 MPa, the exit at the
-// single stand's constant front tension (0).
-Mill one_stand_mill(const Scenario& s = Scenario{}) {
-    Mill m;
-    m.stands = {s};
-    m.thickness = {s.strip.entry_thickness, exit_thickness(s)};
-    m.width = s.strip.width;
-    m.youngs_modulus = s.strip.youngs_modulus;
-    m.entry = MillBoundary::span;
-    m.entry_span_length = s.tensions.back.span_length;
-    m.entry_tension = s.tensions.back.stress;
-    m.exit = MillBoundary::constant;
-    m.exit_tension = s.tensions.front.stress;
-    m.speed = s.rolls.speed;
-    return m;
-}
+using rollgap::tools::mills::one_stand_mill;
 
 TEST_CASE("mill identity: one stand with its exit held is the single stand") {
     const Scenario s;

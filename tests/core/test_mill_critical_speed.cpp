@@ -18,6 +18,8 @@
 #include "core/mill/mill_delay.h"
 #include "core/mill/mill_model.h"
 #include "core/mill/mill_regenerative.h"
+#include "core/scenario.h"
+#include "core/stability.h"
 #include "tools/verify_mill/mills.h"
 
 namespace mill_critical_speed_test {
@@ -218,6 +220,42 @@ TEST_CASE("the band's screen: below it no root can cross the axis inside the ban
         CHECK(at.band_count == 0);
     }
     CHECK(band_gain(screen * (1.0 + 1e-3)) >= 0.9);
+}
+
+TEST_CASE("chatter type by shape: a one-stand mill's crossing is typed as the single stand's") {
+    // docs/model.md §12.7: a crossing's type is its moving stand's six masses classified as a
+    // single stand's mode is; a mill of one stand (exit held) is the single stand, so its frozen
+    // crossing must carry the single stand's classification, shape measures and all
+    const Scenario s;
+    const Mill m = rollgap::tools::mills::one_stand_mill(s);
+    CriticalSpeedOptions options;
+    options.stop_at_crossing = true;
+    const MillCriticalSpeeds mill = mill_critical_speeds(m, options);
+    const CriticalSpeedResult single = critical_speed(s, options);
+    REQUIRE(mill.frozen.status == CriticalSpeedStatus::found);
+    REQUIRE(single.status == CriticalSpeedStatus::found);
+    const ChatterClassification &a = mill.frozen.chatter, &b = single.unstable_mode.chatter;
+    MESSAGE("one-stand mill: " << std::string(to_string(a.type)) << " (gap opening "
+                               << a.shape.gap_opening << ", work rolls " << a.shape.work_roll_motion
+                               << ", back-up follows " << a.shape.backup_follow
+                               << "); single stand: " << std::string(to_string(b.type)) << " ("
+                               << b.shape.gap_opening << ", " << b.shape.work_roll_motion << ", "
+                               << b.shape.backup_follow << ")");
+    CHECK(a.type == b.type);
+    CHECK(a.band == b.band);
+    CHECK(a.shape.gap_opening == doctest::Approx(b.shape.gap_opening).epsilon(1e-6));
+    CHECK(a.shape.work_roll_motion == doctest::Approx(b.shape.work_roll_motion).epsilon(1e-6));
+    CHECK(a.shape.backup_follow == doctest::Approx(b.shape.backup_follow).epsilon(1e-6));
+
+    // two stands: the in-band crossing near 107 Hz is the stand's gap mode, third octave by its
+    // shape as by its band (the regenerative path acts on the third-octave mode, TANDEM §6)
+    const MillCriticalSpeeds two = mill_critical_speeds(two_stand_mill(5.0), options);
+    REQUIRE(two.nominal_delay.status == CriticalSpeedStatus::found);
+    MESSAGE("two stands, nominal-delay crossing at "
+            << two.nominal_delay.frequency_Hz
+            << " Hz: " << std::string(to_string(two.nominal_delay.chatter.type)));
+    CHECK(two.nominal_delay.chatter.band == ChatterType::third_octave);
+    CHECK(two.nominal_delay.chatter.type == ChatterType::third_octave);
 }
 
 TEST_CASE(

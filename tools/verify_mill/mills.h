@@ -1,14 +1,33 @@
 #pragma once
 // Mills shared by the verification report (tools/verify_mill) and the mill tests
-// (tests/core/test_mill_*.cpp): the default mill's last two stands with one span of a given
-// length, and the delays replaced by cascades of first-order Padé sections.
+// (tests/core/test_mill_*.cpp): the single stand as a mill of one stand, the default mill's last
+// two stands with one span of a given length, and the delays replaced by cascades of first-order
+// Padé sections.
 
 #include <Eigen/Dense>
 
 #include "core/mill/mill.h"
 #include "core/mill/mill_model.h"
+#include "core/scenario.h"
 
 namespace rollgap::tools::mills {
+
+// The single-stand defaults as a mill of one stand: entry span 5 m at 18 MPa, the exit at the
+// single stand's constant front tension (0).
+inline core::Mill one_stand_mill(const core::Scenario& s = core::Scenario{}) {
+    core::Mill m;
+    m.stands = {s};
+    m.thickness = {s.strip.entry_thickness, core::exit_thickness(s)};
+    m.width = s.strip.width;
+    m.youngs_modulus = s.strip.youngs_modulus;
+    m.entry = core::MillBoundary::span;
+    m.entry_span_length = s.tensions.back.span_length;
+    m.entry_tension = s.tensions.back.stress;
+    m.exit = core::MillBoundary::constant;
+    m.exit_tension = s.tensions.front.stress;
+    m.speed = s.rolls.speed;
+    return m;
+}
 
 // The default mill's last two stands (1.60 -> 1.36 -> 1.20 mm) with an interstand span of
 // `span` m, the entry tension the default's third interstand set point.
