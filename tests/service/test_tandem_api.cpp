@@ -2,7 +2,8 @@
 // run: the identity of a one-stand mill with the single-stand analysis (docs/model.md §12.1,
 // TANDEM identity 1) through the two requests, the schedule's mass flow in the answer, the
 // answer's own consistency (the headline is the lowest valid crossing, participations sum to
-// one, mark spacings are u2 / f), the echo that reruns, and the CSV tables.
+// one, mark spacings are u2 / f), the echo that reruns, the CSV tables, and the speeds mode (a
+// schedule's roll speeds given back recover its tensions; each mode's refusals at their pointers).
 // Mills here have one or two stands: a two-stand mill's critical speeds take ~0.1 s in Release.
 
 #include <doctest/doctest.h>
@@ -282,4 +283,50 @@ TEST_CASE("the roots in the model's band: none just below the nominal-delay spee
     }
     // the crossing root lies inside the band it is counted in
     CHECK(nominal["frequency_Hz"].get<double>() < above["band_top_Hz"].get<double>());
+}
+
+TEST_CASE("speeds mode: a schedule's roll speeds given back recover its tensions and forces") {
+    // docs/model.md §12.3: the schedule solves each stand's roll speed from the mass flow; the
+    // same roll speeds given per stand (mode speeds) make the interstand tension the unknown,
+    // and the mass flow must return the schedule's set point and so its stands, whatever the
+    // tension the speeds search starts from. Through the facade, as the CLI, HTTP and jobs run it.
+    json schedule_request = {
+        {"analysis", "tandem"}, {"tandem", two_stands}, {"options", {{"critical_speed", false}}}};
+    const json schedule = answer_of(schedule_request)["result"]["steady_state"];
+    REQUIRE(schedule["status"] == "ok");
+
+    json mill = two_stands;
+    mill["mode"] = "speeds";
+    mill["spans"]["tension_MPa"] = {30};  // only the search's start in speeds mode
+    for (int i = 0; i < 2; ++i)
+        mill["stands"][i]["rolls"]["speed_m_per_s"] =
+            schedule["stands"][i]["roll_speed_m_per_s"].get<double>();
+    const json speeds =
+        answer_of({{"analysis", "tandem"},
+                   {"tandem", mill},
+                   {"options", {{"critical_speed", false}}}})["result"]["steady_state"];
+    REQUIRE(speeds["status"] == "ok");
+    for (int i = 0; i < 2; ++i) {
+        const json &a = schedule["stands"][i], &b = speeds["stands"][i];
+        CAPTURE(i);
+        for (const char* name : {"front_tension_MPa", "back_tension_MPa"})
+            CHECK(std::abs(b[name].get<double>() - a[name].get<double>()) <=
+                  1e-6 * std::max(1.0, std::abs(a[name].get<double>())));
+        CHECK(std::abs(b["force_kN"].get<double>() - a["force_kN"].get<double>()) <=
+              1e-6 * a["force_kN"].get<double>());
+    }
+    CHECK(std::abs(speeds["stands"][0]["front_tension_MPa"].get<double>() - 60.0) < 1e-6);
+
+    // schedule mode refuses a stand's roll speed, speeds mode needs every one: each a 422 at the
+    // stand's pointer
+    json refused = two_stands;
+    refused["stands"][0]["rolls"]["speed_m_per_s"] = 10.0;
+    const service::Outcome a = service::evaluate({{"analysis", "tandem"}, {"tandem", refused}});
+    CHECK(a.http_status == 422);
+    CHECK(a.body.dump().find("/tandem/stands/0/rolls/speed_m_per_s") != std::string::npos);
+    json missing = mill;
+    missing["stands"][0]["rolls"].erase("speed_m_per_s");
+    const service::Outcome b = service::evaluate({{"analysis", "tandem"}, {"tandem", missing}});
+    CHECK(b.http_status == 422);
+    CHECK(b.body.dump().find("/tandem/stands/0") != std::string::npos);
 }
