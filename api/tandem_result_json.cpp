@@ -387,6 +387,61 @@ const ResultTable<core::Eigenmode>& frozen_mode_table() {
     return table;
 }
 
+// rho's anatomy per span at its peak (docs/model.md §12.5).
+const ResultTable<core::MarginFactors>& margin_factor_table() {
+    static const ResultTable<core::MarginFactors> table{
+        "TandemMarginFactors",
+        "rho broken into its factors at the frequency of its peak, for one interstand span: the "
+        "thickness it delivers enters its receiving stand (span + 1), whose bite turns it into a "
+        "force and an entry-speed change and whose structure turns the force into a gap; the loop "
+        "returns to the span through the tension and goes on downstream through the thickness "
+        "(docs/model.md §12.5).",
+        {
+            {"span", "The interstand span, from 1 (between stands span and span + 1).",
+             stand_number_schema(false),
+             [](const core::MarginFactors& f) { return stand_number(f.span); }},
+            {"worst_input_share",
+             "The span's share |u_i|^2 / |u|^2 of the loop's worst input at the peak: where the "
+             "gain is carried.",
+             number_schema(one),
+             [](const core::MarginFactors& f) { return quantity_json(f.worst_input_share, one); }},
+            {"tension_loop_gain",
+             "|M_ii|: the span's own loop, the receiving stand's entry thickness back to the "
+             "exit thickness of the stand before the span through the tension path.",
+             number_schema(one),
+             [](const core::MarginFactors& f) { return quantity_json(f.tension_loop_gain, one); }},
+            {"thickness_gain",
+             "|M_{i+1,i}|: the receiving stand's entry thickness to its own exit thickness, the "
+             "thickness path into the next span (null for the last span).",
+             number_schema(one, true),
+             [](const core::MarginFactors& f) {
+                 return f.thickness_gain >= 0.0 ? quantity_json(f.thickness_gain, one)
+                                                : json(nullptr);
+             }},
+            {"bite_force_gain_kN_per_mm",
+             "dF/dy1 of the receiving stand's bite: roll force per entry thickness (the film and "
+             "tensions held).",
+             number_schema(kilonewton_per_millimetre),
+             [](const core::MarginFactors& f) {
+                 return quantity_json(f.force_per_entry_thickness, kilonewton_per_millimetre);
+             }},
+            {"bite_entry_speed_gain_per_s",
+             "du1/dy1 of the receiving stand's bite: entry speed per entry thickness, (m/s)/m.",
+             number_schema(per_second),
+             [](const core::MarginFactors& f) {
+                 return quantity_json(f.entry_speed_per_entry_thickness, per_second);
+             }},
+            {"compliance_um_per_kN",
+             "|gap / force| of the receiving stand's six masses at the peak frequency (the "
+             "strip's spring excluded: the bite is the strip).",
+             number_schema(micrometre_per_kilonewton),
+             [](const core::MarginFactors& f) {
+                 return quantity_json(f.compliance, micrometre_per_kilonewton);
+             }},
+        }};
+    return table;
+}
+
 // The frozen modes shown: the least damped first, at most this many (full detail).
 constexpr std::size_t shown_frozen_modes = 12;
 
@@ -457,6 +512,18 @@ const ResultTable<StabilityView>& stability_table() {
                  const auto& m = v.report->at_speed.margin;
                  return m.ok && m.frozen_stable ? quantity_json(m.frequency_Hz, hertz)
                                                 : json(nullptr);
+             }},
+            {"margin_factors",
+             "rho broken into its factors per interstand span at the frequency of its peak "
+             "(empty where rho is not a margin: A0 unstable, or one stand).",
+             array_schema(ref_schema("TandemMarginFactors")),
+             [](const StabilityView& v) {
+                 const auto& at = v.report->at_speed;
+                 json rows = json::array();
+                 if (!at.margin.ok || !at.margin.frozen_stable) return rows;
+                 for (const core::MarginFactors& f : at.factors)
+                     rows.push_back(margin_factor_table().write(f));
+                 return rows;
              }},
             {"margin_exact",
              "rho >= 1 is also necessary for instability at some delays (one "
@@ -749,12 +816,13 @@ nlohmann::json tandem_result_json(const TandemReport& report) {
 }
 
 std::vector<ResultSchema> tandem_result_schemas() {
-    return {result_schema(stand_table()),       result_schema(steady_table()),
-            result_schema(validity_table()),    result_schema(root_table()),
-            result_schema(crossing_table()),    result_schema(critical_table()),
-            result_schema(frozen_mode_table()), result_schema(stability_table()),
-            result_schema(series_table()),      result_schema(stand_series_table()),
-            result_schema(time_table()),        result_schema(result_table())};
+    return {result_schema(stand_table()),         result_schema(steady_table()),
+            result_schema(validity_table()),      result_schema(root_table()),
+            result_schema(crossing_table()),      result_schema(critical_table()),
+            result_schema(frozen_mode_table()),   result_schema(stability_table()),
+            result_schema(margin_factor_table()), result_schema(series_table()),
+            result_schema(stand_series_table()),  result_schema(time_table()),
+            result_schema(result_table())};
 }
 
 std::span<const CsvTable> tandem_csv_tables() { return csv_tables; }

@@ -47,6 +47,8 @@ inline constexpr Unit radian{"rad", 0};
 inline constexpr Unit kilogram_per_cubic_metre{"kg/m3", 0};
 inline constexpr Unit kilowatt{"kW", 3};
 inline constexpr Unit square_metre_per_second{"m2/s", 0};
+inline constexpr Unit kilonewton_per_millimetre{"kN/mm", 6};
+inline constexpr Unit micrometre_per_kilonewton{"um/kN", -9};
 }  // namespace units
 
 }  // namespace rollgap::api

@@ -1,6 +1,10 @@
 #include "core/mill/mill_stability.h"
 
+#include <cmath>
+#include <numbers>
+
 #include "core/mill/mill_model.h"
+#include "core/stand_structure.h"
 
 namespace rollgap::core {
 
@@ -29,6 +33,59 @@ MillStability mill_frozen_stability(const Mill& mill) {
     return out;
 }
 
+std::vector<MarginFactors> margin_factors(const Mill& mill, const MillSteadyState& steady,
+                                          const TransportTransfer& transfer,
+                                          const RegenerativeMargin& margin) {
+    std::vector<MarginFactors> out;
+    const Eigen::Index p = transfer.spans();
+    if (!margin.ok || p == 0 || margin.transfer.rows() != p ||
+        steady.status != MillSteadyStatus::ok)
+        return out;
+    const MillModel model(mill, steady);
+    if (model.status() != BiteStatus::ok) return out;
+    const Eigen::VectorXd z = model.equilibrium();
+    const double omega = 2.0 * std::numbers::pi * margin.frequency_Hz;
+    // the worst input: u = D^-1 v, v the top right singular vector of D M D^-1
+    const Eigen::VectorXd d =
+        margin.scaling.size() == p ? margin.scaling : Eigen::VectorXd::Ones(p);
+    const Eigen::MatrixXcd scaled = d.cast<std::complex<double>>().asDiagonal() * margin.transfer *
+                                    d.cwiseInverse().cast<std::complex<double>>().asDiagonal();
+    const Eigen::JacobiSVD<Eigen::MatrixXcd> svd(scaled, Eigen::ComputeFullV);
+    const Eigen::VectorXcd u =
+        d.cwiseInverse().cast<std::complex<double>>().asDiagonal() * svd.matrixV().col(0);
+    const double total = u.squaredNorm();
+    for (Eigen::Index i = 0; i < p; ++i) {
+        MarginFactors f;
+        f.span = static_cast<int>(i);
+        f.worst_input_share = total > 0.0 ? std::norm(u(i)) / total : 0.0;
+        f.tension_loop_gain = std::abs(margin.transfer(i, i));
+        if (i + 1 < p) f.thickness_gain = std::abs(margin.transfer(i + 1, i));
+        const int receiving = static_cast<int>(i) + 1;
+        const StandBlock& block = model.stand(receiving);
+        const double y1 = mill.thickness[static_cast<std::size_t>(receiving)];
+        const double h = 1e-6 * y1;
+        const BiteResult plus = block.solve_bite(model.bite_state(receiving, z.data(), h));
+        const BiteResult minus = block.solve_bite(model.bite_state(receiving, z.data(), -h));
+        if (plus.status == BiteStatus::ok && minus.status == BiteStatus::ok) {
+            f.force_per_entry_thickness = (plus.force - minus.force) / (2.0 * h);
+            f.entry_speed_per_entry_thickness = (plus.entry_speed - minus.entry_speed) / (2.0 * h);
+        } else {
+            f.force_per_entry_thickness = f.entry_speed_per_entry_thickness = std::nan("");
+        }
+        const StructureMatrices m = structure_matrices(block.scenario().structure);
+        const Vector6 g = gap_direction();
+        const Eigen::Matrix<std::complex<double>, 6, 6> dynamic =
+            m.structural_stiffness.cast<std::complex<double>>() -
+            omega * omega * m.mass.cast<std::complex<double>>() +
+            std::complex<double>(0.0, omega) * m.damping.cast<std::complex<double>>();
+        const Eigen::Matrix<std::complex<double>, 6, 1> response =
+            dynamic.partialPivLu().solve(g.cast<std::complex<double>>());
+        f.compliance = std::abs(g.cast<std::complex<double>>().dot(response));
+        out.push_back(f);
+    }
+    return out;
+}
+
 MillSpeedStability mill_stability_at(const Mill& mill, const RegenerativeOptions& options) {
     MillSpeedStability out;
     const MillStability frozen = mill_frozen_stability(mill);
@@ -41,6 +98,7 @@ MillSpeedStability mill_stability_at(const Mill& mill, const RegenerativeOptions
     out.delay = lin.delay;
     const TransportTransfer transfer = transport_transfer(lin);
     out.margin = regenerative_margin(transfer, options);
+    out.factors = margin_factors(mill, out.steady, transfer, out.margin);
     out.nominal = nominal_delay_root_count(transfer, 0.0);
     if (out.nominal.ok) out.rightmost = rightmost_delay_root(transfer, out.nominal);
     out.nominal_stable = out.nominal.ok && out.nominal.count == 0;
