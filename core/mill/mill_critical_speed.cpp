@@ -151,13 +151,7 @@ Eigen::VectorXcd margin_response(const TransportTransfer& transfer,
                                  const RegenerativeMargin& margin) {
     const Eigen::Index p = transfer.spans();
     if (p == 0 || margin.transfer.rows() != p) return Eigen::VectorXcd::Zero(transfer.poles.size());
-    const Eigen::VectorXd d =
-        margin.scaling.size() == p ? margin.scaling : Eigen::VectorXd::Ones(p);
-    const Eigen::MatrixXcd scaled = d.cast<std::complex<double>>().asDiagonal() * margin.transfer *
-                                    d.cwiseInverse().cast<std::complex<double>>().asDiagonal();
-    const Eigen::JacobiSVD<Eigen::MatrixXcd> svd(scaled, Eigen::ComputeFullV);
-    const Eigen::VectorXcd u =
-        d.cwiseInverse().cast<std::complex<double>>().asDiagonal() * svd.matrixV().col(0);
+    const Eigen::VectorXcd u = margin_worst_input(margin);
     return transport_response(transfer, {0.0, 2.0 * std::numbers::pi * margin.frequency_Hz}, u);
 }
 

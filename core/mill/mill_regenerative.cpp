@@ -281,4 +281,15 @@ RegenerativeMargin regenerative_margin(const TransportTransfer& transfer,
     return out;
 }
 
+Eigen::VectorXcd margin_worst_input(const RegenerativeMargin& margin) {
+    const Eigen::Index p = margin.transfer.rows();
+    if (p == 0 || margin.transfer.cols() != p) return {};
+    const Eigen::VectorXd d =
+        margin.scaling.size() == p ? margin.scaling : Eigen::VectorXd::Ones(p);
+    const Eigen::MatrixXcd scaled = d.cast<std::complex<double>>().asDiagonal() * margin.transfer *
+                                    d.cwiseInverse().cast<std::complex<double>>().asDiagonal();
+    const Eigen::JacobiSVD<Eigen::MatrixXcd> svd(scaled, Eigen::ComputeFullV);
+    return d.cwiseInverse().cast<std::complex<double>>().asDiagonal() * svd.matrixV().col(0);
+}
+
 }  // namespace rollgap::core

@@ -79,4 +79,8 @@ struct RegenerativeMargin {
 RegenerativeMargin regenerative_margin(const TransportTransfer& transfer,
                                        const RegenerativeOptions& options = {});
 
+// The loop's worst input at the margin's peak: u = D^-1 v, v the top right singular vector of
+// D M D^-1 (M and D there); empty when the margin holds no peak.
+Eigen::VectorXcd margin_worst_input(const RegenerativeMargin& margin);
+
 }  // namespace rollgap::core

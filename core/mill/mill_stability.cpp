@@ -46,13 +46,7 @@ std::vector<MarginFactors> margin_factors(const Mill& mill, const MillSteadyStat
     const Eigen::VectorXd z = model.equilibrium();
     const double omega = 2.0 * std::numbers::pi * margin.frequency_Hz;
     // the worst input: u = D^-1 v, v the top right singular vector of D M D^-1
-    const Eigen::VectorXd d =
-        margin.scaling.size() == p ? margin.scaling : Eigen::VectorXd::Ones(p);
-    const Eigen::MatrixXcd scaled = d.cast<std::complex<double>>().asDiagonal() * margin.transfer *
-                                    d.cwiseInverse().cast<std::complex<double>>().asDiagonal();
-    const Eigen::JacobiSVD<Eigen::MatrixXcd> svd(scaled, Eigen::ComputeFullV);
-    const Eigen::VectorXcd u =
-        d.cwiseInverse().cast<std::complex<double>>().asDiagonal() * svd.matrixV().col(0);
+    const Eigen::VectorXcd u = margin_worst_input(margin);
     const double total = u.squaredNorm();
     for (Eigen::Index i = 0; i < p; ++i) {
         MarginFactors f;
