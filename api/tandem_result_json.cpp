@@ -513,6 +513,18 @@ const ResultTable<StabilityView>& stability_table() {
                  return m.ok && m.frozen_stable ? quantity_json(m.frequency_Hz, hertz)
                                                 : json(nullptr);
              }},
+            {"margin_validity",
+             "Whether the frequency where rho peaks lies inside the model's range (the spring "
+             "law and the quasi-static bite there; the factors are taken at it); null where rho "
+             "is not a margin.",
+             ref_schema("TandemValidity", true),
+             [](const StabilityView& v) {
+                 const auto& at = v.report->at_speed;
+                 if (!at.margin.ok || !at.margin.frozen_stable || !(at.margin.frequency_Hz > 0.0))
+                     return json(nullptr);
+                 return validity_table().write(
+                     core::crossing_validity(v.report->mill, at.steady, at.margin.frequency_Hz));
+             }},
             {"margin_factors",
              "rho broken into its factors per interstand span at the frequency of its peak "
              "(empty where rho is not a margin: A0 unstable, or one stand).",

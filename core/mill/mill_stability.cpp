@@ -33,16 +33,13 @@ MillStability mill_frozen_stability(const Mill& mill) {
     return out;
 }
 
-std::vector<MarginFactors> margin_factors(const Mill& mill, const MillSteadyState& steady,
+std::vector<MarginFactors> margin_factors(const Mill& mill, const MillModel& model,
                                           const TransportTransfer& transfer,
                                           const RegenerativeMargin& margin) {
     std::vector<MarginFactors> out;
     const Eigen::Index p = transfer.spans();
-    if (!margin.ok || p == 0 || margin.transfer.rows() != p ||
-        steady.status != MillSteadyStatus::ok)
+    if (!margin.ok || p == 0 || margin.transfer.rows() != p || model.status() != BiteStatus::ok)
         return out;
-    const MillModel model(mill, steady);
-    if (model.status() != BiteStatus::ok) return out;
     const Eigen::VectorXd z = model.equilibrium();
     const double omega = 2.0 * std::numbers::pi * margin.frequency_Hz;
     // the worst input: u = D^-1 v, v the top right singular vector of D M D^-1
@@ -92,7 +89,7 @@ MillSpeedStability mill_stability_at(const Mill& mill, const RegenerativeOptions
     out.delay = lin.delay;
     const TransportTransfer transfer = transport_transfer(lin);
     out.margin = regenerative_margin(transfer, options);
-    out.factors = margin_factors(mill, out.steady, transfer, out.margin);
+    out.factors = margin_factors(mill, model, transfer, out.margin);
     out.nominal = nominal_delay_root_count(transfer, 0.0);
     if (out.nominal.ok) out.rightmost = rightmost_delay_root(transfer, out.nominal);
     out.nominal_stable = out.nominal.ok && out.nominal.count == 0;

@@ -7,6 +7,7 @@
 #include "core/control.h"
 #include "core/mill/mill.h"
 #include "core/mill/mill_delay.h"
+#include "core/mill/mill_model.h"
 #include "core/mill/mill_regenerative.h"
 #include "core/stability.h"
 
@@ -39,12 +40,12 @@ struct MarginFactors {
     double compliance = 0.0;  // |gap / force| of the receiving stand's structure at omega, m/N
 };
 
-// The factors of `margin` (its peak frequency, D and M there) for the mill at its steady state
-// (empty when the margin has no peak): the bite gains by central differences of the stand's own
-// bite in its entering thickness (+-1e-6 of it, the film and tensions held: J_b's y1 column),
-// the compliance g^T (K_s - omega^2 M + i omega C)^-1 g of its six masses (the strip's spring
-// k4 excluded: the bite is the strip).
-std::vector<MarginFactors> margin_factors(const Mill& mill, const MillSteadyState& steady,
+// The factors of `margin` (its peak frequency, D and M there) for the mill `model` built on (at
+// its equilibrium; empty when the margin has no peak): the bite gains by central differences of
+// the stand's own bite in its entering thickness (+-1e-6 of it, the film and tensions held: J_b's
+// y1 column), the compliance g^T (K_s - omega^2 M + i omega C)^-1 g of its six masses (the
+// strip's spring k4 excluded: the bite is the strip).
+std::vector<MarginFactors> margin_factors(const Mill& mill, const MillModel& model,
                                           const TransportTransfer& transfer,
                                           const RegenerativeMargin& margin);
 

@@ -6,6 +6,7 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <memory>
 #include <numbers>
 
 #include "core/mill/mill.h"
@@ -21,6 +22,7 @@ using namespace rollgap::core;
 
 struct Analysed {
     MillSteadyState steady;
+    std::unique_ptr<MillModel> model;
     TransportTransfer transfer;
     RegenerativeMargin margin;
 };
@@ -29,7 +31,8 @@ Analysed analyse(const Mill& m) {
     Analysed out;
     out.steady = mill_steady_state(m);
     REQUIRE(out.steady.status == MillSteadyStatus::ok);
-    const MillModel model(m, out.steady);
+    out.model = std::make_unique<MillModel>(m, out.steady);
+    const MillModel& model = *out.model;
     out.transfer = transport_transfer(model.linearise(model.equilibrium()));
     REQUIRE(out.transfer.ok);
     out.margin = regenerative_margin(out.transfer);
@@ -40,7 +43,7 @@ Analysed analyse(const Mill& m) {
 TEST_CASE("margin factors: one span's own loop is rho, and it carries the whole input") {
     const Mill m = rollgap::tools::mills::two_stand_mill(5.0);
     const Analysed a = analyse(m);
-    const std::vector<MarginFactors> f = margin_factors(m, a.steady, a.transfer, a.margin);
+    const std::vector<MarginFactors> f = margin_factors(m, *a.model, a.transfer, a.margin);
     REQUIRE(f.size() == 1);
     MESSAGE("rho " << a.margin.margin << " at " << a.margin.frequency_Hz << " Hz; |M_11| "
                    << f[0].tension_loop_gain);
@@ -52,7 +55,7 @@ TEST_CASE("margin factors: one span's own loop is rho, and it carries the whole 
 TEST_CASE("margin factors: five stands, shares, the thickness path and the bite's gains") {
     const Mill m = default_mill();
     const Analysed a = analyse(m);
-    const std::vector<MarginFactors> f = margin_factors(m, a.steady, a.transfer, a.margin);
+    const std::vector<MarginFactors> f = margin_factors(m, *a.model, a.transfer, a.margin);
     REQUIRE(f.size() == 4);
     const Eigen::MatrixXcd direct =
         a.transfer.at({0.0, 2.0 * std::numbers::pi * a.margin.frequency_Hz});
@@ -86,7 +89,7 @@ TEST_CASE("margin factors: five stands, shares, the thickness path and the bite'
     RegenerativeMargin still = a.margin;
     still.frequency_Hz = 1e-9;
     const std::vector<MarginFactors> static_factors =
-        margin_factors(m, a.steady, a.transfer, still);
+        margin_factors(m, *a.model, a.transfer, still);
     REQUIRE(static_factors.size() == 4);
     const StructureMatrices structure = structure_matrices(m.stands[1].structure);
     const ModalAnalysis modes = modal_analysis(structure, 0.0);

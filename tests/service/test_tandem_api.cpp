@@ -111,6 +111,22 @@ TEST_CASE("the two-stand answer: mass flow, stands numbered from 1, a consistent
     CHECK(stability["status"] == "ok");
     const json& root = stability["rightmost_root"];
     REQUIRE(root.is_object());
+    // the margin's peak judged as a root is: each stand's bite transit time x_w / u1 is the same
+    // whichever frequency it is multiplied by, and the validity is the conjunction of its flags
+    const json& margin_validity = stability["margin_validity"];
+    REQUIRE(margin_validity.is_object());
+    const double f_margin = stability["margin_frequency_Hz"].get<double>();
+    const double f_root = root["frequency_Hz"].get<double>();
+    for (std::size_t i = 0; i < 2; ++i)
+        CHECK(std::abs(margin_validity["bite_transit_ratio"][i].get<double>() / f_margin -
+                       root["validity"]["bite_transit_ratio"][i].get<double>() / f_root) <=
+              1e-12 * margin_validity["bite_transit_ratio"][i].get<double>() / f_margin);
+    CHECK(margin_validity["valid"] == (margin_validity["spring_law_valid"].get<bool>() &&
+                                       margin_validity["quasi_static_bite_valid"].get<bool>()));
+    REQUIRE(stability["margin_factors"].size() == 1);  // one span
+    CHECK(std::abs(stability["margin_factors"][0]["tension_loop_gain"].get<double>() -
+                   stability["regenerative_margin"].get<double>()) <=
+          1e-9 * stability["regenerative_margin"].get<double>());
     double total = 0.0;
     for (const json& share : root["participation"]) total += share.get<double>();
     CHECK(std::abs(total - 1.0) < 1e-9);
