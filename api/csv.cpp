@@ -26,35 +26,6 @@ std::function<std::vector<std::string>(const json&)> scalar_columns(const Table&
     return [table](const json&) { return table().scalar_names(); };
 }
 
-// A map's value columns: the two fields' pointers without the leading slash ("strip/reduction").
-std::vector<std::string> map_value_columns(const json& result) {
-    std::vector<std::string> names;
-    for (const json& parameter : result.value("parameters", json::array())) {
-        names.push_back(parameter.value("parameter", std::string()).substr(1));
-    }
-    return names;
-}
-
-std::vector<std::string> map_columns(const json& result) {
-    std::vector<std::string> columns = map_value_columns(result);
-    for (std::string& name : map_cell_columns()) columns.push_back(std::move(name));
-    return columns;
-}
-
-json map_rows(const json& result) {
-    const std::vector<std::string> names = map_value_columns(result);
-    json rows = json::array();
-    for (const json& cell : result.value("cells", json::array())) {
-        json row = cell;
-        const json values = row.value("values", json::array());
-        row.erase("values");
-        for (std::size_t k = 0; k < names.size() && k < values.size(); ++k)
-            row[names[k]] = values[k];
-        rows.push_back(std::move(row));
-    }
-    return rows;
-}
-
 const json* at(const json& document, std::string_view pointer) {
     if (pointer.empty()) return &document;
     const json::json_pointer location{std::string(pointer)};
@@ -99,6 +70,29 @@ std::string table_names(std::span<const CsvTable> offered) {
 }
 
 }  // namespace
+
+// A map's value columns: the two fields' pointers without the leading slash ("strip/reduction").
+std::vector<std::string> map_value_columns(const json& result) {
+    std::vector<std::string> names;
+    for (const json& parameter : result.value("parameters", json::array())) {
+        names.push_back(parameter.value("parameter", std::string()).substr(1));
+    }
+    return names;
+}
+
+json map_cell_rows(const json& result) {
+    const std::vector<std::string> names = map_value_columns(result);
+    json rows = json::array();
+    for (const json& cell : result.value("cells", json::array())) {
+        json row = cell;
+        const json values = row.value("values", json::array());
+        row.erase("values");
+        for (std::size_t k = 0; k < names.size() && k < values.size(); ++k)
+            row[names[k]] = values[k];
+        rows.push_back(std::move(row));
+    }
+    return rows;
+}
 
 std::span<const CsvTable> roll_gap_csv_tables() {
     static const std::vector<CsvTable> tables{
@@ -196,6 +190,16 @@ std::span<const CsvTable> calibration_csv_tables() {
     return tables;
 }
 
+namespace {
+
+std::vector<std::string> map_columns(const json& result) {
+    std::vector<std::string> columns = map_value_columns(result);
+    for (std::string& name : map_cell_columns()) columns.push_back(std::move(name));
+    return columns;
+}
+
+}  // namespace
+
 std::span<const CsvTable> map_csv_tables() {
     static const std::vector<CsvTable> tables{
         {"cells",
@@ -204,7 +208,7 @@ std::span<const CsvTable> map_csv_tables() {
          {},
          "",
          map_columns,
-         map_rows}};
+         map_cell_rows}};
     return tables;
 }
 

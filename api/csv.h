@@ -58,6 +58,12 @@ std::span<const CsvTable> sweep_csv_tables();
 std::span<const CsvTable> map_csv_tables();
 std::span<const CsvTable> calibration_csv_tables();
 
+// A map's sheet, a stand's or a mill's: one row per cell, its pair of values as two columns
+// named by the parameters' pointers without the leading slash ("strip/reduction"), then the
+// cell's members.
+std::vector<std::string> map_value_columns(const nlohmann::json& result);
+nlohmann::json map_cell_rows(const nlohmann::json& result);
+
 struct CsvOutcome {
     bool ok = false;
     std::string text;    // the CSV when ok

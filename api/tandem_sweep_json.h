@@ -28,6 +28,7 @@
 #include "api/csv.h"
 #include "api/field_errors.h"
 #include "api/result_table.h"
+#include "api/tandem_points.h"
 #include "api/units.h"
 #include "core/mill/mill.h"
 #include "core/stability.h"
@@ -37,15 +38,12 @@ namespace rollgap::api {
 // A point may take seconds (five stands' critical speeds): fewer points than a stand's sweep.
 inline constexpr int max_tandem_sweep_points = 200;
 
-enum class TandemSweepQuantity { critical_speed, stability };
-
 struct TandemSweepPlan {
     std::string parameter;  // the pointer into the tandem document
     Unit unit = units::one;
-    std::vector<double> values;     // in the field's unit, as the client wrote them
-    std::vector<core::Mill> mills;  // one per value; filled only for a valid request
-    TandemSweepQuantity quantity = TandemSweepQuantity::critical_speed;
-    core::CriticalSpeedOptions critical_speed;
+    std::vector<double> values;       // in the field's unit, as the client wrote them
+    std::vector<core::Mill> mills;    // one per value; filled only for a valid request
+    TandemPointSpec spec;             // what each point holds
     nlohmann::json resolved_options;  // the echo
 };
 

@@ -15,6 +15,7 @@
 #include "api/stability_json.h"
 #include "api/sweep_json.h"
 #include "api/tandem_result_json.h"
+#include "api/tandem_map_json.h"
 #include "api/tandem_sweep_json.h"
 #include "api/tension_cycle_json.h"
 #include "api/name_suggestion.h"
@@ -28,6 +29,7 @@
 #include "service/analyses/stability.h"
 #include "service/analyses/sweep.h"
 #include "service/analyses/tandem.h"
+#include "service/analyses/tandem_map.h"
 #include "service/analyses/tandem_sweep.h"
 #include "service/analyses/tension_cycle.h"
 
@@ -56,6 +58,10 @@ constexpr std::array<OptionsDefaults, 1> tandem_defaults{{{"TandemOptions", "{}"
 constexpr std::array<OptionsDefaults, 1> tandem_sweep_defaults{{
     {"TandemSweepOptions", R"({"parameter": "/spans/length_m/0", "values": [5]})"},
 }};
+constexpr std::array<OptionsDefaults, 1> tandem_map_defaults{{
+    {"TandemMapOptions", R"({"parameters": [{"parameter": "/spans/length_m/0", "values": [5]},
+                               {"parameter": "/spans/tension_MPa/0", "values": [60]}]})"},
+}};
 constexpr std::array<OptionsDefaults, 1> evaluation_defaults{{{"EvaluateOptions", "{}"}}};
 constexpr std::array<OptionsDefaults, 1> calibration_defaults{{
     {"CalibrateOptions",
@@ -69,6 +75,7 @@ constexpr std::array sweep_request_options{"parameter"sv, "values"sv, "range"sv,
                                            "speeds_m_per_s"sv};
 constexpr std::array map_request_options{"parameters"sv};
 constexpr std::array tandem_sweep_request_options{"parameter"sv, "values"sv, "range"sv};
+constexpr std::array tandem_map_request_options{"parameters"sv};
 constexpr std::array calibration_request_options{"parameters"sv, "observations"sv};
 
 // The result components a point of a pointwise analysis can be (api/sweep_json.h, map_json.h).
@@ -76,6 +83,7 @@ constexpr std::array sweep_points{"SweepCriticalSpeedPoint"sv, "SweepAmplitudePo
 constexpr std::array map_points{"MapCell"sv};
 constexpr std::array tandem_sweep_points{"TandemSweepCriticalSpeedPoint"sv,
                                          "TandemSweepStabilityPoint"sv};
+constexpr std::array tandem_map_points{"TandemMapCriticalSpeedCell"sv, "TandemMapStabilityCell"sv};
 
 const std::array table{
     Analysis{"roll_gap", "Roll gap",
@@ -155,6 +163,12 @@ const std::array table{
              "TandemSweepResult", &api::tandem_sweep_result_schemas, tandem_sweep_defaults,
              tandem_sweep_request_options, &api::tandem_sweep_csv_tables, tandem_sweep_points,
              false, &prepare_tandem_sweep},
+    Analysis{"tandem_map", "Mill map",
+             "a tandem mill's critical speeds or its stability over a grid of two numbers of its "
+             "document (docs/model.md §12.10)",
+             nullptr, "/v1/tandem/maps", "TandemMapResponse", "TandemMapOptions", "TandemMapResult",
+             &api::tandem_map_result_schemas, tandem_map_defaults, tandem_map_request_options,
+             &api::tandem_map_csv_tables, tandem_map_points, false, &prepare_tandem_map},
 };
 
 }  // namespace

@@ -146,6 +146,25 @@ const cases = [
     equals('/errors/0/pointer', '/options/values/0')],
   ['mill sweep job', 'POST', '/v1/jobs',
     json({ analysis: 'tandem_sweep', tandem: twoStands, options: { parameter: '/speed_m_per_s', values: [10, 12], quantity: 'stability' } }), 202],
+  ['mill map of stability', 'POST', '/v1/tandem/maps',
+    json({ tandem: twoStands, options: { quantity: 'stability', parameters: [
+      { parameter: '/speed_m_per_s', values: [8, 14] }, { parameter: '/spans/tension_MPa/0', values: [40, 80] }] } }), 200,
+    every(equals('/result/cells/3/values/1', 80), equals('/result/parameters/0/unit', 'm/s'))],
+  ['mill map of critical speeds', 'POST', '/v1/tandem/maps',
+    json({ tandem: twoStands, options: { parameters: [
+      { parameter: '/spans/length_m/0', values: [4] }, { parameter: '/spans/tension_MPa/0', values: [60] }],
+      critical_speed: { speed_min_m_per_s: 5, speed_max_m_per_s: 20 } } }), 200,
+    equals('/result/cells/0/kind', 'nominal_delay')],
+  ['mill map csv', 'POST', '/v1/tandem/maps',
+    { ...json({ tandem: twoStands, options: { quantity: 'stability', parameters: [
+      { parameter: '/speed_m_per_s', values: [10] }, { parameter: '/spans/length_m/0', values: [4, 6] }] } }), accept: 'text/csv' }, 200],
+  ['mill map bad value', 'POST', '/v1/tandem/maps',
+    json({ tandem: twoStands, options: { quantity: 'stability', parameters: [
+      { parameter: '/speed_m_per_s', values: [10] }, { parameter: '/spans/length_m/0', values: [-1] }] } }), 422,
+    equals('/errors/0/pointer', '/options/parameters/1/values/0')],
+  ['mill map job', 'POST', '/v1/jobs',
+    json({ analysis: 'tandem_map', tandem: twoStands, options: { quantity: 'stability', parameters: [
+      { parameter: '/speed_m_per_s', values: [10, 12] }, { parameter: '/spans/length_m/0', values: [4, 6] }] } }), 202],
   ['invalid json', 'POST', '/v1/roll-gap', { body: '{', headers: { 'Content-Type': 'application/json' } }, 400],
   ['not json', 'POST', '/v1/roll-gap', { body: '{}', headers: { 'Content-Type': 'text/plain' } }, 415],
   ['invalid scenario', 'POST', '/v1/roll-gap', json({ scenario: { strip: { reduction: 25 } } }), 422,

@@ -182,8 +182,16 @@ TEST_CASE("a mill sweep refuses what the mill cannot have, at the value's pointe
     SUBCASE("more values than a mill sweep takes") {
         const json refused =
             refusal_of(sweep({{"parameter", "/speed_m_per_s"},
-                              {"range", {{"from", 10}, {"to", 20}, {"count", 201}}}}));
+                              {"range", {{"from", 10}, {"to", 20}, {"count", 201}}},
+                              {"quantity", "stability"}}));
+        REQUIRE(refused["errors"].size() == 1);
         CHECK(refused["errors"][0]["pointer"] == "/options/range/count");
+    }
+    SUBCASE("the mill speed in a sweep of critical speeds: the search scans it") {
+        const json refused =
+            refusal_of(sweep({{"parameter", "/speed_m_per_s"}, {"values", {10.0, 12.0}}}));
+        REQUIRE(refused["errors"].size() == 1);
+        CHECK(refused["errors"][0]["pointer"] == "/options/parameter");
     }
     SUBCASE("search options with quantity stability") {
         const json refused = refusal_of(sweep({{"parameter", "/speed_m_per_s"},
@@ -192,6 +200,32 @@ TEST_CASE("a mill sweep refuses what the mill cannot have, at the value's pointe
                                                {"critical_speed", json::object()}}));
         CHECK(refused["errors"][0]["pointer"] == "/options/critical_speed");
     }
+}
+
+TEST_CASE("a mill sweep's chatter-type changes are the consecutive points whose types differ") {
+    // Over the mill speed the rightmost root turns from the work rolls' fifth-octave mode to the
+    // third-octave mill mode.
+    const json result = answer_of({{"analysis", "tandem_sweep"},
+                                   {"tandem", two_stands},
+                                   {"options",
+                                    {{"parameter", "/speed_m_per_s"},
+                                     {"values", {5.0, 8.0, 11.0, 14.0, 17.0}},
+                                     {"quantity", "stability"}}}})["result"];
+    const json& points = result["points"];
+    json expected = json::array();
+    for (std::size_t i = 0; i + 1 < points.size(); ++i) {
+        if (points[i]["chatter_type"].is_null() || points[i + 1]["chatter_type"].is_null())
+            continue;
+        if (points[i]["chatter_type"] != points[i + 1]["chatter_type"])
+            expected.push_back({points[i]["value_m_per_s"], points[i + 1]["value_m_per_s"]});
+    }
+    json listed = json::array();
+    for (const json& change : result["chatter_type_changes"]) {
+        listed.push_back({change["from"], change["to"]});
+        CHECK(change["from_chatter_type"] != change["to_chatter_type"]);
+    }
+    CHECK(listed == expected);
+    CHECK(!expected.empty());
 }
 
 TEST_CASE("a mill sweep's points in chunks assemble into the single run") {
