@@ -187,13 +187,15 @@ void describe_root(MillCrossing& c, const Mill& mill, const TransportTransfer& t
 }
 
 // The first speed from `start` upwards where count_at turns positive: blocks of speeds in
-// parallel, in order, each step step_at(the block's first speed), at most 400 steps, then
+// parallel (at least block_speeds of them), in order, each step step_at(the block's first
+// speed), at most 400 steps, then
 // bisection between the last zero and the first positive count to the search's tolerance.
 // Fills c's status and speed; false when cancelled.
 bool first_positive(MillCrossing& c, const std::function<int(double)>& count_at, double start,
                     const std::function<double(double)>& step_at,
-                    const CriticalSpeedOptions& options, const Control& control) {
-    const int block = std::max(2, control.thread_budget());
+                    const CriticalSpeedOptions& options, const Control& control,
+                    int block_speeds = 0) {
+    const int block = std::max({2, control.thread_budget(), block_speeds});
     constexpr int max_steps = 400;
     double stable_speed = -1.0, unstable_speed = -1.0;
     double block_start = start;
@@ -417,10 +419,53 @@ MillCriticalSpeeds mill_critical_speeds(const Mill& mill, const CriticalSpeedOpt
             const double f = di.frequency_Hz > 0.0 ? di.frequency_Hz : 100.0;
             const double lobe = start / (f * std::max(tau_max_of(first.transfer), 1e-9));
             any.lobe_period = lobe;
-            const auto count_at = [&mill](double speed) {
+            // first_any's counts in blocks of 16 speeds: the line's loud stretches (gain >= 0.8)
+            // at each block's start and the next's, their union reused by the counts between, which
+            // sample only there (docs/model.md §12.7: M has no delays and moves by ~0.02 % a
+            // step; every count checks its gaps' ends at its own speed).
+            constexpr int any_block = 16;
+            constexpr double loud_threshold = 0.8;
+            const auto loud_at = [&mill](double speed) {
+                const Linearised l = linearised(at_speed(mill, speed));
+                return l.ok ? loud_stretches(l.transfer, 0.0, loud_threshold) : LoudStretches{};
+            };
+            struct LoudBlock {
+                double from = -1.0, to = -1.0;
+                LoudStretches end;  // at `to`: the next block's start
+                LoudStretches loud;
+            };
+            std::mutex loud_mutex;
+            auto loud_block = std::make_shared<const LoudBlock>();
+            const auto any_step = [&](double block_start) {
+                const double step = 0.5 * lobe;
+                auto next = std::make_shared<LoudBlock>();
+                next->from = block_start;
+                next->to = block_start + any_block * step;  // the next block's start
+                std::shared_ptr<const LoudBlock> previous;
+                {
+                    const std::lock_guard lock(loud_mutex);
+                    previous = loud_block;
+                }
+                const LoudStretches start_loud =
+                    previous->to == block_start ? previous->end : loud_at(block_start);
+                next->end = loud_at(next->to);
+                next->loud = loud_union(start_loud, next->end);
+                const std::lock_guard lock(loud_mutex);
+                loud_block = std::move(next);
+                return step;
+            };
+            const auto count_at = [&](double speed) {
                 const Linearised l = linearised(at_speed(mill, speed));
                 if (!l.ok) return -1;
-                const DelayRootCount n = nominal_delay_root_count(l.transfer, 0.0);
+                std::shared_ptr<const LoudBlock> block;
+                {
+                    const std::lock_guard lock(loud_mutex);
+                    block = loud_block;
+                }
+                const DelayRootCount n =
+                    speed >= block->from && speed <= block->to
+                        ? nominal_delay_root_count(l.transfer, 0.0, block->loud)
+                        : nominal_delay_root_count(l.transfer, 0.0);
                 return n.ok ? n.count : -1;
             };
             // the linearisation and f_valid at a speed; the step's, taken at each block's first
@@ -463,8 +508,7 @@ MillCriticalSpeeds mill_critical_speeds(const Mill& mill, const CriticalSpeedOpt
                 if (!(p->f_valid > 0.0) || !(tau_max > 0.0)) return 0.5 * lobe;
                 return 0.5 * speed / (p->f_valid * tau_max);
             };
-            if (!first_positive(
-                    any, count_at, start, [&](double) { return 0.5 * lobe; }, options, control)) {
+            if (!first_positive(any, count_at, start, any_step, options, control, any_block)) {
                 c.status = CriticalSpeedStatus::cancelled;
                 return out;
             }

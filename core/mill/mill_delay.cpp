@@ -180,6 +180,9 @@ struct ArgumentTracker {
         std::vector<Complex> s;
         std::vector<Eigen::MatrixXcd> m;
         std::vector<double> gain;
+        // interval k..k+1 known to be quiet (a gap between loud stretches): empty, or one per
+        // interval
+        std::vector<char> given_quiet;
     };
 
     explicit ArgumentTracker(const TransportTransfer& t) : transfer(t) {
@@ -259,6 +262,7 @@ struct ArgumentTracker {
 
     // Whether no winding is possible over samples k..k+1 (see the struct's comment)
     bool quiet(const Samples& samples, std::size_t k) {
+        if (!samples.given_quiet.empty() && samples.given_quiet[k] != 0) return true;
         const double g0 = samples.gain[k], g1 = samples.gain[k + 1];
         if (g0 < small && g1 < small) return true;
         if (!(g0 < skip && g1 < skip)) return false;
@@ -335,40 +339,9 @@ struct ArgumentTracker {
     }
 };
 
-}  // namespace
-
-Complex delay_characteristic(const TransportTransfer& transfer, Complex s) {
-    if (transfer.spans() == 0) return 1.0;
-    return determinant(loop(transfer, s));
-}
-
-DelayRootCount nominal_delay_root_count(const TransportTransfer& transfer, double alpha) {
-    DelayRootCount out;
-    if (!transfer.ok) {
-        out.message = "no linearisation";
-        return out;
-    }
-    const Eigen::VectorXcd& poles = transfer.poles;
-    // the line must miss A0's poles (F has them): move it by a hair where one sits on it
-    for (int attempt = 0; attempt < 8; ++attempt) {
-        bool clear = true;
-        for (Eigen::Index k = 0; k < poles.size(); ++k) {
-            if (std::abs(poles(k).real() - alpha) <= 1e-9 * std::max(1.0, std::abs(poles(k))))
-                clear = false;
-        }
-        if (clear) break;
-        alpha += 1e-6 * std::max(1.0, std::abs(alpha));
-    }
-    out.alpha = alpha;
-    for (Eigen::Index k = 0; k < poles.size(); ++k)
-        if (poles(k).real() > alpha) ++out.frozen_right;
-    if (transfer.spans() == 0) {
-        out.ok = true;
-        out.count = out.frozen_right;
-        return out;
-    }
-
-    // the coarse grid: log-spaced over 1e-2 .. 1e7 rad/s, and around every pole of A0
+// The line's grid: log-spaced over 1e-2 .. 1e7 rad/s (60 a decade) and around every pole of A0
+// (at 0, 1/4, 1/2, 1, 2 and 4 times its distance from the line), from omega = 0; sorted, unique.
+std::vector<Complex> line_grid(const Eigen::VectorXcd& poles, double alpha) {
     std::vector<double> grid{0.0};
     constexpr int decades = 9, per_decade = 60;
     for (int k = 0; k <= decades * per_decade; ++k)
@@ -388,16 +361,65 @@ DelayRootCount nominal_delay_root_count(const TransportTransfer& transfer, doubl
     std::vector<Complex> line;
     line.reserve(grid.size());
     for (double w : grid) line.emplace_back(alpha, w);
-    ArgumentTracker tracker(transfer);
-    const ArgumentTracker::Samples samples = tracker.sample(line);
+    return line;
+}
+
+// alpha moved off A0's poles by a hair where one sits on the line (F has them).
+double off_line_poles(const Eigen::VectorXcd& poles, double alpha) {
+    for (int attempt = 0; attempt < 8; ++attempt) {
+        bool clear = true;
+        for (Eigen::Index k = 0; k < poles.size(); ++k) {
+            if (std::abs(poles(k).real() - alpha) <= 1e-9 * std::max(1.0, std::abs(poles(k))))
+                clear = false;
+        }
+        if (clear) break;
+        alpha += 1e-6 * std::max(1.0, std::abs(alpha));
+    }
+    return alpha;
+}
+
+}  // namespace
+
+Complex delay_characteristic(const TransportTransfer& transfer, Complex s) {
+    if (transfer.spans() == 0) return 1.0;
+    return determinant(loop(transfer, s));
+}
+
+namespace {
+
+// The line's start shared by the counts: alpha off A0's poles, A0's poles right of it; done
+// (a count with no spans) or not.
+bool line_prelude(const TransportTransfer& transfer, double& alpha, DelayRootCount& out) {
+    if (!transfer.ok) {
+        out.message = "no linearisation";
+        return true;
+    }
+    const Eigen::VectorXcd& poles = transfer.poles;
+    // the line must miss A0's poles (F has them): move it by a hair where one sits on it
+    alpha = off_line_poles(poles, alpha);
+    out.alpha = alpha;
+    for (Eigen::Index k = 0; k < poles.size(); ++k)
+        if (poles(k).real() > alpha) ++out.frozen_right;
+    if (transfer.spans() == 0) {
+        out.ok = true;
+        out.count = out.frozen_right;
+        return true;
+    }
+    return false;
+}
+
+// The count from the line's samples (its whole grid, or its loud stretches with the gaps
+// between them given quiet).
+DelayRootCount count_from_samples(ArgumentTracker& tracker, const ArgumentTracker::Samples& samples,
+                                  DelayRootCount out) {
     if (samples.gain.back() >= ArgumentTracker::small) {
         out.message = "the loop gain does not fall below 1/2 by 1e7 rad/s";
         return out;
     }
-
     std::vector<std::pair<double, Complex>> dips;  // (|F|, s) at local minima
     double theta = tracker.follow(samples, dips);
     out.evaluations = tracker.evaluations;
+    out.sampled = static_cast<int>(samples.s.size());
     if (tracker.failed) {
         out.message = "the argument principle needed more than 4e6 evaluations";
         return out;
@@ -419,6 +441,105 @@ DelayRootCount nominal_delay_root_count(const TransportTransfer& transfer, doubl
     for (const auto& dip : dips) out.dips.push_back(dip.second);
     out.message = out.ok ? "" : "the winding number is not an integer: F vanishes near the line";
     return out;
+}
+
+}  // namespace
+
+DelayRootCount nominal_delay_root_count(const TransportTransfer& transfer, double alpha) {
+    DelayRootCount out;
+    if (line_prelude(transfer, alpha, out)) return out;
+    ArgumentTracker tracker(transfer);
+    return count_from_samples(tracker, tracker.sample(line_grid(transfer.poles, alpha)), out);
+}
+
+LoudStretches loud_stretches(const TransportTransfer& transfer, double alpha, double threshold) {
+    LoudStretches out;
+    DelayRootCount prelude;
+    if (line_prelude(transfer, alpha, prelude)) {
+        out.ok = prelude.ok;  // no spans: nothing is loud
+        out.alpha = alpha;
+        return out;
+    }
+    out.alpha = alpha;
+    ArgumentTracker tracker(transfer);
+    const ArgumentTracker::Samples samples = tracker.sample(line_grid(transfer.poles, alpha));
+    if (samples.gain.back() >= ArgumentTracker::small) return out;
+    // as ArgumentTracker::quiet with the threshold for 0.9: an interval is loud unless both ends
+    // are below 1/2, or both ends and the middle below the threshold
+    for (std::size_t k = 0; k + 1 < samples.s.size(); ++k) {
+        const double g0 = samples.gain[k], g1 = samples.gain[k + 1];
+        if (g0 < ArgumentTracker::small && g1 < ArgumentTracker::small) continue;
+        if (g0 < threshold && g1 < threshold &&
+            tracker.gain(0.5 * (samples.s[k] + samples.s[k + 1]), threshold) < threshold)
+            continue;
+        const double a = samples.s[k].imag(), b = samples.s[k + 1].imag();
+        if (!out.omega.empty() && out.omega.back().second >= a) {
+            out.omega.back().second = b;
+        } else {
+            out.omega.emplace_back(a, b);
+        }
+    }
+    out.ok = true;
+    return out;
+}
+
+LoudStretches loud_union(const LoudStretches& x, const LoudStretches& y) {
+    LoudStretches out;
+    out.ok = x.ok && y.ok && x.alpha == y.alpha;
+    out.alpha = x.alpha;
+    std::vector<std::pair<double, double>> all = x.omega;
+    all.insert(all.end(), y.omega.begin(), y.omega.end());
+    std::sort(all.begin(), all.end());
+    for (const auto& [a, b] : all) {
+        if (!out.omega.empty() && out.omega.back().second >= a) {
+            out.omega.back().second = std::max(out.omega.back().second, b);
+        } else {
+            out.omega.emplace_back(a, b);
+        }
+    }
+    return out;
+}
+
+DelayRootCount nominal_delay_root_count(const TransportTransfer& transfer, double alpha,
+                                        const LoudStretches& loud) {
+    DelayRootCount out;
+    const double asked = alpha;
+    if (line_prelude(transfer, alpha, out)) return out;
+    if (!loud.ok || alpha != loud.alpha) return nominal_delay_root_count(transfer, asked);
+    // this speed's grid: every point inside a stretch and its neighbours outside it, omega = 0
+    // and the last; the gaps between them given quiet
+    const std::vector<Complex> line = line_grid(transfer.poles, alpha);
+    const auto inside = [&loud](double w) {
+        for (const auto& [a, b] : loud.omega)
+            if (w >= a && w <= b) return true;
+        return false;
+    };
+    std::vector<char> keep(line.size(), 0);
+    keep.front() = keep.back() = 1;
+    for (std::size_t k = 0; k < line.size(); ++k) {
+        if (!inside(line[k].imag())) continue;
+        keep[k] = 1;
+        if (k > 0) keep[k - 1] = 1;
+        if (k + 1 < line.size()) keep[k + 1] = 1;
+    }
+    std::vector<Complex> kept;
+    std::vector<char> gap;  // per kept interval: points of the grid skipped inside it
+    for (std::size_t k = 0, previous = 0; k < line.size(); ++k) {
+        if (keep[k] == 0) continue;
+        if (!kept.empty()) gap.push_back(k > previous + 1 ? 1 : 0);
+        kept.push_back(line[k]);
+        previous = k;
+    }
+    ArgumentTracker tracker(transfer);
+    ArgumentTracker::Samples samples = tracker.sample(kept);
+    samples.given_quiet = std::move(gap);
+    // a gap's ends must be quiet at this speed too, else the whole line is counted
+    for (std::size_t k = 0; k < samples.given_quiet.size(); ++k) {
+        if (samples.given_quiet[k] != 0 && (samples.gain[k] >= ArgumentTracker::skip ||
+                                            samples.gain[k + 1] >= ArgumentTracker::skip))
+            return nominal_delay_root_count(transfer, asked);
+    }
+    return count_from_samples(tracker, samples, out);
 }
 
 DelayRoot delay_root(const TransportTransfer& transfer, Complex start) {

@@ -5,6 +5,7 @@
 // rational approximation of the delays), and found one by one by Newton's method on F.
 
 #include <complex>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Dense>
@@ -26,6 +27,7 @@ struct DelayRootCount {
     double winding = 0.0;        // -(change of arg F along the line from 0 to +i inf) / pi
     double integer_error = 0.0;  // |frozen_right + winding - count|: the count's own accuracy
     int evaluations = 0;         // F evaluated
+    int sampled = 0;             // grid points where M and the structured gain were computed
     // Where |F| dips along the followed parts of the line (local minima, the 16 smallest): the
     // roots nearest the line lie beneath them, Newton's starts for the rightmost root.
     std::vector<std::complex<double>> dips;
@@ -40,6 +42,24 @@ struct DelayRootCount {
 // turns by more than a radian) and a quarter of the distance to A0's nearest pole, halved until
 // each increment is under pi/4, M interpolated along the walk where it is smooth enough.
 DelayRootCount nominal_delay_root_count(const TransportTransfer& transfer, double alpha = 0.0);
+
+// The stretches of the line Re s = alpha (omega ranges, rad/s) where the structured gain reaches
+// `threshold` (< 0.9) on the count's grid: the intervals whose ends are not both below 1/2, nor
+// both ends and middle below the threshold, merged. Outside them the count follows no winding.
+struct LoudStretches {
+    bool ok = false;
+    double alpha = 0.0;
+    std::vector<std::pair<double, double>> omega;
+};
+LoudStretches loud_stretches(const TransportTransfer& transfer, double alpha, double threshold);
+LoudStretches loud_union(const LoudStretches& x, const LoudStretches& y);
+
+// The same count taking the line's quiet parts from `loud` (found at nearby speeds of the same
+// mill: docs/model.md §12.7, first_any): only this speed's grid points inside the stretches (and
+// their neighbours, omega = 0 and the last) are sampled, the gaps between them taken as quiet,
+// their ends checked (a gain of 0.9 at one: the whole line is counted instead).
+DelayRootCount nominal_delay_root_count(const TransportTransfer& transfer, double alpha,
+                                        const LoudStretches& loud);
 
 struct DelayRoot {
     bool converged = false;
