@@ -690,6 +690,80 @@ try {
     }
   });
 
+  // The same two-stand mill, its answer kept for the tests after this one.
+  let millRequest = null;
+  let millAnswer = null;
+  const millKinds = { frozen: 'frozen-mill', delay_independent: 'delay-independent', nominal_delay: 'nominal-delay' };
+  const scaleTitles = (id) => page.evaluate((canvasId) => Object.fromEntries(Object.entries(Chart.getChart(document.getElementById(canvasId)).options.scales)
+    .map(([axis, scale]) => [axis, scale.title.text])), `plot-${id}`);
+  const sweepDone = (timeout = 60000) => page.waitForSelector('#plot-speed-sweep[data-state="done"]', { timeout });
+  await test('mill view: ρ and the growth rate against mill speed (its speed swept as a job) with the three critical speeds marked', async () => {
+    const jobs = [];
+    const tandems = [];
+    const listen = (request) => {
+      if (request.method() !== 'POST') return;
+      if (request.url() === `${base}/v1/jobs`) jobs.push(request.postDataJSON());
+      if (request.url() === `${base}/v1/tandem`) tandems.push(request.postDataJSON());
+    };
+    page.on('request', listen);
+    await runAndWait('speed-sweep');
+    await sweepDone();
+    page.off('request', listen);
+    check(tandems.length === 1 && jobs.length === 1, `the page posted ${tandems.length} tandem requests and ${jobs.length} jobs`);
+    const job = jobs[0];
+    check(job.analysis === 'tandem_sweep' && job.options.parameter === '/speed_m_per_s' && job.options.quantity === 'stability', `the job: ${JSON.stringify(job.options)}`);
+    millRequest = tandems[0];
+    const answer = await post('/v1/tandem', millRequest);
+    check(answer.status === 200, `the API answered ${answer.status}`);
+    millAnswer = answer.body;
+    check(canon(job.tandem) === canon(millAnswer.tandem), 'the speeds swept are of the mill the answer echoes');
+    const { analysis, ...sweepBody } = job;
+    const sweep = await post('/v1/tandem/sweeps', sweepBody);
+    check(sweep.status === 200 && sweep.body.result.unit === 'm/s', `the sweep answered ${sweep.status}`);
+    const api = sweep.body.result.points;
+    const c = millAnswer.result.critical_speeds;
+    const found = Object.keys(millKinds).filter((k) => c[k] && c[k].speed_m_per_s !== null);
+    check(job.options.range.from < Math.min(...found.map((k) => c[k].speed_m_per_s)) && job.options.range.to > Math.max(...found.map((k) => c[k].speed_m_per_s)), `the speeds ${JSON.stringify(job.options.range)} span the critical speeds`);
+    check(api.some((p) => p.regenerative_margin === null) && api.some((p) => p.in_model_range === false), 'this range has speeds without ρ (the frozen mill unstable) and roots outside the model\'s range');
+    const chart = await chartData('speed-sweep');
+    const rho = dataset(chart, 'regenerative margin ρ [-]');
+    equalArrays(rho.map((p) => p.x), api.map((p) => p.value_m_per_s), 'mill speeds');
+    equalArrays(rho.map((p) => p.y), api.map((p) => p.regenerative_margin), 'ρ');
+    equalArrays(dataset(chart, 'growth rate of the rightmost root [1/s]').map((p) => p.y), api.map((p) => p.growth_rate_per_s), 'growth rate');
+    equalArrays(dataset(chart, "rightmost root outside the model's range").map((p) => p.x), api.filter((p) => p.in_model_range === false).map((p) => p.value_m_per_s), 'roots outside the range');
+    // The three critical speeds of the answer, the headline marked as such.
+    for (const k of found) {
+      const marked = chart.datasets.filter((d) => d.label.startsWith(`${millKinds[k]} critical speed`));
+      check(marked.length === 1, `one line for the ${k} critical speed: ${chart.datasets.map((d) => d.label).join(', ')}`);
+      equalArrays(marked[0].data.map((p) => p.x), [c[k].speed_m_per_s, c[k].speed_m_per_s], `${k} critical speed line`);
+      check(marked[0].label.includes('— headline') === (k === c.headline), `${k}: ${marked[0].label}`);
+      check(marked[0].label.includes("outside the model's range") === !c[k].validity.valid, `${k}: ${marked[0].label}`);
+    }
+    const titles = await scaleTitles('speed-sweep');
+    check(titles.x === "mill speed, the last stand's roll speed [m/s]" && titles.y === 'regenerative margin ρ [-]' && titles.y2 === 'growth rate of the rightmost root [1/s]', `axes: ${JSON.stringify(titles)}`);
+    check(/job succeeded/.test(await page.textContent('#speed-sweep-status')), 'the sweep\'s status');
+    await shot('tandem-speed-sweep');
+    // Drawn again with fewer speeds, held running with two of them done: those two drawn, the others not yet.
+    await page.fill('#speed-sweep-count', '7');
+    const seven = { ...sweepBody, options: { ...sweepBody.options, range: { ...sweepBody.options.range, count: 7 } } };
+    const few = (await post('/v1/tandem/sweeps', seven)).body.result.points;
+    const release = await holdJob((j) => ({ ...j, state: 'running', result: undefined, progress: 0.3, points_total: 7, points_done: 2,
+      partial_result: { partial: true, points_total: 7, points_done: 2, points: [1, 4].map((i) => ({ index: i, point: few[i] })) } }));
+    try {
+      await page.click('#speed-sweep-run');
+      await page.waitForFunction(() => /2 of 7/.test(document.getElementById('speed-sweep-status').textContent), null, { timeout: 30000 });
+      const running = dataset(await chartData('speed-sweep'), 'growth rate of the rightmost root [1/s]');
+      // The speeds not computed yet at the page's own values of the range (the service's are rounded to 12 digits).
+      check(running.length === few.length, `${running.length} speeds drawn while running, the API has ${few.length}`);
+      running.forEach((p, i) => check([1, 4].includes(i) ? p.x === few[i].value_m_per_s : Math.abs(p.x - few[i].value_m_per_s) <= 1e-9 * few[i].value_m_per_s, `speed ${i} while running: ${p.x}, the API ${few[i].value_m_per_s}`));
+      equalArrays(running.map((p) => p.y), few.map((p, i) => ([1, 4].includes(i) ? p.growth_rate_per_s : null)), 'the finished speeds while running');
+    } finally {
+      await release();
+    }
+    await sweepDone();
+    equalArrays(dataset(await chartData('speed-sweep'), 'growth rate of the rightmost root [1/s]').map((p) => p.y), few.map((p) => p.growth_rate_per_s), 'growth rate, 7 speeds');
+  });
+
   await test('mill view: a 422 is shown at the mill input its pointer names', async () => {
     await page.fill('#f-tandem-exit-thickness-mm-1', '1.9');  // thicker than what stand 1 delivers
     const sent = [];

@@ -4,7 +4,8 @@
 // gets `plainView`. Every view takes the service's answer as it is (the numbers are plotted
 // unchanged) and returns its headline rows. `job`: the page runs it as a job; `partial`: a
 // running job's finished points as a result to draw.
-import { addPlot, color, errorBars, line, marker, points } from './charts.js';
+import { call, getJson } from './api.js';
+import { addPlot, color, errorBars, line, marker, onClear, points } from './charts.js';
 import { unitOf } from './editor.js';
 import { drawHeatmap } from './heatmap.js';
 import { table } from './report.js';
@@ -321,6 +322,148 @@ function participation(plots, focus) {
   });
 }
 
+// ρ and the rightmost root's growth rate against mill speed: the mill of the answer swept over
+// /speed_m_per_s in stability mode (tandem_sweep), run as a job whose finished speeds are drawn
+// as they arrive, with the three critical speeds of the answer as vertical lines.
+const millSpeedLabel = "mill speed, the last stand's roll speed [m/s]";
+function speedRange(response) {
+  const c = response.result.critical_speeds || {};
+  const o = response.options || {};
+  const found = crossingKinds.map((k) => c[k] && c[k].speed_m_per_s).filter((v) => v != null);
+  const high = Math.max(response.tandem.speed_m_per_s, ...found) * 1.15;
+  const to = Number(Math.min(o.speed_max_m_per_s ?? 100, Math.max(high, 2)).toPrecision(3));
+  const from = Number(Math.min(o.speed_min_m_per_s ?? 1, to / 2).toPrecision(3));
+  // A modest number of speeds: a point costs ~0.02 s at two stands, ~1 s at five.
+  const count = response.tandem.exit_thickness_mm.length <= 3 ? 25 : 13;
+  return { from, to, count };
+}
+
+// `points`: the sweep's points, null where a running job has not computed one yet; `xs`: the
+// speeds asked (those of the points not yet computed).
+function speedSweepDatasets(response, points, xs = []) {
+  const speeds = points.map((p, i) => (p ? p.value_m_per_s : xs[i] ?? null));
+  const done = points.filter(Boolean);
+  const rho = (p) => (p && p.regenerative_margin != null ? p.regenerative_margin : null);
+  const growth = (p) => (p ? p.growth_rate_per_s : null);
+  const at = (pick, inRange) => points.map((p, i) => ({ x: speeds[i], y: p && p.in_model_range === inRange ? pick(p) : null })).filter((q) => q.x != null && q.y != null);
+  const datasets = [
+    line('regenerative margin ρ [-]', points.map((p, i) => ({ x: speeds[i], y: rho(p) })).filter((q) => q.x != null), 0, { pointRadius: 3, order: 2 }),
+    line('growth rate of the rightmost root [1/s]', points.map((p, i) => ({ x: speeds[i], y: growth(p) })).filter((q) => q.x != null), 1, { pointRadius: 3, yAxisID: 'y2', order: 2 }),
+    { label: "rightmost root outside the model's range", data: at(growth, false), yAxisID: 'y2', showLine: false, pointStyle: 'crossRot', pointRadius: 7, borderWidth: 2, borderColor: color(1), backgroundColor: color(1), order: 1 },
+  ];
+  if (!done.length) return datasets;
+  const lo = Math.min(...done.map((p) => p.value_m_per_s));
+  const hi = Math.max(...done.map((p) => p.value_m_per_s));
+  const g = done.map(growth).filter((v) => v != null);
+  const gLow = Math.min(0, ...g);
+  const gHigh = Math.max(0, ...g);
+  const rhos = done.map(rho).filter((v) => v != null);
+  if (rhos.length) datasets.push({ label: 'ρ = 1 (below: stable whatever the delays)', data: [{ x: lo, y: 1 }, { x: hi, y: 1 }], borderColor: color(0), borderDash: [2, 3], borderWidth: 1, pointRadius: 0, order: 3 });
+  datasets.push({ label: 'growth rate 0 (above: the mill chatters)', data: [{ x: lo, y: 0 }, { x: hi, y: 0 }], yAxisID: 'y2', borderColor: color(1), borderDash: [2, 3], borderWidth: 1, pointRadius: 0, order: 3 });
+  const c = response.result.critical_speeds;
+  if (c) {
+    const colours = { frozen: color(2), delay_independent: color(3), nominal_delay: color(4) };
+    for (const k of crossingKinds) {
+      const speed = c[k] && c[k].speed_m_per_s;
+      if (speed == null) continue;
+      const headline = c.headline === k;
+      const range = c[k].validity && c[k].validity.valid ? '' : `, ${outsideRange}`;
+      datasets.push({
+        ...marker(`${crossingShort[k]} critical speed ${fmt(speed)} m/s${headline ? ' — headline' : ''}${range}`, speed, gLow, gHigh, headline ? '#000' : colours[k], 'y2'),
+        borderWidth: headline ? 4 : 2, borderDash: headline ? [] : [6, 4], pointRadius: 0, order: 0, kind: k,
+      });
+    }
+  }
+  return datasets;
+}
+
+function speedSweep(plots, response) {
+  if (!response.result.steady_state || response.result.steady_state.status !== 'ok') return;
+  const controls = panel(plots, 'Margin and growth rate against mill speed');
+  controls.id = 'speed-sweep-controls';
+  const range = speedRange(response);
+  const inputs = {};
+  const row = node('div', 'row');
+  for (const [key, label, step] of [['from', 'from [m/s]', 'any'], ['to', 'to [m/s]', 'any'], ['count', 'speeds', '1']]) {
+    const input = Object.assign(document.createElement('input'), { id: `speed-sweep-${key}`, type: 'number', step, min: key === 'count' ? '2' : '0.01', value: String(range[key]) });
+    if (key === 'count') input.max = '200';
+    const l = node('label', '', `${label} `);
+    l.htmlFor = input.id;
+    row.append(l, input);
+    inputs[key] = input;
+  }
+  const again = node('button', '', 'Draw again');
+  again.type = 'button';
+  again.id = 'speed-sweep-run';
+  const status = node('span', 'muted');
+  status.id = 'speed-sweep-status';
+  status.setAttribute('role', 'status');
+  row.append(again, status);
+  controls.append(node('p', 'help', "The mill of this answer at each speed (a mill sweep of its speed, stability only, run as a job): the regenerative margin ρ (left, log scale; only where the frozen mill is stable) and the rightmost root's growth rate (right). Vertical lines: the three critical speeds of this answer, the headline thick and solid."), row);
+  const chart = addPlot(plots, {
+    id: 'speed-sweep', wide: true, title: "Regenerative margin ρ and the rightmost root's growth rate against mill speed",
+    description: 'left axis: ρ, log scale; right axis: growth rate; crosses: the rightmost root lies outside the model\'s range; vertical lines: the critical speeds',
+    x: millSpeedLabel, y: 'regenerative margin ρ [-]', y2: 'growth rate of the rightmost root [1/s]', yScale: { type: 'logarithmic' }, pointLegend: false,
+    data: { datasets: speedSweepDatasets(response, []) },
+  });
+  let job = null;  // { path, state }
+  let stopped = false;
+  const stop = () => {
+    stopped = true;
+    if (job && ['queued', 'running'].includes(job.state)) call('DELETE', job.path).catch(() => {});
+  };
+  onClear(stop);
+  const draw = (points, xs) => {
+    chart.data.datasets = speedSweepDatasets(response, points, xs);
+    chart.update('none');
+  };
+  const start = async () => {
+    stop();
+    stopped = false;
+    const options = { parameter: '/speed_m_per_s', quantity: 'stability', range: { from: Number(inputs.from.value), to: Number(inputs.to.value), count: Number(inputs.count.value) } };
+    const body = { analysis: 'tandem_sweep', tandem: response.tandem, options };
+    const mine = { path: null, state: 'queued' };
+    job = mine;
+    delete chart.canvas.dataset.state;
+    status.textContent = 'starting…';
+    try {
+      const { location, body: created } = await call('POST', '/v1/jobs', body);
+      mine.path = location || `/v1/jobs/${created.id}`;
+      if (stopped || job !== mine) { call('DELETE', mine.path).catch(() => {}); return; }
+      let shown = -1;
+      for (;;) {
+        const j = await getJson(mine.path);
+        mine.state = j.state;
+        if (stopped || job !== mine) return;
+        if (j.state === 'succeeded') {
+          const result = j.result.result || j.result;
+          draw(result.points);
+          chart.canvas.dataset.state = 'done';
+          status.textContent = `${result.points.length} speeds, job succeeded`;
+          return;
+        }
+        if (['failed', 'cancelled'].includes(j.state)) {
+          status.textContent = `job ${j.state}${j.problem ? `: ${j.problem.detail}` : ''}`;
+          return;
+        }
+        const partial = j.partial_result;
+        if (partial && Array.isArray(partial.points) && partial.points.length !== shown) {
+          shown = partial.points.length;
+          const list = Array.from({ length: options.range.count }, () => null);
+          for (const p of partial.points) if (p.index < list.length) list[p.index] = p.point;
+          draw(list, optionValues(options));
+        }
+        status.textContent = `running: ${j.points_done || 0} of ${j.points_total || options.range.count} speeds`;
+        await new Promise((resolve) => setTimeout(resolve, 250));
+      }
+    } catch (error) {
+      if (!stopped) status.textContent = `failed: ${error.message}`;
+    }
+  };
+  again.addEventListener('click', start);
+  start();
+}
+
 export const views = {
   roll_gap: {
     render(response, plots) {
@@ -511,6 +654,7 @@ export const views = {
       const focus = criticalRoot(r);
       millRow(plots, response, focus);
       criticalSpeeds(plots, response);
+      speedSweep(plots, response);
       participation(plots, focus);
       return [
         row("mill speed (the last stand's roll speed)", response.tandem.speed_m_per_s, 'm/s'),
