@@ -668,7 +668,7 @@ try {
     for (const k of found) {
       const line = table.find((t) => t.kind === k);
       near(Number(line.cells[1]), c[k].speed_m_per_s, `${k} critical speed [m/s]`);
-      check(line.cells[6].startsWith(c[k].validity.valid ? "inside the model's range" : "outside the model's range"), `${k}: ${line.cells[6]}`);
+      check(line.cells[7].startsWith(c[k].validity.valid ? "inside the model's range" : "outside the model's range"), `${k}: ${line.cells[7]}`);
       check(line.cells[0].endsWith('headline') === (k === c.headline), `${k}: ${line.cells[0]}`);
     }
     // The participation of the headline crossing's root, by stand.
@@ -762,6 +762,41 @@ try {
     }
     await sweepDone();
     equalArrays(dataset(await chartData('speed-sweep'), 'growth rate of the rightmost root [1/s]').map((p) => p.y), few.map((p) => p.growth_rate_per_s), 'growth rate, 7 speeds');
+  });
+
+  await test("mill view: ρ's factors per span, the span carrying the most named, and each crossing's chatter type are the API's", async () => {
+    check(millAnswer, 'the mill answer of the test before');
+    const s = millAnswer.result.stability;
+    const factors = s.margin_factors;
+    check(Array.isArray(factors) && factors.length === 1, `factors: ${JSON.stringify(factors)}`);
+    const rows = await page.$$eval('#margin-factors-table tbody tr', (all) => all.map((tr) => ({ span: tr.dataset.span, cells: [...tr.cells].map((td) => td.dataset.value ?? td.textContent) })));
+    check(rows.length === factors.length, `${rows.length} rows, the API has ${factors.length} spans`);
+    const header = await page.$$eval('#margin-factors-table thead th', (all) => all.map((th) => th.textContent));
+    check(/\[kN\/mm\]$/.test(header[4]) && /\[1\/s\]$/.test(header[5]) && /\[µm\/kN\]$/.test(header[6]), `units in the header: ${header.join(' | ')}`);
+    factors.forEach((f, i) => {
+      check(rows[i].span === String(f.span) && rows[i].cells[0] === `stand ${f.span} → ${f.span + 1}`, `row ${i}: ${rows[i].cells[0]}`);
+      const keys = ['worst_input_share', 'tension_loop_gain', 'thickness_gain', 'bite_force_gain_kN_per_mm', 'bite_entry_speed_gain_per_s', 'compliance_um_per_kN'];
+      keys.forEach((key, j) => {
+        if (f[key] === null) check(rows[i].cells[j + 1].startsWith('—'), `${key}: ${rows[i].cells[j + 1]}`);
+        else check(Number(rows[i].cells[j + 1]) === f[key], `${key}: the page has ${rows[i].cells[j + 1]}, the API ${f[key]}`);
+      });
+    });
+    const top = factors.reduce((a, b) => (b.worst_input_share > a.worst_input_share ? b : a));
+    const sentence = await page.textContent('#margin-sentence');
+    check(await page.getAttribute('#margin-sentence', 'data-span') === String(top.span) && sentence.includes(`from stand ${top.span} to stand ${top.span + 1}`), `sentence: ${sentence}`);
+    near(Number(/ρ = ([0-9.e+-]+)/.exec(sentence)[1]), s.regenerative_margin, 'ρ in the sentence');
+    check(await page.getAttribute('#margin-validity', 'data-valid') === String(s.margin_validity.valid), 'the peak\'s range');
+    check((await page.textContent('#margin-validity')).includes(s.margin_validity.valid ? "inside the model's range" : "outside the model's range"), 'the peak\'s range in words');
+    const c = millAnswer.result.critical_speeds;
+    const table = await page.$$eval('#critical-speeds-table tbody tr', (all) => all.map((tr) => ({ kind: tr.dataset.kind, cells: [...tr.cells].map((td) => td.textContent) })));
+    const header2 = await page.$$eval('#critical-speeds-table thead th', (all) => all.map((th) => th.textContent));
+    check(header2[5] === 'chatter band' && header2[6] === 'chatter type', `columns: ${header2.join(' | ')}`);
+    for (const k of Object.keys(millKinds).filter((kind) => c[kind])) {
+      const line = table.find((t) => t.kind === k);
+      check(line.cells[5] === (c[k].band ? chatterNames[c[k].band] : '—') && line.cells[6] === (c[k].chatter_type ? chatterNames[c[k].chatter_type] : '—'), `${k}: band ${line.cells[5]}, type ${line.cells[6]}; the API ${c[k].band}, ${c[k].chatter_type}`);
+    }
+    check(Object.keys(millKinds).some((k) => c[k] && c[k].band && c[k].chatter_type && c[k].band !== c[k].chatter_type), 'this mill has a crossing whose type differs from its band');
+    await shot('tandem-margin-factors');
   });
 
   await test('mill view: a 422 is shown at the mill input its pointer names', async () => {

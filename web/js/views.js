@@ -299,12 +299,12 @@ function criticalSpeeds(plots, response) {
   });
   const figure = panel(plots, 'The three critical speeds');
   const t = numberTable(`Critical speeds (searched ${fmt(response.options.speed_min_m_per_s)}–${fmt(response.options.speed_max_m_per_s)} m/s)`,
-    ['crossing', 'critical speed [m/s]', 'frequency [Hz]', 'moving stand', 'feeding stand', 'chatter band', "model's range"],
+    ['crossing', 'critical speed [m/s]', 'frequency [Hz]', 'moving stand', 'feeding stand', 'chatter band', 'chatter type', "model's range"],
     crossingKinds.filter((k) => c[k]).map((k) => [
       `${crossingNames[k]}${c.headline === k ? ' — headline' : ''}`,
       c[k].speed_m_per_s != null ? c[k].speed_m_per_s : searchText(c[k], response.options),
       c[k].frequency_Hz, c[k].moving_stand != null ? `stand ${c[k].moving_stand}` : '—', c[k].feeding_stand != null ? `stand ${c[k].feeding_stand}` : '—',
-      chatterName(c[k].band), c[k].speed_m_per_s != null ? rangeText(c[k]) : '—',
+      chatterName(c[k].band), chatterName(c[k].chatter_type), c[k].speed_m_per_s != null ? rangeText(c[k]) : '—',
     ]));
   t.id = 'critical-speeds-table';
   [...t.tBodies[0].rows].forEach((tr, i) => { tr.dataset.kind = crossingKinds.filter((k) => c[k])[i]; });
@@ -320,6 +320,42 @@ function participation(plots, focus) {
     x: 'stand (from the entry)', y: 'share of the motion [-]',
     data: { labels: p.map((_, i) => `stand ${i + 1}`), datasets: [{ label: 'share of the motion [-]', data: p, backgroundColor: color(0) }] },
   });
+}
+
+// ρ broken into its factors per span at its peak (stability.margin_factors, docs/model.md
+// §12.5), the span carrying the largest share named; and whether the peak's frequency lies
+// inside the model's range (stability.margin_validity).
+function marginFactors(plots, stability) {
+  const factors = stability && stability.margin_factors;
+  if (!Array.isArray(factors) || !factors.length) return;
+  const figure = panel(plots, "The regenerative margin ρ's factors, span by span, at its peak");
+  figure.id = 'margin-factors';
+  const top = factors.reduce((best, f) => ((f.worst_input_share ?? -1) > (best.worst_input_share ?? -1) ? f : best));
+  const spanName = (i) => `stand ${i} → ${i + 1}`;
+  const sentence = node('p', 'margin-sentence');
+  sentence.id = 'margin-sentence';
+  sentence.dataset.span = String(top.span);
+  sentence.textContent = `ρ = ${fmt(stability.regenerative_margin)} at ${fmt(stability.margin_frequency_Hz)} Hz: the span from stand ${top.span} to stand ${top.span + 1} carries the largest share of the loop's worst input (${fmt(top.worst_input_share * 100, 3)} %).`;
+  const t = numberTable(`Factors of ρ at ${fmt(stability.margin_frequency_Hz)} Hz (the receiving stand: the one the span feeds)`,
+    ['span', "share of the loop's worst input [-]", 'its own tension loop |M_ii| [-]', 'thickness path on |M_i+1,i| [-]',
+      "receiving stand's force gain dF/dy1 [kN/mm]", "receiving stand's entry speed gain du1/dy1 [1/s]", "receiving stand's compliance at the peak [µm/kN]"],
+    factors.map((f) => [spanName(f.span), f.worst_input_share, f.tension_loop_gain, f.thickness_gain ?? '— (last span)',
+      f.bite_force_gain_kN_per_mm, f.bite_entry_speed_gain_per_s, f.compliance_um_per_kN]));
+  t.id = 'margin-factors-table';
+  [...t.tBodies[0].rows].forEach((tr, i) => { tr.dataset.span = String(factors[i].span); });
+  figure.append(sentence, t);
+  const v = stability.margin_validity;
+  if (v) {
+    const why = [];
+    if (!v.spring_law_valid) why.push("the spans' spring law fails (strip waves)");
+    if (!v.quasi_static_bite_valid) why.push('the bite is not quasi-static');
+    const note = node('p', 'help', `ρ's peak frequency ${v.valid ? "lies inside the model's range" : `lies ${outsideRange}${why.length ? `: ${why.join('; ')}` : ''}`}`
+      + ` (bite transit over the period, stand by stand: ${(v.bite_transit_ratio || []).map((x) => fmt(x, 3)).join(', ') || '—'};`
+      + ` spring-law error, span by span: ${(v.spring_law_error || []).map((x) => fmt(x, 3)).join(', ') || '—'}).`);
+    note.id = 'margin-validity';
+    note.dataset.valid = String(v.valid);
+    figure.append(note);
+  }
 }
 
 // ρ and the rightmost root's growth rate against mill speed: the mill of the answer swept over
@@ -654,6 +690,7 @@ export const views = {
       const focus = criticalRoot(r);
       millRow(plots, response, focus);
       criticalSpeeds(plots, response);
+      marginFactors(plots, s);
       speedSweep(plots, response);
       participation(plots, focus);
       return [
@@ -665,6 +702,7 @@ export const views = {
         row('rightmost root: frequency', root && root.frequency_Hz, 'Hz'),
         row('headline critical speed', c ? c.critical_speed_m_per_s : 'not asked', c ? 'm/s' : ''),
         ['headline crossing', c ? (c.headline ? crossingNames[c.headline] : `none inside the model's range`) : 'not asked', ''],
+        ['its chatter type (its band)', c && c.headline ? `${chatterName(c[c.headline].chatter_type)} (${chatterName(c[c.headline].band)})` : '—', ''],
         ['moving stand', focus && focus.root.moving_stand != null ? `stand ${focus.root.moving_stand}` : '—', ''],
         ['feeding stand', focus && focus.root.feeding_stand != null ? `stand ${focus.root.feeding_stand}` : '—', ''],
         ['stands marked for', focus ? focus.what : '—', ''],
