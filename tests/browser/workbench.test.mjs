@@ -799,6 +799,69 @@ try {
     await shot('tandem-margin-factors');
   });
 
+  await test('mill view: the time series of each stand (gap, force, tension) and how the run ended are the API\'s', async () => {
+    await page.selectOption('#f-options-time-series', 'true');
+    await page.fill('#f-options-window-s', '0.1');
+    await page.fill('#f-options-time-series-points', '80');
+    const sent = [];
+    const listen = (request) => { if (request.method() === 'POST' && request.url() === `${base}/v1/tandem`) sent.push(request.postDataJSON()); };
+    page.on('request', listen);
+    await runAndWait('time-tension');
+    page.off('request', listen);
+    check(sent.length === 1 && sent[0].options.time_series === true, `the page sent: ${JSON.stringify(sent.map((b) => b.options))}`);
+    const ts = (await post('/v1/tandem', sent[0])).body.result.time_series;
+    check(ts && ts.stands.length === 2, 'the API gave two stands\' series');
+    const gap = await chartData('time-gap');
+    const force = await chartData('time-force');
+    ts.stands.forEach((s) => {
+      const g = dataset(gap, `stand ${s.stand}`);
+      equalArrays(g.map((p) => p.x), s.series.time_s, `stand ${s.stand} time`);
+      equalArrays(g.map((p) => p.y), s.series.gap_change_um, `stand ${s.stand} gap change`);
+      equalArrays(dataset(force, `stand ${s.stand}`).map((p) => p.y), s.series.force_kN, `stand ${s.stand} force`);
+    });
+    const tension = await chartData('time-tension');
+    equalArrays(dataset(tension, 'entry span (stand 1 back tension)').map((p) => p.y), ts.stands[0].series.back_tension_MPa, 'entry tension');
+    equalArrays(dataset(tension, 'span stand 1 → 2').map((p) => p.y), ts.stands[0].series.front_tension_MPa, 'interstand tension');
+    equalArrays(dataset(tension, 'exit span (stand 2 front tension)').map((p) => p.y), ts.stands[1].series.front_tension_MPa, 'exit tension');
+    for (const [id, y] of [['time-gap', 'roll gap change [µm]'], ['time-force', 'roll force [kN]'], ['time-tension', 'strip tension [MPa]']]) {
+      const titles = await scaleTitles(id);
+      check(titles.x === 'time [s]' && titles.y === y, `${id} axes: ${JSON.stringify(titles)}`);
+    }
+    check(await page.getAttribute('#time-series-state', 'data-status') === ts.status, `state: ${await page.textContent('#time-series-state')}, the API ${ts.status}`);
+    near(Number(/at ([0-9.e+-]+) s/.exec(await page.textContent('#time-series-state'))[1]), ts.end_time_s, 'end time');
+    await shot('tandem-time-series');
+    await sweepDone();  // the speed sweep of this run finished: nothing left running for the next test
+  });
+
+  await test('mill view: a run that ends on a slack span says so, with the span and the time the API names', async () => {
+    // A harder kick at a higher speed: the entry span goes slack before the window ends.
+    await page.fill('#f-tandem-speed-m-per-s', '20');
+    await page.fill('#f-options-kick-um', '10');
+    await page.fill('#f-options-window-s', '1');
+    await page.selectOption('#f-options-critical-speed', 'false');
+    const sent = [];
+    const listen = (request) => { if (request.method() === 'POST' && request.url() === `${base}/v1/tandem`) sent.push(request.postDataJSON()); };
+    page.on('request', listen);
+    await runAndWait('time-tension');
+    page.off('request', listen);
+    const ts = (await post('/v1/tandem', sent[0])).body.result.time_series;
+    check(ts.status === 'slack_span', `the API's run ended ${ts.status}: choose a case with a slack span`);
+    const state = await page.textContent('#time-series-state');
+    check(await page.getAttribute('#time-series-state', 'data-status') === ts.status && state.includes(ts.message), `state: ${state}; the API: ${ts.status}, ${ts.message}`);
+    if (ts.stand !== null) check(state.includes(`stand ${ts.stand}`), `the stand named: ${state}`);
+    if (ts.span !== null) {
+      const span = ts.span === 0 ? 'the entry span' : ts.span === ts.stands.length ? 'the exit span' : `the span from stand ${ts.span} to stand ${ts.span + 1}`;
+      check(state.includes(span), `the span named (${span}): ${state}`);
+    }
+    near(Number(/at ([0-9.e+-]+) s/.exec(state)[1]), ts.end_time_s, 'the time it ended');
+    equalArrays(dataset(await chartData('time-gap'), 'stand 1').map((p) => p.x), ts.stands[0].series.time_s, 'the series up to the end');
+    await shot('tandem-time-series-ended');
+    for (const id of ['#f-options-kick-um', '#f-options-window-s', '#f-options-time-series-points']) await page.fill(id, '');
+    await page.selectOption('#f-options-time-series', '');
+    await page.selectOption('#f-options-critical-speed', '');
+    await page.fill('#f-tandem-speed-m-per-s', '15');
+  });
+
   await test('mill view: a 422 is shown at the mill input its pointer names', async () => {
     await page.fill('#f-tandem-exit-thickness-mm-1', '1.9');  // thicker than what stand 1 delivers
     const sent = [];

@@ -500,6 +500,45 @@ function speedSweep(plots, response) {
   start();
 }
 
+// The whole mill in time after a gap kick (result.time_series, docs/model.md §12.9): each
+// stand's gap change and roll force, and the strip tension of each span; how the run ended.
+const timeStates = {
+  ok: 'the window was simulated',
+  slack_span: 'a span went slack (its force reached zero)',
+  contact_lost: 'a stand lost contact with the strip',
+  skidding: 'the rolls skid on the strip',
+  solver_failure: 'the integrator failed',
+  step_budget: 'the step budget ran out',
+  cancelled: 'cancelled',
+  invalid: 'invalid',
+};
+function timeSeries(plots, ts, nStands) {
+  if (!ts) return;
+  const figure = panel(plots, 'The mill in time after a gap kick');
+  figure.id = 'time-series';
+  const spanText = (span) => (span === 0 ? 'the entry span' : span === nStands ? 'the exit span' : `the span from stand ${span} to stand ${span + 1}`);
+  const where = [ts.span != null ? spanText(ts.span) : '', ts.stand != null ? `stand ${ts.stand}` : ''].filter(Boolean).join(', ');
+  const state = node('p', ts.status === 'ok' ? '' : 'mill-flag', `Result: ${timeStates[ts.status] || ts.status}${where ? ` (${where})` : ''}`
+    + `${ts.end_time_s != null ? `, at ${fmt(ts.end_time_s)} s` : ''}${ts.message && ts.message !== 'ok' ? ` — ${ts.message}` : ''}.`);
+  state.id = 'time-series-state';
+  state.dataset.status = ts.status;
+  const kick = node('p', 'help', `A kick of ${fmt(ts.kick_um)} µm at stand ${ts.kick_stand ?? '—'} at t = 0; ${ts.steps} integrator steps. ${ts.range_note || ''}`);
+  figure.append(state, kick);
+  const stands = ts.stands || [];
+  if (!stands.length) return;
+  const per = (key) => stands.map((s, i) => line(`stand ${s.stand}`, points(s.series.time_s, s.series[key]), i));
+  addPlot(plots, { id: 'time-gap', title: 'Roll gap change of each stand after the kick', x: 'time [s]', y: 'roll gap change [µm]', data: { datasets: per('gap_change_um') } });
+  addPlot(plots, { id: 'time-force', title: 'Roll force of each stand', x: 'time [s]', y: 'roll force [kN]', data: { datasets: per('force_kN') } });
+  const first = stands[0];
+  const last = stands[stands.length - 1];
+  const tension = [
+    line('entry span (stand 1 back tension)', points(first.series.time_s, first.series.back_tension_MPa), 6, { borderDash: [4, 3] }),
+    ...stands.slice(0, -1).map((s, i) => line(`span stand ${s.stand} → ${s.stand + 1}`, points(s.series.time_s, s.series.front_tension_MPa), i)),
+    line(`exit span (stand ${last.stand} front tension)`, points(last.series.time_s, last.series.front_tension_MPa), 7, { borderDash: [4, 3] }),
+  ];
+  addPlot(plots, { id: 'time-tension', title: 'Strip tension in each span', x: 'time [s]', y: 'strip tension [MPa]', data: { datasets: tension } });
+}
+
 export const views = {
   roll_gap: {
     render(response, plots) {
@@ -693,6 +732,7 @@ export const views = {
       marginFactors(plots, s);
       speedSweep(plots, response);
       participation(plots, focus);
+      timeSeries(plots, r.time_series, r.steady_state.stands.length);
       return [
         row("mill speed (the last stand's roll speed)", response.tandem.speed_m_per_s, 'm/s'),
         row('stands', r.steady_state.stands.length),
