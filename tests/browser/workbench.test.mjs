@@ -883,6 +883,70 @@ try {
     await page.fill('#f-tandem-exit-thickness-mm-1', '1.6');
   });
 
+  await test('mill editor: the mill saved under a name (PUT), a stored mill loaded; the requests name it as base', async () => {
+    check(await page.isVisible('#mill-base-row') && await page.isVisible('#mill-save-row'), 'the stored mills are offered');
+    // A mill stored by someone else meanwhile.
+    const other = { entry_thickness_mm: 2.25, exit_thickness_mm: [1.9, 1.55], spans: { length_m: [4], tension_MPa: [70] }, stands: [{}, {}] };
+    const put = await fetch(`${base}/v1/mills/line-b`, { method: 'PUT', headers: { 'Content-Type': 'application/json', 'If-None-Match': '*' }, body: JSON.stringify(other) });
+    check(put.status === 201, `PUT /v1/mills/line-b answered ${put.status}`);
+    // Save the two-stand mill the editor shows, with a stand of its own.
+    await page.fill('#f-tandem-stands-1', '{"lubricant": {"viscosity_Pa_s": 0.0007}}');
+    const shown = await page.evaluate(() => document.getElementById('f-tandem-stands-1').value);
+    check(/0\.0007/.test(shown), 'the stand patch is in the editor');
+    await page.fill('#mill-save-name', 'line-2w');
+    const puts = [];
+    const listen = (request) => { if (request.method() === 'PUT' && request.url().endsWith('/v1/mills/line-2w')) puts.push({ headers: request.headers(), body: request.postDataJSON() }); };
+    page.on('request', listen);
+    await page.click('#mill-save');
+    await page.waitForFunction(() => /saved as line-2w/.test(document.getElementById('mill-save-status').textContent), null, { timeout: 30000 });
+    check(puts.length === 1 && puts[0].headers['if-none-match'] === '*', `a new name is created only: ${JSON.stringify(puts.map((p) => p.headers))}`);
+    const stored = await fetch(`${base}/v1/mills/line-2w`);
+    check(stored.status === 200, `GET /v1/mills/line-2w answered ${stored.status}`);
+    const storedMill = await stored.json();
+    const version = stored.headers.get('etag').replace(/"/g, '');
+    // What was stored is the mill the editor showed: the tandem analysis echoes the same mill for it.
+    const echo = (await post('/v1/tandem', { tandem: puts[0].body, options: { critical_speed: false, detail: 'summary' } })).body.tandem;
+    check(canon(storedMill) === canon(echo), 'the stored mill is the mill the editor showed');
+    check(storedMill.stands[1].lubricant.viscosity_Pa_s === 0.0007 && storedMill.exit_thickness_mm.length === 2, 'its second stand\'s own lubricant');
+    check(await page.inputValue('#mill-base') === 'line-2w' && (await page.textContent('#mill-base-version')).includes(`version ${version}`), 'the editor now starts from it, its version shown');
+    check(/the stored mill line-2w/.test(await page.textContent('#mill-diff-count')), `diff: ${await page.textContent('#mill-diff-count')}`);
+    // A change from it: the request names the base and carries the difference only.
+    await page.fill('#f-tandem-speed-m-per-s', '12');
+    check(/1 field differs from the stored mill line-2w/.test(await page.textContent('#mill-diff-count')), `diff: ${await page.textContent('#mill-diff-count')}`);
+    await page.selectOption('#f-options-critical-speed', 'false');
+    const sent = [];
+    const listenRun = (request) => { if (request.method() === 'POST' && request.url() === `${base}/v1/tandem`) sent.push(request.postDataJSON()); };
+    page.on('request', listenRun);
+    await runAndWait('participation');
+    page.off('request', listenRun);
+    check(sent.length === 1 && sent[0].base === 'line-2w' && canon(sent[0].tandem) === canon({ speed_m_per_s: 12 }), `the page sent: ${JSON.stringify(sent)}`);
+    const viaBase = (await post('/v1/tandem', sent[0])).body;
+    check(viaBase.base && viaBase.base.name === 'line-2w' && String(viaBase.base.version) === version, `base echo: ${JSON.stringify(viaBase.base)}`);
+    const full = (await post('/v1/tandem', { tandem: { ...storedMill, speed_m_per_s: 12 }, options: sent[0].options })).body;
+    check(JSON.stringify(full.result) === JSON.stringify(viaBase.result), 'the stored mill computes as the mill sent in full');
+    const forces = await page.$$eval('#mill-row .mill-stand [data-quantity="force"]', (all) => all.map((n) => Number(n.dataset.value)));
+    equalArrays(forces, viaBase.result.steady_state.stands.map((s) => s.force_kN), 'roll forces on the stored mill');
+    check(page.url().includes('mill_base=line-2w'), 'the base is in the link');
+    // Saved again under its name: the version loaded is replaced (If-Match).
+    puts.length = 0;
+    await page.click('#mill-save');
+    await page.waitForFunction((v) => new RegExp(`saved as line-2w, version (?!${v}\\b)`).test(document.getElementById('mill-save-status').textContent), version, { timeout: 30000 });
+    page.off('request', listen);
+    check(puts.length === 1 && puts[0].headers['if-match'] === `"${version}"`, `replaced with If-Match: ${JSON.stringify(puts.map((p) => p.headers))}`);
+    check((await (await fetch(`${base}/v1/mills/line-2w`)).json()).speed_m_per_s === 12, 'the stored mill now runs at 12 m/s');
+    // The mill stored elsewhere, loaded into the editor from the list (asked again when a mill is saved).
+    await page.selectOption('#mill-base', 'line-b');
+    await page.waitForFunction(() => document.getElementById('f-tandem-spans-tension-MPa-0').value === '70');
+    equalArrays((await millInputs('/tandem/exit_thickness_mm/')).map(Number), other.exit_thickness_mm, 'the stored schedule in the editor');
+    equalArrays((await millInputs('/tandem/spans/length_m/')).map(Number), other.spans.length_m, 'the stored span in the editor');
+    check(/the stored mill line-b/.test(await page.textContent('#mill-diff-count')), `diff: ${await page.textContent('#mill-diff-count')}`);
+    await shot('tandem-stored-mill');
+    await checkAxe();
+    await page.selectOption('#mill-base', '');
+    await page.click('#mill-reset');
+    await page.selectOption('#f-options-critical-speed', '');
+  });
+
   await test('no console errors', async () => {
     check(consoleErrors.length === 0, consoleErrors.join('\n'));
   });
