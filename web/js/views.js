@@ -442,11 +442,15 @@ function speedSweep(plots, response) {
     x: millSpeedLabel, y: 'regenerative margin ρ [-]', y2: 'growth rate of the rightmost root [1/s]', yScale: { type: 'logarithmic' }, pointLegend: false,
     data: { datasets: speedSweepDatasets(response, []) },
   });
-  let job = null;  // { path, state }
+  // The job: { path, state, polling }. Cancelled (DELETE) only while it runs, and never while a
+  // poll of it is on its way (the poll's answer decides): a DELETE on a job that has just
+  // finished removes it, and a poll crossing that DELETE would answer 404.
+  let job = null;
   let stopped = false;
+  const cancel = (j) => { if (j && j.path && ['queued', 'running'].includes(j.state)) call('DELETE', j.path).catch(() => {}); };
   const stop = () => {
     stopped = true;
-    if (job && ['queued', 'running'].includes(job.state)) call('DELETE', job.path).catch(() => {});
+    if (job && !job.polling) cancel(job);
   };
   onClear(stop);
   const draw = (points, xs) => {
@@ -465,12 +469,15 @@ function speedSweep(plots, response) {
     try {
       const { location, body: created } = await call('POST', '/v1/jobs', body);
       mine.path = location || `/v1/jobs/${created.id}`;
-      if (stopped || job !== mine) { call('DELETE', mine.path).catch(() => {}); return; }
+      if (stopped || job !== mine) { cancel(mine); return; }
       let shown = -1;
       for (;;) {
+        if (stopped || job !== mine) return;  // cancelled by stop() while waiting
+        mine.polling = true;
         const j = await getJson(mine.path);
+        mine.polling = false;
         mine.state = j.state;
-        if (stopped || job !== mine) return;
+        if (stopped || job !== mine) { cancel(mine); return; }
         if (j.state === 'succeeded') {
           const result = j.result.result || j.result;
           draw(result.points);
