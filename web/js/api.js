@@ -16,8 +16,8 @@ export class ProblemError extends Error {
   }
 }
 
-function send(method, path, body, accept) {
-  const headers = { Accept: accept };
+function send(method, path, body, accept, extra = {}) {
+  const headers = { Accept: accept, ...extra };
   if (token()) headers.Authorization = `Bearer ${token()}`;
   if (body !== undefined) headers['Content-Type'] = 'application/json';
   return fetch(path, { method, headers, body: body === undefined ? undefined : JSON.stringify(body) });
@@ -26,8 +26,9 @@ const parsed = (text) => {
   try { return text ? JSON.parse(text) : null; } catch { return { detail: text }; }
 };
 
-export async function call(method, path, body) {
-  const response = await send(method, path, body, 'application/json');
+// `headers`: more request headers (If-Match, If-None-Match of a stored mill's PUT).
+export async function call(method, path, body, headers) {
+  const response = await send(method, path, body, 'application/json', headers);
   const document = parsed(await response.text());
   if (!response.ok) throw new ProblemError(response.status, document);
   return { status: response.status, location: response.headers.get('Location'), etag: response.headers.get('ETag'), body: document };

@@ -5,7 +5,7 @@ import { ProblemError, call, fetchBlob, getJson, setToken, token } from './api.j
 import { clearPlots } from './charts.js';
 import { MillForm, OptionsForm, ScenarioForm, clearFieldErrors, mergePatch, resolve, showFieldErrors } from './editor.js';
 import { JobRunner, openJob, recentJobs, useServerJobList } from './jobs.js';
-import { storedScenario, storedScenarios } from './scenarios.js';
+import { saveMill, storedMill, storedMills, storedScenario, storedScenarios } from './scenarios.js';
 import { downloadCsv, downloadJson, fillReport, table } from './report.js';
 import { readState, writeState } from './state.js';
 import { viewOf } from './views.js';
@@ -13,8 +13,9 @@ import { viewOf } from './views.js';
 const $ = (id) => document.getElementById(id);
 // rows: every analysis of the service; analyses: those the page offers (on_page), in order.
 // source: where the result shown came from (the request posted, or the job), for its CSV.
-// mill: the tandem mill's editor (the analyses whose subject is "tandem").
-const app = { doc: null, defaults: null, baseName: '', scenario: null, mill: null, options: null, rows: [], analyses: [], analysis: null, response: null, source: null, report: false, partialShown: -1 };
+// mill: the tandem mill's editor (the analyses whose subject is "tandem"); millBase: the stored
+// mill it starts from ('' the default mill), millVersion its ETag.
+const app = { doc: null, defaults: null, baseName: '', millBase: '', millVersion: '', scenario: null, mill: null, options: null, rows: [], analyses: [], analysis: null, response: null, source: null, report: false, partialShown: -1 };
 
 const rowOf = (name) => app.rows.find((row) => row.name === name) || { name, label: name, csv: false };
 const analysisNamed = (name) => app.analyses.find((row) => row.name === name) || app.analyses[0];
@@ -66,7 +67,7 @@ function buildTabs() {
 }
 
 function saveState() {
-  return writeState({ analysis: app.analysis.name, base: app.baseName, scenario: app.scenario.patch(), tandem: app.mill.patch(), options: app.options.options(), view: app.report ? 'report' : null });
+  return writeState({ analysis: app.analysis.name, base: app.baseName, millBase: app.millBase, scenario: app.scenario.patch(), tandem: app.mill.patch(), options: app.options.options(), view: app.report ? 'report' : null });
 }
 
 function showDiff() {
@@ -85,7 +86,9 @@ function showDiff() {
 function showMillDiff() {
   app.mill.markChanges();
   const changes = app.mill.changes();
-  $('mill-diff-count').textContent = changes.length ? `${changes.length} field${changes.length > 1 ? 's differ' : ' differs'} from the default mill` : 'the default mill';
+  const base = app.millBase ? `stored mill ${app.millBase}` : 'default mill';
+  $('mill-diff-count').textContent = changes.length ? `${changes.length} field${changes.length > 1 ? 's differ' : ' differs'} from the ${base}` : `the ${base}`;
+  $('mill-diff').setAttribute('aria-label', `Fields that differ from the ${base}`);
   $('mill-diff').replaceChildren(...changes.map(([pointer, base, value]) => {
     const item = document.createElement('li');
     item.textContent = `${pointer}: ${base ?? '—'} → ${value}`;
@@ -145,7 +148,7 @@ function clearResult() {
 }
 
 const request = () => (ofMill(app.analysis)
-  ? { analysis: app.analysis.name, tandem: app.mill.patch(), options: app.options.options() }
+  ? { analysis: app.analysis.name, ...(app.millBase ? { base: app.millBase } : {}), tandem: app.mill.patch(), options: app.options.options() }
   : { analysis: app.analysis.name, ...(app.baseName ? { base: app.baseName } : {}), scenario: app.scenario.patch(), options: app.options.options() });
 
 // A running sweep or map: its finished points (the job's partial_result) drawn as they arrive.
@@ -276,11 +279,66 @@ async function offerStoredScenarios(wanted) {
   if (wanted && list.some((s) => s.name === wanted)) await chooseBase(wanted);
 }
 
+// Start the mill editor from a stored mill (or the default, name ''): the editor shows it, the
+// diff and the requests' patch are relative to it, the requests name it as `base`.
+async function chooseMillBase(name, patch = {}) {
+  if (name) {
+    const { mill, version } = await storedMill(name);
+    app.mill.setBase(mill);
+    app.millVersion = version;
+  } else {
+    app.mill.setBase(null);
+    app.millVersion = '';
+  }
+  app.millBase = name;
+  $('mill-base').value = name;
+  $('mill-base-version').textContent = app.millVersion ? `version ${app.millVersion.replace(/"/g, '')}` : '';
+  $('mill-save-name').value = name;
+  $('mill-save-status').textContent = '';
+  app.mill.apply(patch);
+  showMillDiff();
+}
+
+async function listStoredMills() {
+  const list = await storedMills(app.doc).catch(() => null);
+  if (!list) return false;
+  $('mill-base').replaceChildren(Object.assign(document.createElement('option'), { value: '', textContent: 'the default mill' }),
+    ...list.map((m) => Object.assign(document.createElement('option'), { value: m.name, textContent: `${m.name}${m.updated_at ? ` (${m.updated_at})` : ''}` })));
+  $('mill-base').value = app.millBase;
+  return true;
+}
+
+async function offerStoredMills(wanted, patch) {
+  if (!(await listStoredMills())) return;
+  $('mill-base-row').hidden = $('mill-save-row').hidden = false;
+  $('mill-base').addEventListener('change', () => chooseMillBase($('mill-base').value).then(saveState).catch((error) => showProblem(error.problem || { detail: String(error) })));
+  $('mill-save').addEventListener('click', saveCurrentMill);
+  if (wanted && [...$('mill-base').options].some((o) => o.value === wanted)) await chooseMillBase(wanted, patch);
+}
+
+// The mill the editor shows, stored under the name given: replacing the stored mill it was
+// loaded from (If-Match its version), or a new name only (If-None-Match: *).
+async function saveCurrentMill() {
+  const name = $('mill-save-name').value.trim();
+  $('problem').hidden = true;
+  if (!name) { $('mill-save-status').textContent = 'give the mill a name'; return; }
+  try {
+    const version = await saveMill(name, app.mill.full(), name === app.millBase ? app.millVersion : '');
+    await listStoredMills();
+    await chooseMillBase(name);
+    saveState();
+    $('mill-save-status').textContent = `saved as ${name}, version ${version.replace(/"/g, '')}`;
+  } catch (error) {
+    $('mill-save-status').textContent = 'not saved';
+    showProblem(error instanceof ProblemError ? error.problem : { title: 'Saving the mill failed', detail: String(error) });
+  }
+}
+
 function fillReportView() {
   const mill = ofMill(rowOf(app.response.analysis));
   fillReport($('report-head'), $('report-scenario'), app.response,
     { label: app.analysis.label, version: app.doc.info.version, link: saveState(), changes: mill ? app.mill.changes() : app.scenario.changes(),
-      base: mill ? 'default mill' : app.baseName ? `stored scenario ${app.baseName}` : 'default scenario' });
+      base: mill ? (app.millBase ? `stored mill ${app.millBase}` : 'default mill') : app.baseName ? `stored scenario ${app.baseName}` : 'default scenario' });
 }
 
 function setReport(on) {
@@ -325,6 +383,7 @@ async function start() {
   await offerStoredScenarios(state.base);
   app.scenario.apply(state.scenario);
   app.mill.apply(state.tandem);
+  await offerStoredMills(state.millBase, state.tandem);
   app.options.apply(state.options);
   showDiff();
   showMillDiff();
@@ -336,7 +395,7 @@ async function start() {
   // The mill's rows are rebuilt when the number of stands changes: the diff follows every input.
   $('mill-form').addEventListener('input', showMillDiff);
   $('mill-form').addEventListener('change', showMillDiff);
-  $('mill-reset').addEventListener('click', () => { app.mill.apply({}); showMillDiff(); clearFieldErrors(document.body); });
+  $('mill-reset').addEventListener('click', () => { app.mill.apply({}); showMillDiff(); clearFieldErrors(document.body); });  // to its base
   // The calibration's answer: a merge patch onto the defaults, shown as the editor's scenario.
   $('plots').addEventListener('use-scenario', (event) => {
     app.scenario.applyFull(mergePatch(structuredClone(app.defaults), event.detail || {}));

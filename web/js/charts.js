@@ -78,9 +78,10 @@ export const errorBars = {
   },
 };
 
-// `yScale`: more options of the y axis (min, max, the ticks of lanes drawn on a linear axis).
-export function addPlot(container, { id, title, description, type = 'line', data, x, y, y2, stacked = false, plugins = [], xTicks, yTicks, yScale, small = false, pointLegend = false }) {
-  const { canvas } = plotFigure(container, { id, title, description, frameClass: small ? 'plot-frame small' : 'plot-frame' });
+// `yScale`: more options of the y axis (min, max, the ticks of lanes drawn on a linear axis);
+// `wide`: the full width of the plots grid.
+export function addPlot(container, { id, title, description, type = 'line', data, x, y, y2, stacked = false, plugins = [], xTicks, yTicks, yScale, small = false, pointLegend = false, wide = false }) {
+  const { canvas } = plotFigure(container, { id, title, description, frameClass: small ? 'plot-frame small' : 'plot-frame', wide });
   const scales = {
     x: { type: type === 'bar' ? 'category' : 'linear', title: { display: Boolean(x), text: x }, stacked, ...(xTicks ? { ticks: xTicks } : {}) },
     y: { title: { display: Boolean(y), text: y }, stacked, ...(yTicks ? { ticks: yTicks } : {}), ...(yScale || {}) },

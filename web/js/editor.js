@@ -333,6 +333,7 @@ export class MillForm {
     defaults.stand_defaults ??= {};
     defaults.stands ??= Array.from({ length: count }, () => ({}));
     this.base = defaults;
+    this.defaults = structuredClone(defaults);
     const stands = resolve(doc, schema.properties.stands);
     this.minStands = stands.minItems ?? 1;
     this.maxStands = stands.maxItems ?? 6;
@@ -442,6 +443,18 @@ export class MillForm {
       setAt(out, pointer, value);
     }
     return out;
+  }
+
+  // A new base (a stored mill as GET /v1/mills/{name} gives it, resolved; none: the default
+  // mill) keeps what the inputs show; only the patch (the differences) changes. Its stands are
+  // held as the inputs show them, their differences from the default scenario.
+  setBase(mill) {
+    if (!mill) { this.base = structuredClone(this.defaults); this.markChanges(); return; }
+    const base = mergePatch(structuredClone(this.defaults), structuredClone(mill));
+    base.stand_defaults ??= {};
+    base.stands = (base.stands || []).map((stand) => diffPatch(this.scenarioDefaults, stand, { nulls: false }) || {});
+    this.base = base;
+    this.markChanges();
   }
 
   patch() { return diffPatch(this.base, this.full()) || {}; }

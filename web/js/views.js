@@ -4,7 +4,8 @@
 // gets `plainView`. Every view takes the service's answer as it is (the numbers are plotted
 // unchanged) and returns its headline rows. `job`: the page runs it as a job; `partial`: a
 // running job's finished points as a result to draw.
-import { addPlot, color, errorBars, line, marker, points } from './charts.js';
+import { call, getJson } from './api.js';
+import { addPlot, color, errorBars, line, marker, onClear, points } from './charts.js';
 import { unitOf } from './editor.js';
 import { drawHeatmap } from './heatmap.js';
 import { table } from './report.js';
@@ -298,12 +299,12 @@ function criticalSpeeds(plots, response) {
   });
   const figure = panel(plots, 'The three critical speeds');
   const t = numberTable(`Critical speeds (searched ${fmt(response.options.speed_min_m_per_s)}–${fmt(response.options.speed_max_m_per_s)} m/s)`,
-    ['crossing', 'critical speed [m/s]', 'frequency [Hz]', 'moving stand', 'feeding stand', 'chatter band', "model's range"],
+    ['crossing', 'critical speed [m/s]', 'frequency [Hz]', 'moving stand', 'feeding stand', 'chatter band', 'chatter type', "model's range"],
     crossingKinds.filter((k) => c[k]).map((k) => [
       `${crossingNames[k]}${c.headline === k ? ' — headline' : ''}`,
       c[k].speed_m_per_s != null ? c[k].speed_m_per_s : searchText(c[k], response.options),
       c[k].frequency_Hz, c[k].moving_stand != null ? `stand ${c[k].moving_stand}` : '—', c[k].feeding_stand != null ? `stand ${c[k].feeding_stand}` : '—',
-      chatterName(c[k].band), c[k].speed_m_per_s != null ? rangeText(c[k]) : '—',
+      chatterName(c[k].band), chatterName(c[k].chatter_type), c[k].speed_m_per_s != null ? rangeText(c[k]) : '—',
     ]));
   t.id = 'critical-speeds-table';
   [...t.tBodies[0].rows].forEach((tr, i) => { tr.dataset.kind = crossingKinds.filter((k) => c[k])[i]; });
@@ -319,6 +320,230 @@ function participation(plots, focus) {
     x: 'stand (from the entry)', y: 'share of the motion [-]',
     data: { labels: p.map((_, i) => `stand ${i + 1}`), datasets: [{ label: 'share of the motion [-]', data: p, backgroundColor: color(0) }] },
   });
+}
+
+// ρ broken into its factors per span at its peak (stability.margin_factors, docs/model.md
+// §12.5), the span carrying the largest share named; and whether the peak's frequency lies
+// inside the model's range (stability.margin_validity).
+function marginFactors(plots, stability) {
+  const factors = stability && stability.margin_factors;
+  if (!Array.isArray(factors) || !factors.length) return;
+  const figure = panel(plots, "The regenerative margin ρ's factors, span by span, at its peak");
+  figure.id = 'margin-factors';
+  const top = factors.reduce((best, f) => ((f.worst_input_share ?? -1) > (best.worst_input_share ?? -1) ? f : best));
+  const spanName = (i) => `stand ${i} → ${i + 1}`;
+  const sentence = node('p', 'margin-sentence');
+  sentence.id = 'margin-sentence';
+  sentence.dataset.span = String(top.span);
+  sentence.textContent = `ρ = ${fmt(stability.regenerative_margin)} at ${fmt(stability.margin_frequency_Hz)} Hz: the span from stand ${top.span} to stand ${top.span + 1} carries the largest share of the loop's worst input (${fmt(top.worst_input_share * 100, 3)} %).`;
+  const t = numberTable(`Factors of ρ at ${fmt(stability.margin_frequency_Hz)} Hz (the receiving stand: the one the span feeds)`,
+    ['span', "share of the loop's worst input [-]", 'its own tension loop |M_ii| [-]', 'thickness path on |M_i+1,i| [-]',
+      "receiving stand's force gain dF/dy1 [kN/mm]", "receiving stand's entry speed gain du1/dy1 [1/s]", "receiving stand's compliance at the peak [µm/kN]"],
+    factors.map((f) => [spanName(f.span), f.worst_input_share, f.tension_loop_gain, f.thickness_gain ?? '— (last span)',
+      f.bite_force_gain_kN_per_mm, f.bite_entry_speed_gain_per_s, f.compliance_um_per_kN]));
+  t.id = 'margin-factors-table';
+  [...t.tBodies[0].rows].forEach((tr, i) => { tr.dataset.span = String(factors[i].span); });
+  figure.append(sentence, t);
+  const v = stability.margin_validity;
+  if (v) {
+    const why = [];
+    if (!v.spring_law_valid) why.push("the spans' spring law fails (strip waves)");
+    if (!v.quasi_static_bite_valid) why.push('the bite is not quasi-static');
+    const note = node('p', 'help', `ρ's peak frequency ${v.valid ? "lies inside the model's range" : `lies ${outsideRange}${why.length ? `: ${why.join('; ')}` : ''}`}`
+      + ` (bite transit over the period, stand by stand: ${(v.bite_transit_ratio || []).map((x) => fmt(x, 3)).join(', ') || '—'};`
+      + ` spring-law error, span by span: ${(v.spring_law_error || []).map((x) => fmt(x, 3)).join(', ') || '—'}).`);
+    note.id = 'margin-validity';
+    note.dataset.valid = String(v.valid);
+    figure.append(note);
+  }
+}
+
+// ρ and the rightmost root's growth rate against mill speed: the mill of the answer swept over
+// /speed_m_per_s in stability mode (tandem_sweep), run as a job whose finished speeds are drawn
+// as they arrive, with the three critical speeds of the answer as vertical lines.
+const millSpeedLabel = "mill speed, the last stand's roll speed [m/s]";
+function speedRange(response) {
+  const c = response.result.critical_speeds || {};
+  const o = response.options || {};
+  const found = crossingKinds.map((k) => c[k] && c[k].speed_m_per_s).filter((v) => v != null);
+  const high = Math.max(response.tandem.speed_m_per_s, ...found) * 1.15;
+  const to = Number(Math.min(o.speed_max_m_per_s ?? 100, Math.max(high, 2)).toPrecision(3));
+  const from = Number(Math.min(o.speed_min_m_per_s ?? 1, to / 2).toPrecision(3));
+  // A modest number of speeds: a point costs ~0.02 s at two stands, ~1 s at five.
+  const count = response.tandem.exit_thickness_mm.length <= 3 ? 25 : 13;
+  return { from, to, count };
+}
+
+// `points`: the sweep's points, null where a running job has not computed one yet; `xs`: the
+// speeds asked (those of the points not yet computed).
+function speedSweepDatasets(response, points, xs = []) {
+  const speeds = points.map((p, i) => (p ? p.value_m_per_s : xs[i] ?? null));
+  const done = points.filter(Boolean);
+  const rho = (p) => (p && p.regenerative_margin != null ? p.regenerative_margin : null);
+  const growth = (p) => (p ? p.growth_rate_per_s : null);
+  const at = (pick, inRange) => points.map((p, i) => ({ x: speeds[i], y: p && p.in_model_range === inRange ? pick(p) : null })).filter((q) => q.x != null && q.y != null);
+  const datasets = [
+    line('regenerative margin ρ [-]', points.map((p, i) => ({ x: speeds[i], y: rho(p) })).filter((q) => q.x != null), 0, { pointRadius: 3, order: 2 }),
+    line('growth rate of the rightmost root [1/s]', points.map((p, i) => ({ x: speeds[i], y: growth(p) })).filter((q) => q.x != null), 1, { pointRadius: 3, yAxisID: 'y2', order: 2 }),
+    { label: "rightmost root outside the model's range", data: at(growth, false), yAxisID: 'y2', showLine: false, pointStyle: 'crossRot', pointRadius: 7, borderWidth: 2, borderColor: color(1), backgroundColor: color(1), order: 1 },
+  ];
+  if (!done.length) return datasets;
+  const lo = Math.min(...done.map((p) => p.value_m_per_s));
+  const hi = Math.max(...done.map((p) => p.value_m_per_s));
+  const g = done.map(growth).filter((v) => v != null);
+  const gLow = Math.min(0, ...g);
+  const gHigh = Math.max(0, ...g);
+  const rhos = done.map(rho).filter((v) => v != null);
+  if (rhos.length) datasets.push({ label: 'ρ = 1 (below: stable whatever the delays)', data: [{ x: lo, y: 1 }, { x: hi, y: 1 }], borderColor: color(0), borderDash: [2, 3], borderWidth: 1, pointRadius: 0, order: 3 });
+  datasets.push({ label: 'growth rate 0 (above: the mill chatters)', data: [{ x: lo, y: 0 }, { x: hi, y: 0 }], yAxisID: 'y2', borderColor: color(1), borderDash: [2, 3], borderWidth: 1, pointRadius: 0, order: 3 });
+  const c = response.result.critical_speeds;
+  if (c) {
+    const colours = { frozen: color(2), delay_independent: color(3), nominal_delay: color(4) };
+    for (const k of crossingKinds) {
+      const speed = c[k] && c[k].speed_m_per_s;
+      if (speed == null) continue;
+      const headline = c.headline === k;
+      const range = c[k].validity && c[k].validity.valid ? '' : `, ${outsideRange}`;
+      datasets.push({
+        ...marker(`${crossingShort[k]} critical speed ${fmt(speed)} m/s${headline ? ' — headline' : ''}${range}`, speed, gLow, gHigh, headline ? '#000' : colours[k], 'y2'),
+        borderWidth: headline ? 4 : 2, borderDash: headline ? [] : [6, 4], pointRadius: 0, order: 0, kind: k,
+      });
+    }
+  }
+  return datasets;
+}
+
+function speedSweep(plots, response) {
+  if (!response.result.steady_state || response.result.steady_state.status !== 'ok') return;
+  const controls = panel(plots, 'Margin and growth rate against mill speed');
+  controls.id = 'speed-sweep-controls';
+  const range = speedRange(response);
+  const inputs = {};
+  const row = node('div', 'row');
+  for (const [key, label, step] of [['from', 'from [m/s]', 'any'], ['to', 'to [m/s]', 'any'], ['count', 'speeds', '1']]) {
+    const input = Object.assign(document.createElement('input'), { id: `speed-sweep-${key}`, type: 'number', step, min: key === 'count' ? '2' : '0.01', value: String(range[key]) });
+    if (key === 'count') input.max = '200';
+    const l = node('label', '', `${label} `);
+    l.htmlFor = input.id;
+    row.append(l, input);
+    inputs[key] = input;
+  }
+  const again = node('button', '', 'Draw again');
+  again.type = 'button';
+  again.id = 'speed-sweep-run';
+  const status = node('span', 'muted');
+  status.id = 'speed-sweep-status';
+  status.setAttribute('role', 'status');
+  row.append(again, status);
+  controls.append(node('p', 'help', "The mill of this answer at each speed (a mill sweep of its speed, stability only, run as a job): the regenerative margin ρ (left, log scale; only where the frozen mill is stable) and the rightmost root's growth rate (right). Vertical lines: the three critical speeds of this answer, the headline thick and solid."), row);
+  const chart = addPlot(plots, {
+    id: 'speed-sweep', wide: true, title: "Regenerative margin ρ and the rightmost root's growth rate against mill speed",
+    description: 'left axis: ρ, log scale; right axis: growth rate; crosses: the rightmost root lies outside the model\'s range; vertical lines: the critical speeds',
+    x: millSpeedLabel, y: 'regenerative margin ρ [-]', y2: 'growth rate of the rightmost root [1/s]', yScale: { type: 'logarithmic' }, pointLegend: false,
+    data: { datasets: speedSweepDatasets(response, []) },
+  });
+  // The job: { path, state, polling }. Cancelled (DELETE) only while it runs, and never while a
+  // poll of it is on its way (the poll's answer decides): a DELETE on a job that has just
+  // finished removes it, and a poll crossing that DELETE would answer 404.
+  let job = null;
+  let stopped = false;
+  const cancel = (j) => { if (j && j.path && ['queued', 'running'].includes(j.state)) call('DELETE', j.path).catch(() => {}); };
+  const stop = () => {
+    stopped = true;
+    if (job && !job.polling) cancel(job);
+  };
+  onClear(stop);
+  const draw = (points, xs) => {
+    chart.data.datasets = speedSweepDatasets(response, points, xs);
+    chart.update('none');
+  };
+  const start = async () => {
+    stop();
+    stopped = false;
+    const options = { parameter: '/speed_m_per_s', quantity: 'stability', range: { from: Number(inputs.from.value), to: Number(inputs.to.value), count: Number(inputs.count.value) } };
+    const body = { analysis: 'tandem_sweep', tandem: response.tandem, options };
+    const mine = { path: null, state: 'queued' };
+    job = mine;
+    delete chart.canvas.dataset.state;
+    status.textContent = 'starting…';
+    try {
+      const { location, body: created } = await call('POST', '/v1/jobs', body);
+      mine.path = location || `/v1/jobs/${created.id}`;
+      if (stopped || job !== mine) { cancel(mine); return; }
+      let shown = -1;
+      for (;;) {
+        if (stopped || job !== mine) return;  // cancelled by stop() while waiting
+        mine.polling = true;
+        const j = await getJson(mine.path);
+        mine.polling = false;
+        mine.state = j.state;
+        if (stopped || job !== mine) { cancel(mine); return; }
+        if (j.state === 'succeeded') {
+          const result = j.result.result || j.result;
+          draw(result.points);
+          chart.canvas.dataset.state = 'done';
+          status.textContent = `${result.points.length} speeds, job succeeded`;
+          return;
+        }
+        if (['failed', 'cancelled'].includes(j.state)) {
+          status.textContent = `job ${j.state}${j.problem ? `: ${j.problem.detail}` : ''}`;
+          return;
+        }
+        const partial = j.partial_result;
+        if (partial && Array.isArray(partial.points) && partial.points.length !== shown) {
+          shown = partial.points.length;
+          const list = Array.from({ length: options.range.count }, () => null);
+          for (const p of partial.points) if (p.index < list.length) list[p.index] = p.point;
+          draw(list, optionValues(options));
+        }
+        status.textContent = `running: ${j.points_done || 0} of ${j.points_total || options.range.count} speeds`;
+        await new Promise((resolve) => setTimeout(resolve, 250));
+      }
+    } catch (error) {
+      if (!stopped) status.textContent = `failed: ${error.message}`;
+    }
+  };
+  again.addEventListener('click', start);
+  start();
+}
+
+// The whole mill in time after a gap kick (result.time_series, docs/model.md §12.9): each
+// stand's gap change and roll force, and the strip tension of each span; how the run ended.
+const timeStates = {
+  ok: 'the window was simulated',
+  slack_span: 'a span went slack (its force reached zero)',
+  contact_lost: 'a stand lost contact with the strip',
+  skidding: 'the rolls skid on the strip',
+  solver_failure: 'the integrator failed',
+  step_budget: 'the step budget ran out',
+  cancelled: 'cancelled',
+  invalid: 'invalid',
+};
+function timeSeries(plots, ts, nStands) {
+  if (!ts) return;
+  const figure = panel(plots, 'The mill in time after a gap kick');
+  figure.id = 'time-series';
+  const spanText = (span) => (span === 0 ? 'the entry span' : span === nStands ? 'the exit span' : `the span from stand ${span} to stand ${span + 1}`);
+  const where = [ts.span != null ? spanText(ts.span) : '', ts.stand != null ? `stand ${ts.stand}` : ''].filter(Boolean).join(', ');
+  const state = node('p', ts.status === 'ok' ? '' : 'mill-flag', `Result: ${timeStates[ts.status] || ts.status}${where ? ` (${where})` : ''}`
+    + `${ts.end_time_s != null ? `, at ${fmt(ts.end_time_s)} s` : ''}${ts.message && ts.message !== 'ok' ? ` — ${ts.message}` : ''}.`);
+  state.id = 'time-series-state';
+  state.dataset.status = ts.status;
+  const kick = node('p', 'help', `A kick of ${fmt(ts.kick_um)} µm at stand ${ts.kick_stand ?? '—'} at t = 0; ${ts.steps} integrator steps. ${ts.range_note || ''}`);
+  figure.append(state, kick);
+  const stands = ts.stands || [];
+  if (!stands.length) return;
+  const per = (key) => stands.map((s, i) => line(`stand ${s.stand}`, points(s.series.time_s, s.series[key]), i));
+  addPlot(plots, { id: 'time-gap', title: 'Roll gap change of each stand after the kick', x: 'time [s]', y: 'roll gap change [µm]', data: { datasets: per('gap_change_um') } });
+  addPlot(plots, { id: 'time-force', title: 'Roll force of each stand', x: 'time [s]', y: 'roll force [kN]', data: { datasets: per('force_kN') } });
+  const first = stands[0];
+  const last = stands[stands.length - 1];
+  const tension = [
+    line('entry span (stand 1 back tension)', points(first.series.time_s, first.series.back_tension_MPa), 6, { borderDash: [4, 3] }),
+    ...stands.slice(0, -1).map((s, i) => line(`span stand ${s.stand} → ${s.stand + 1}`, points(s.series.time_s, s.series.front_tension_MPa), i)),
+    line(`exit span (stand ${last.stand} front tension)`, points(last.series.time_s, last.series.front_tension_MPa), 7, { borderDash: [4, 3] }),
+  ];
+  addPlot(plots, { id: 'time-tension', title: 'Strip tension in each span', x: 'time [s]', y: 'strip tension [MPa]', data: { datasets: tension } });
 }
 
 export const views = {
@@ -511,7 +736,10 @@ export const views = {
       const focus = criticalRoot(r);
       millRow(plots, response, focus);
       criticalSpeeds(plots, response);
+      marginFactors(plots, s);
+      speedSweep(plots, response);
       participation(plots, focus);
+      timeSeries(plots, r.time_series, r.steady_state.stands.length);
       return [
         row("mill speed (the last stand's roll speed)", response.tandem.speed_m_per_s, 'm/s'),
         row('stands', r.steady_state.stands.length),
@@ -521,6 +749,7 @@ export const views = {
         row('rightmost root: frequency', root && root.frequency_Hz, 'Hz'),
         row('headline critical speed', c ? c.critical_speed_m_per_s : 'not asked', c ? 'm/s' : ''),
         ['headline crossing', c ? (c.headline ? crossingNames[c.headline] : `none inside the model's range`) : 'not asked', ''],
+        ['its chatter type (its band)', c && c.headline ? `${chatterName(c[c.headline].chatter_type)} (${chatterName(c[c.headline].band)})` : '—', ''],
         ['moving stand', focus && focus.root.moving_stand != null ? `stand ${focus.root.moving_stand}` : '—', ''],
         ['feeding stand', focus && focus.root.feeding_stand != null ? `stand ${focus.root.feeding_stand}` : '—', ''],
         ['stands marked for', focus ? focus.what : '—', ''],
