@@ -272,13 +272,7 @@ std::span<const CsvTable> tandem_map_csv_tables() {
          {},
          "",
          [](const nlohmann::json& result) {
-             std::vector<std::string> columns = map_value_columns(result);
-             const bool stability = result.value("quantity", std::string()) == "stability";
-             for (std::string& name :
-                  tandem_point_columns(stability ? TandemSweepQuantity::stability
-                                                 : TandemSweepQuantity::critical_speed))
-                 columns.push_back(std::move(name));
-             return columns;
+             return with_tandem_point_columns(map_value_columns(result), result);
          },
          map_cell_rows}};
     return tables;

@@ -362,6 +362,15 @@ const ResultTable<StabilityPoint>& stability_point_table() {
 
 }  // namespace tandem_points_detail
 
+std::vector<std::string> with_tandem_point_columns(std::vector<std::string> lead,
+                                                   const nlohmann::json& result) {
+    const bool stability = result.value("quantity", std::string()) == "stability";
+    for (std::string& name : tandem_point_columns(stability ? TandemSweepQuantity::stability
+                                                            : TandemSweepQuantity::critical_speed))
+        lead.push_back(std::move(name));
+    return lead;
+}
+
 std::string_view to_string(TandemSweepQuantity quantity) {
     return quantity == TandemSweepQuantity::stability ? "stability" : "critical_speed";
 }

@@ -67,6 +67,10 @@ nlohmann::json tandem_point_json(const core::Mill& mill, const TandemPointSpec& 
 std::string_view tandem_point_component(TandemSweepQuantity quantity);
 nlohmann::json tandem_point_schema(TandemSweepQuantity quantity);
 std::vector<std::string> tandem_point_columns(TandemSweepQuantity quantity);
+// A sheet's columns: `lead` (the swept values), then the columns of the points `result` holds
+// (its "quantity").
+std::vector<std::string> with_tandem_point_columns(std::vector<std::string> lead,
+                                                   const nlohmann::json& result);
 
 std::string_view to_string(TandemSweepQuantity quantity);
 

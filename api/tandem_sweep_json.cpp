@@ -135,13 +135,8 @@ std::span<const CsvTable> tandem_sweep_csv_tables() {
          {},
          "/points",
          [](const nlohmann::json& result) {
-             std::vector<std::string> columns{result.value("value_name", std::string("value"))};
-             const bool stability = result.value("quantity", std::string()) == "stability";
-             for (std::string& name :
-                  tandem_point_columns(stability ? TandemSweepQuantity::stability
-                                                 : TandemSweepQuantity::critical_speed))
-                 columns.push_back(std::move(name));
-             return columns;
+             return with_tandem_point_columns({result.value("value_name", std::string("value"))},
+                                              result);
          }}};
     return tables;
 }

@@ -19,26 +19,13 @@
 #include "service/analyses/table.h"
 #include "service/csv_answer.h"
 #include "service/evaluate.h"
+#include "support/mill_requests.h"
 
 using nlohmann::json;
 using namespace rollgap;
 
-namespace {
-
-json answer_of(const json& request) {
-    const service::Outcome outcome = service::evaluate(request);
-    CAPTURE(outcome.body.dump().substr(0, 600));
-    REQUIRE(outcome.ok());
-    return outcome.body;
-}
-
-// A two-stand mill (stands 3 and 4 of the default schedule).
-const json two_stands = {{"entry_thickness_mm", 1.88},
-                         {"exit_thickness_mm", {1.6, 1.36}},
-                         {"spans", {{"length_m", {5}}, {"tension_MPa", {60}}}},
-                         {"stands", json::array({json::object(), json::object()})}};
-
-}  // namespace
+using test::answer_of;
+using test::two_stands;
 
 TEST_CASE("a one-stand mill held at constant exit tension is the single stand (identity 1)") {
     // The single-stand default: 1.6 mm, 15 % (exit 1.36 mm), a 5 m back span at 18 MPa, the

@@ -18,6 +18,7 @@
 #include "core/control.h"
 #include "service/csv_answer.h"
 #include "service/evaluate.h"
+#include "support/mill_requests.h"
 
 using nlohmann::json;
 using namespace rollgap;
@@ -26,24 +27,9 @@ using namespace rollgap;
 // helpers have the same names.
 namespace tandem_map_test {
 
-json answer_of(const json& request) {
-    const service::Outcome outcome = service::evaluate(request);
-    CAPTURE(outcome.body.dump().substr(0, 600));
-    REQUIRE(outcome.ok());
-    return outcome.body;
-}
-
-json refusal_of(const json& request) {
-    const service::Outcome outcome = service::evaluate(request);
-    CAPTURE(outcome.body.dump().substr(0, 600));
-    REQUIRE(outcome.http_status == 422);
-    return outcome.body;
-}
-
-const json two_stands = {{"entry_thickness_mm", 1.88},
-                         {"exit_thickness_mm", {1.6, 1.36}},
-                         {"spans", {{"length_m", {5}}, {"tension_MPa", {60}}}},
-                         {"stands", json::array({json::object(), json::object()})}};
+using test::answer_of;
+using test::refusal_of;
+using test::two_stands;
 
 json map_request(const json& rows, const json& columns, const json& more = json::object()) {
     json options = {{"parameters", {rows, columns}}};

@@ -4,42 +4,39 @@
 // (`base`) and carries only the differences from it.
 import { ProblemError, call, getJson } from './api.js';
 
-export const offersStoredScenarios = (doc) => Boolean(doc.paths['/v1/scenarios'] && doc.paths['/v1/scenarios'].get);
-
-// [{ name, version, updated_at }], or null when the service has no stored scenarios.
-export async function storedScenarios(doc) {
-  if (!offersStoredScenarios(doc)) return null;
+// A stored collection the service offers at `path` (its OpenAPI document lists the GET):
+// its list under `member`, [{ name, version, updated_at }], or null when it has none.
+const offers = (doc, path) => Boolean(doc.paths[path] && doc.paths[path].get);
+async function storedList(doc, path, member) {
+  if (!offers(doc, path)) return null;
   try {
-    return (await getJson('/v1/scenarios')).scenarios || [];
+    return (await getJson(path))[member] || [];
   } catch (error) {
     if (error instanceof ProblemError && (error.status === 404 || error.status === 405)) return null;
     throw error;
   }
 }
 
-// The full scenario and its version (the ETag).
+// One stored item (its body) and its version (the ETag).
+async function storedItem(path, name) {
+  const { body, etag } = await call('GET', `${path}/${encodeURIComponent(name)}`);
+  return { body, version: etag || '' };
+}
+
+export const offersStoredScenarios = (doc) => offers(doc, '/v1/scenarios');
+export const storedScenarios = (doc) => storedList(doc, '/v1/scenarios', 'scenarios');
+// The full scenario and its version.
 export async function storedScenario(name) {
-  const { body, etag } = await call('GET', `/v1/scenarios/${encodeURIComponent(name)}`);
-  return { scenario: body, version: etag || '' };
+  const { body, version } = await storedItem('/v1/scenarios', name);
+  return { scenario: body, version };
 }
 
-export const offersStoredMills = (doc) => Boolean(doc.paths['/v1/mills'] && doc.paths['/v1/mills'].get);
-
-// [{ name, version, updated_at }] of the stored mills, or null when the service has none.
-export async function storedMills(doc) {
-  if (!offersStoredMills(doc)) return null;
-  try {
-    return (await getJson('/v1/mills')).mills || [];
-  } catch (error) {
-    if (error instanceof ProblemError && (error.status === 404 || error.status === 405)) return null;
-    throw error;
-  }
-}
-
+export const offersStoredMills = (doc) => offers(doc, '/v1/mills');
+export const storedMills = (doc) => storedList(doc, '/v1/mills', 'mills');
 // The stored mill (resolved: its fields and each stand's complete scenario) and its version.
 export async function storedMill(name) {
-  const { body, etag } = await call('GET', `/v1/mills/${encodeURIComponent(name)}`);
-  return { mill: body, version: etag || '' };
+  const { body, version } = await storedItem('/v1/mills', name);
+  return { mill: body, version };
 }
 
 // Stores `mill` (a merge patch onto the default mill; a complete mill is one) under `name`:
