@@ -80,7 +80,9 @@ TEST_CASE("first_any's reduced counts equal the whole line's over a block of 16 
             (whole.count > 0 ? positive : zero) += 1;
             // the assumption: at this speed the line is loud (0.9) only inside the stretches
             const LoudStretches own = loud_stretches(transfer, 0.0, 0.9);
-            for (const auto& [a, b] : own.omega) {
+            for (const auto& stretch : own.omega) {
+                // not a structured binding: clang 14 cannot capture one in CAPTURE's lambda
+                const double a = stretch.first, b = stretch.second;
                 CAPTURE(a);
                 CAPTURE(b);
                 CHECK(covered(loud, a, b));
