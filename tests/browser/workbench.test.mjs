@@ -154,6 +154,19 @@ async function runAndWait(plot) {
   await page.waitForSelector(`#plot-${plot}`, { timeout: 120000 });
 }
 
+// The JSON bodies the page POSTs to `path` while `action` runs.
+async function postedDuring(path, action) {
+  const sent = [];
+  const listen = (request) => { if (request.method() === 'POST' && request.url() === base + path) sent.push(request.postDataJSON()); };
+  page.on('request', listen);
+  try {
+    await action();
+  } finally {
+    page.off('request', listen);
+  }
+  return sent;
+}
+
 try {
   await test('the page is served from the binary under a strict CSP; it lists the service\'s jobs and stored scenarios', async () => {
     const asked = [];
@@ -620,11 +633,7 @@ try {
     await page.fill('#f-tandem-spans-length-m-0', '5');
     await page.fill('#f-tandem-spans-tension-MPa-0', '60');
     if (await page.$('#f-options-critical-speed')) await page.selectOption('#f-options-critical-speed', 'true');
-    const sent = [];
-    const listen = (request) => { if (request.method() === 'POST' && request.url() === base + row.path) sent.push(request.postDataJSON()); };
-    page.on('request', listen);
-    await runAndWait('participation');
-    page.off('request', listen);
+    const sent = await postedDuring(row.path, () => runAndWait('participation'));
     check(sent.length === 1 && canon(sent[0].tandem) === canon(twoStands), `the page sent: ${JSON.stringify(sent)}`);
     const answer = await post(row.path, sent[0]);
     check(answer.status === 200, `the API answered ${answer.status}`);
@@ -803,11 +812,7 @@ try {
     await page.selectOption('#f-options-time-series', 'true');
     await page.fill('#f-options-window-s', '0.1');
     await page.fill('#f-options-time-series-points', '80');
-    const sent = [];
-    const listen = (request) => { if (request.method() === 'POST' && request.url() === `${base}/v1/tandem`) sent.push(request.postDataJSON()); };
-    page.on('request', listen);
-    await runAndWait('time-tension');
-    page.off('request', listen);
+    const sent = await postedDuring('/v1/tandem', () => runAndWait('time-tension'));
     check(sent.length === 1 && sent[0].options.time_series === true, `the page sent: ${JSON.stringify(sent.map((b) => b.options))}`);
     const ts = (await post('/v1/tandem', sent[0])).body.result.time_series;
     check(ts && ts.stands.length === 2, 'the API gave two stands\' series');
@@ -839,11 +844,7 @@ try {
     await page.fill('#f-options-kick-um', '10');
     await page.fill('#f-options-window-s', '1');
     await page.selectOption('#f-options-critical-speed', 'false');
-    const sent = [];
-    const listen = (request) => { if (request.method() === 'POST' && request.url() === `${base}/v1/tandem`) sent.push(request.postDataJSON()); };
-    page.on('request', listen);
-    await runAndWait('time-tension');
-    page.off('request', listen);
+    const sent = await postedDuring('/v1/tandem', () => runAndWait('time-tension'));
     const ts = (await post('/v1/tandem', sent[0])).body.result.time_series;
     check(ts.status === 'slack_span', `the API's run ended ${ts.status}: choose a case with a slack span`);
     const state = await page.textContent('#time-series-state');
@@ -864,13 +865,11 @@ try {
 
   await test('mill view: a 422 is shown at the mill input its pointer names', async () => {
     await page.fill('#f-tandem-exit-thickness-mm-1', '1.9');  // thicker than what stand 1 delivers
-    const sent = [];
-    const listen = (request) => { if (request.method() === 'POST' && request.url().endsWith('/v1/tandem')) sent.push(request.postDataJSON()); };
-    page.on('request', listen);
     expected422 = 1;
-    await page.click('#run');
-    await page.waitForSelector('#f-tandem-exit-thickness-mm-1-error:not([hidden])', { timeout: 30000 });
-    page.off('request', listen);
+    const sent = await postedDuring('/v1/tandem', async () => {
+      await page.click('#run');
+      await page.waitForSelector('#f-tandem-exit-thickness-mm-1-error:not([hidden])', { timeout: 30000 });
+    });
     const problem = await post('/v1/tandem', sent[0]);
     check(problem.status === 422 && problem.body.errors.length === 1 && problem.body.errors[0].pointer === '/tandem/exit_thickness_mm/1', `the API: ${JSON.stringify(problem.body)}`);
     const message = await page.textContent('#f-tandem-exit-thickness-mm-1-error');
