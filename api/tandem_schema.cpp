@@ -51,19 +51,34 @@ TandemField list(std::string path, Unit unit, Interval range, ListLength length,
     return field;
 }
 
-std::string_view boundary_name(core::MillBoundary boundary) {
-    return boundary == core::MillBoundary::span ? "span" : "constant";
-}
-core::MillBoundary boundary_of(std::string_view name) {
-    return name == "span" ? core::MillBoundary::span : core::MillBoundary::constant;
+// A choice field over an enum member of the mill: its names and values in one list, the first
+// name for any value not listed (there is none: every value has its name).
+template <class Enum>
+TandemField choice(std::string path, Enum core::Mill::*member,
+                   std::vector<std::pair<std::string_view, Enum>> options,
+                   std::string description) {
+    TandemField field;
+    field.path = std::move(path);
+    field.kind = TandemFieldKind::choice;
+    for (const auto& [name, value] : options) field.choices.push_back(name);
+    field.description = std::move(description);
+    field.read_choice = [member, options](const core::Mill& mill) {
+        for (const auto& [name, value] : options)
+            if (mill.*member == value) return name;
+        return options.front().first;
+    };
+    field.write_choice = [member, options](core::Mill& mill, std::string_view chosen) {
+        for (const auto& [name, value] : options)
+            if (name == chosen) mill.*member = value;
+    };
+    return field;
 }
 
 TandemField boundary(bool entry) {
-    TandemField field;
-    field.path = entry ? "/entry/boundary" : "/exit/boundary";
-    field.kind = TandemFieldKind::choice;
-    field.choices = {"span", "constant"};
-    field.description =
+    return choice(
+        entry ? "/entry/boundary" : "/exit/boundary",
+        entry ? &core::Mill::entry : &core::Mill::exit,
+        {{"span", core::MillBoundary::span}, {"constant", core::MillBoundary::constant}},
         entry ? "What holds the strip before stand 1 (docs/model.md §12.1): span = a bridle or "
                 "uncoiler held at the steady entry speed, span_length_m upstream, its strip force "
                 "a state (the default); constant = the back tension of stand 1 held at "
@@ -72,14 +87,7 @@ TandemField boundary(bool entry) {
                 "or exit bridle held at the steady exit speed, span_length_m downstream, its "
                 "strip force a state (the default: at 100-700 Hz a coiler is a speed source); "
                 "constant = the last stand's front tension held at tension_MPa, which decouples "
-                "its front side (the single stand's convention).";
-    field.read_choice = [entry](const core::Mill& mill) {
-        return boundary_name(entry ? mill.entry : mill.exit);
-    };
-    field.write_choice = [entry](core::Mill& mill, std::string_view choice) {
-        (entry ? mill.entry : mill.exit) = boundary_of(choice);
-    };
-    return field;
+                "its front side (the single stand's convention).");
 }
 
 std::vector<TandemField> make_fields() {
@@ -128,26 +136,15 @@ std::vector<TandemField> make_fields() {
         "stand's roll speed follows from the mass flow. Tandem cold mills typically 5-30 m/s.",
         [](const core::Mill& mill) { return mill.speed; },
         [](core::Mill& mill, double value) { mill.speed = value; }));
-    {
-        TandemField mode;
-        mode.path = "/mode";
-        mode.kind = TandemFieldKind::choice;
-        mode.choices = {"schedule", "speeds"};
-        mode.description =
-            "How the steady state is set (docs/model.md §12.3): schedule = the thicknesses, the "
-            "tension set points and the mill speed are given, every other stand's roll speed "
-            "solves the mass flow (a stand's rolls/speed_m_per_s is then refused); speeds = every "
-            "stand's roll speed is given in its own patch (rolls/speed_m_per_s, required; the "
-            "last equal to speed_m_per_s) and the interstand tensions solve the mass flow "
-            "(spans/tension_MPa is then only the search's start).";
-        mode.read_choice = [](const core::Mill& mill) {
-            return mill.mode == core::MillMode::speeds ? "speeds"sv : "schedule"sv;
-        };
-        mode.write_choice = [](core::Mill& mill, std::string_view choice) {
-            mill.mode = choice == "speeds" ? core::MillMode::speeds : core::MillMode::schedule;
-        };
-        fields.push_back(std::move(mode));
-    }
+    fields.push_back(choice(
+        "/mode", &core::Mill::mode,
+        {{"schedule", core::MillMode::schedule}, {"speeds", core::MillMode::speeds}},
+        "How the steady state is set (docs/model.md §12.3): schedule = the thicknesses, the "
+        "tension set points and the mill speed are given, every other stand's roll speed "
+        "solves the mass flow (a stand's rolls/speed_m_per_s is then refused); speeds = every "
+        "stand's roll speed is given in its own patch (rolls/speed_m_per_s, required; the "
+        "last equal to speed_m_per_s) and the interstand tensions solve the mass flow "
+        "(spans/tension_MPa is then only the search's start)."));
     fields.push_back(number(
         "/strip/width_mm", millimetre, scenario_range("/strip/width_mm"),
         "Strip width w, common to the mill. Typically 600-2000 mm on a wide cold mill.",
@@ -177,25 +174,15 @@ std::vector<TandemField> make_fields() {
                           "60-210 MPa, rising towards the last stands.",
                           &core::Mill::interstand_tension));
     {
-        TandemField model;
-        model.path = "/spans/model";
-        model.kind = TandemFieldKind::choice;
-        model.choices = {"spring", "segments"};
-        model.description =
+        fields.push_back(choice(
+            "/spans/model", &core::Mill::span_model,
+            {{"spring", core::SpanModel::spring}, {"segments", core::SpanModel::segments}},
             "How every span (entry, interstand, exit) carries its strip force (docs/model.md "
             "§12.1): spring = one force per span, the strip massless (the default; valid well "
             "below the span's first longitudinal mode c / 2L, about 517 Hz on 5 m of steel); "
             "segments = the span cut into segment_count springs with the strip's mass between "
             "them, which carries longitudinal strip waves (2 segment_count - 1 states per span "
-            "instead of 1).";
-        model.read_choice = [](const core::Mill& mill) {
-            return mill.span_model == core::SpanModel::segments ? "segments"sv : "spring"sv;
-        };
-        model.write_choice = [](core::Mill& mill, std::string_view choice) {
-            mill.span_model =
-                choice == "segments" ? core::SpanModel::segments : core::SpanModel::spring;
-        };
-        fields.push_back(std::move(model));
+            "instead of 1)."));
         TandemField count = number(
             "/spans/segment_count", one, closed(2.0, core::max_span_segments),
             "Number of segments n per span under the segments model, a whole number (ignored "

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <numbers>
@@ -188,13 +189,15 @@ void describe_root(MillCrossing& c, const Mill& mill, const TransportTransfer& t
 
 // The first speed from `start` upwards where count_at turns positive: blocks of speeds in
 // parallel (at least block_speeds of them), in order, each step step_at(the block's first
-// speed), at most 400 steps, then
+// speed), at most 400 steps (with `prefetch(block start, step)` as one more task beside each
+// block's counts, where given), then
 // bisection between the last zero and the first positive count to the search's tolerance.
 // Fills c's status and speed; false when cancelled.
 bool first_positive(MillCrossing& c, const std::function<int(double)>& count_at, double start,
                     const std::function<double(double)>& step_at,
                     const CriticalSpeedOptions& options, const Control& control,
-                    int block_speeds = 0) {
+                    int block_speeds = 0,
+                    const std::function<void(double, double)>& prefetch = {}) {
     const int block = std::max({2, control.thread_budget(), block_speeds});
     constexpr int max_steps = 400;
     double stable_speed = -1.0, unstable_speed = -1.0;
@@ -206,7 +209,10 @@ bool first_positive(MillCrossing& c, const std::function<int(double)>& count_at,
         }
         const double step = step_at(block_start);
         std::vector<int> counts(static_cast<std::size_t>(block), -1);
-        parallel_for(block, control, [&](int k) {
+        const int ahead = prefetch ? 1 : 0;  // the prefetch first: the longest task
+        parallel_for(block + ahead, control, [&](int task) {
+            if (task < ahead) return prefetch(block_start, step);
+            const int k = task - ahead;
             const double v = block_start + k * step;
             if (v <= options.speed_max) counts[static_cast<std::size_t>(k)] = count_at(v);
         });
@@ -323,8 +329,10 @@ MillCriticalSpeeds mill_critical_speeds(const Mill& mill, const CriticalSpeedOpt
     CriticalSpeedOptions search = options;
     search.stop_at_crossing = true;
 
+    // The frozen and the delay-independent searches side by side (each its own crossing; nested
+    // loops share the control's threads), then first_any and the band's search side by side.
     // frozen: A0 alone
-    {
+    const auto frozen_search = [&] {
         MillCrossing& c = out.frozen;
         c.kind = MillCrossingKind::frozen;
         const CriticalSpeedResult r = mill_frozen_critical_speed(mill, search, control);
@@ -353,10 +361,10 @@ MillCriticalSpeeds mill_critical_speeds(const Mill& mill, const CriticalSpeedOpt
                 },
                 control);
         }
-    }
+    };
 
     // delay-independent: g = rho - 1 while A0 is stable
-    {
+    const auto delay_independent_search = [&] {
         MillCrossing& c = out.delay_independent;
         c.kind = MillCrossingKind::delay_independent;
         const auto at = [&mill](double speed, bool) {
@@ -392,7 +400,11 @@ MillCriticalSpeeds mill_critical_speeds(const Mill& mill, const CriticalSpeedOpt
                     control);
             }
         }
-    }
+    };
+    parallel_for(2, control, [&](int k) {
+        if (k == 0) frozen_search();
+        else delay_independent_search();
+    });
 
     // nominal delays: from the delay-independent speed up. first_any: the first speed where any
     // root crosses, in steps of half a lobe period at the delay-independent frequency;
@@ -419,53 +431,78 @@ MillCriticalSpeeds mill_critical_speeds(const Mill& mill, const CriticalSpeedOpt
             const double f = di.frequency_Hz > 0.0 ? di.frequency_Hz : 100.0;
             const double lobe = start / (f * std::max(tau_max_of(first.transfer), 1e-9));
             any.lobe_period = lobe;
-            // first_any's counts in blocks of 16 speeds: the line's loud stretches (gain >= 0.8)
-            // at each block's start and the next's, their union reused by the counts between, which
-            // sample only there (docs/model.md §12.7: M has no delays and moves by ~0.02 % a
-            // step; every count checks its gaps' ends at its own speed).
+            // first_any's counts in blocks of 16 speeds, each block stepping half a lobe period at
+            // its first speed (the lobe widens as V^2: tau ~ 1/V): the line's loud stretches
+            // (gain >= 0.8) at each block's first speed and the next's, their union reused by the
+            // counts between, which sample only there (docs/model.md §12.7: M has no delays and
+            // moves by ~0.02 % a step; every count checks its gaps' ends at its own speed). The
+            // profile at the end of the block after this one is computed beside this block's
+            // counts (its step is known from this block's end), and each profile's linearisation
+            // serves that speed's count: the scan's speeds and counts are the serial ones.
             constexpr int any_block = 16;
             constexpr double loud_threshold = 0.8;
-            const auto loud_at = [&mill](double speed) {
-                const Linearised l = linearised(at_speed(mill, speed));
-                return l.ok ? loud_stretches(l.transfer, 0.0, loud_threshold) : LoudStretches{};
+            struct Profile {
+                Linearised l;
+                LoudStretches loud;
+                double step = 0.0;  // half a lobe period here at f
+            };
+            const auto profile_at = [&](double speed) {
+                auto out = std::make_shared<Profile>();
+                out->l = linearised(at_speed(mill, speed));
+                if (out->l.ok) out->loud = loud_stretches(out->l.transfer, 0.0, loud_threshold);
+                const double tau = out->l.ok ? tau_max_of(out->l.transfer) : 0.0;
+                out->step = tau > 0.0 ? 0.5 * speed / (f * tau) : 0.5 * lobe;
+                return std::shared_ptr<const Profile>(std::move(out));
+            };
+            std::mutex profile_mutex;
+            std::map<double, std::shared_ptr<const Profile>> profiles;  // by speed, exact
+            const auto cached_profile = [&](double speed) {
+                {
+                    const std::lock_guard lock(profile_mutex);
+                    const auto it = profiles.find(speed);
+                    if (it != profiles.end()) return it->second;
+                }
+                std::shared_ptr<const Profile> made = profile_at(speed);
+                const std::lock_guard lock(profile_mutex);
+                return profiles.emplace(speed, std::move(made)).first->second;
             };
             struct LoudBlock {
                 double from = -1.0, to = -1.0;
-                LoudStretches end;  // at `to`: the next block's start
                 LoudStretches loud;
             };
-            std::mutex loud_mutex;
-            auto loud_block = std::make_shared<const LoudBlock>();
+            auto loud_block = std::make_shared<const LoudBlock>();  // set between blocks only
             const auto any_step = [&](double block_start) {
-                const double step = 0.5 * lobe;
+                const std::shared_ptr<const Profile> first = cached_profile(block_start);
+                const double step = first->step;
                 auto next = std::make_shared<LoudBlock>();
                 next->from = block_start;
                 next->to = block_start + any_block * step;  // the next block's start
-                std::shared_ptr<const LoudBlock> previous;
-                {
-                    const std::lock_guard lock(loud_mutex);
-                    previous = loud_block;
-                }
-                const LoudStretches start_loud =
-                    previous->to == block_start ? previous->end : loud_at(block_start);
-                next->end = loud_at(next->to);
-                next->loud = loud_union(start_loud, next->end);
-                const std::lock_guard lock(loud_mutex);
+                next->loud = loud_union(first->loud, cached_profile(next->to)->loud);
                 loud_block = std::move(next);
+                const std::lock_guard lock(profile_mutex);  // profiles behind this block: done
+                profiles.erase(profiles.begin(), profiles.lower_bound(block_start));
                 return step;
             };
+            const auto any_prefetch = [&](double block_start, double step) {
+                const double next_start = block_start + any_block * step;
+                const double next_step = cached_profile(next_start)->step;
+                if (next_start + any_block * next_step <= options.speed_max)
+                    cached_profile(next_start + any_block * next_step);
+            };
             const auto count_at = [&](double speed) {
-                const Linearised l = linearised(at_speed(mill, speed));
-                if (!l.ok) return -1;
-                std::shared_ptr<const LoudBlock> block;
+                std::shared_ptr<const Profile> kept;
                 {
-                    const std::lock_guard lock(loud_mutex);
-                    block = loud_block;
+                    const std::lock_guard lock(profile_mutex);
+                    const auto it = profiles.find(speed);
+                    if (it != profiles.end()) kept = it->second;
                 }
-                const DelayRootCount n =
-                    speed >= block->from && speed <= block->to
-                        ? nominal_delay_root_count(l.transfer, 0.0, block->loud)
-                        : nominal_delay_root_count(l.transfer, 0.0);
+                const Linearised fresh = kept ? Linearised{} : linearised(at_speed(mill, speed));
+                const Linearised& l = kept ? kept->l : fresh;
+                if (!l.ok) return -1;
+                const LoudBlock& block = *loud_block;
+                const DelayRootCount n = speed >= block.from && speed <= block.to
+                                             ? nominal_delay_root_count(l.transfer, 0.0, block.loud)
+                                             : nominal_delay_root_count(l.transfer, 0.0);
                 return n.ok ? n.count : -1;
             };
             // the linearisation and f_valid at a speed; the step's, taken at each block's first
@@ -508,51 +545,64 @@ MillCriticalSpeeds mill_critical_speeds(const Mill& mill, const CriticalSpeedOpt
                 if (!(p->f_valid > 0.0) || !(tau_max > 0.0)) return 0.5 * lobe;
                 return 0.5 * speed / (p->f_valid * tau_max);
             };
-            if (!first_positive(any, count_at, start, any_step, options, control, any_block)) {
-                c.status = CriticalSpeedStatus::cancelled;
-                return out;
-            }
-            if (any.status == CriticalSpeedStatus::found ||
-                any.status == CriticalSpeedStatus::unstable_at_lower_bound) {
-                const Linearised l = linearised(at_speed(mill, any.speed));
-                if (l.ok) {
-                    const DelayRootCount n = nominal_delay_root_count(l.transfer, 0.0);
-                    const RightmostDelayRoot r = rightmost_delay_root(l.transfer, n);
-                    if (r.found) describe_root(any, mill, l.transfer, r.root.s, control);
+            const auto any_search = [&] {
+                if (!first_positive(any, count_at, start, any_step, options, control, any_block,
+                                    any_prefetch))
+                    return;
+                if (any.status == CriticalSpeedStatus::found ||
+                    any.status == CriticalSpeedStatus::unstable_at_lower_bound) {
+                    const Linearised l = linearised(at_speed(mill, any.speed));
+                    if (l.ok) {
+                        const DelayRootCount n = nominal_delay_root_count(l.transfer, 0.0);
+                        const RightmostDelayRoot r = rightmost_delay_root(l.transfer, n);
+                        if (r.found) describe_root(any, mill, l.transfer, r.root.s, control);
+                    }
                 }
-            }
+            };
             // The band's screen (docs/model.md §12.7): below the first speed where the
             // structured gain over the band's stretch of the axis reaches 0.9, no root crosses the
             // axis inside the band for any delays (A0 stable there), so the counted scan starts
             // there. A root that entered the band across its top edge before it is seen by the
             // first count; then the scan starts again from the delay-independent speed.
-            const double band_start = mill_band_screen_speed(mill, start, search, control);
-            if (control.should_stop()) {
-                c.status = CriticalSpeedStatus::cancelled;
-                return out;
-            }
-            if (!first_positive(c, band_count_at, band_start, band_step, options, control))
-                return out;
-            if (c.status == CriticalSpeedStatus::unstable_at_lower_bound && band_start > start &&
-                !first_positive(c, band_count_at, start, band_step, options, control))
-                return out;
-            if (c.status == CriticalSpeedStatus::found ||
-                c.status == CriticalSpeedStatus::unstable_at_lower_bound) {
-                const Linearised l = linearised(at_speed(mill, c.speed));
-                if (l.ok) {
-                    const double f_valid = valid_frequency_Hz(at_speed(mill, c.speed), l.steady);
-                    if (f_valid > 0.0) {
-                        const BandRootCount n =
-                            band_root_count(l.transfer, 2.0 * std::numbers::pi * f_valid, 0.0);
-                        const RightmostDelayRoot r = band_rightmost_root(l.transfer, n);
-                        if (r.found) describe_root(c, mill, l.transfer, r.root.s, control);
-                    }
-                    // the lobe period at the crossing root's frequency (f_valid if none found)
-                    const double f_lobe = c.frequency_Hz > 0.0 ? c.frequency_Hz : f_valid;
-                    c.lobe_period =
-                        c.speed / (std::max(f_lobe, 1e-9) * std::max(tau_max_of(l.transfer), 1e-9));
+            const auto band_search = [&] {
+                const double band_start = mill_band_screen_speed(mill, start, search, control);
+                if (control.should_stop()) {
+                    c.status = CriticalSpeedStatus::cancelled;
+                    return;
                 }
-            }
+                if (!first_positive(c, band_count_at, band_start, band_step, options, control))
+                    return;
+                if (c.status == CriticalSpeedStatus::unstable_at_lower_bound &&
+                    band_start > start &&
+                    !first_positive(c, band_count_at, start, band_step, options, control))
+                    return;
+                if (c.status == CriticalSpeedStatus::found ||
+                    c.status == CriticalSpeedStatus::unstable_at_lower_bound) {
+                    const Linearised l = linearised(at_speed(mill, c.speed));
+                    if (l.ok) {
+                        const double f_valid =
+                            valid_frequency_Hz(at_speed(mill, c.speed), l.steady);
+                        if (f_valid > 0.0) {
+                            const BandRootCount n =
+                                band_root_count(l.transfer, 2.0 * std::numbers::pi * f_valid, 0.0);
+                            const RightmostDelayRoot r = band_rightmost_root(l.transfer, n);
+                            if (r.found) describe_root(c, mill, l.transfer, r.root.s, control);
+                        }
+                        // the lobe period at the crossing root's frequency (f_valid if none found)
+                        const double f_lobe = c.frequency_Hz > 0.0 ? c.frequency_Hz : f_valid;
+                        c.lobe_period = c.speed / (std::max(f_lobe, 1e-9) *
+                                                   std::max(tau_max_of(l.transfer), 1e-9));
+                    }
+                }
+            };
+            parallel_for(2, control, [&](int k) {
+                if (k == 0) any_search();
+                else band_search();
+            });
+            // a cancelled search cancels the answer's other nominal-delay search too
+            if (any.status == CriticalSpeedStatus::cancelled ||
+                c.status == CriticalSpeedStatus::cancelled)
+                any.status = c.status = CriticalSpeedStatus::cancelled;
         }
     }
 

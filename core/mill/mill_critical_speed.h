@@ -109,7 +109,9 @@ double mill_band_screen_speed(const Mill& mill, double start, CriticalSpeedOptio
 // band already there) until a root inside the band 0 < Im s < 2 pi f_valid lies right of the
 // axis (band_root_count), at most 400 steps, then bisection on that count to the search's
 // tolerance; first_any: the same search on "any root right of the axis"
-// (nominal_delay_root_count) in steps of half a lobe period at the delay-independent frequency.
+// (nominal_delay_root_count) in steps of half a lobe period at the delay-independent frequency
+// (tau_max taken at each block's first speed). The frozen and delay-independent searches run side
+// by side, then first_any beside the band's screen and scan (each on the control's threads).
 MillCriticalSpeeds mill_critical_speeds(const Mill& mill, const CriticalSpeedOptions& options = {},
                                         const Control& control = {});
 

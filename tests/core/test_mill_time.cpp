@@ -3,7 +3,8 @@
 // transport read off a history at t_d, S(t) - S(t_d) = L, against the frequency-domain analyses
 // built independently of it: the rightmost root with the nominal delays (Newton on
 // det(I - M(s) E(s)), core/mill/mill_delay.h) and A0's eigenvalues (transport frozen). Each case
-// runs in well under a second in Release (a few seconds under the sanitizers).
+// runs in well under a second in Release (a few seconds under the sanitizers), but the segments
+// case: ~3 s (its 2.5 cm segments' strip waves hold CVODE to ~2 us steps, whatever the tolerance).
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -127,6 +128,107 @@ TEST_CASE("mill time domain: a 1e-9 m kick grows at the rightmost delay root's r
         CHECK(e.growth_rate == doctest::Approx(root.real()).epsilon(0.02));
         CHECK(e.frequency == doctest::Approx(frequency).epsilon(0.005));
         // still the linear response: the gap stays a thousandth of the strip
+        double largest = 0.0;
+        for (double x : g) largest = std::max(largest, std::abs(x));
+        CHECK(largest < 1e-3 * m.thickness[static_cast<std::size_t>(k + 1)]);
+    }
+}
+
+TEST_CASE(
+    "mill time domain: a 1e-9 m kick decays at the rightmost delay root's rate (identity 8)") {
+    // The same short span at 9 m/s with the stands' structural damping at 0.2 of critical (0.04
+    // by default): rho < 1, so every set of delays is stable, and the rightmost root (~505 Hz,
+    // decaying at ~15 /s) lies more than 20 /s right of every other but its conjugate. From
+    // 0.1 s on the envelope is that root's (the others e^-2 smaller there and shrinking).
+    Mill m = two_stand_mill(0.05);
+    m.speed = 9.0;
+    for (Scenario& stand : m.stands) stand.structure.rayleigh_damping_ratio = 0.2;
+    const MillSpeedStability at = mill_stability_at(m);
+    REQUIRE(at.rightmost.found);
+    REQUIRE(at.rightmost.verified);
+    REQUIRE(at.delay_independent_stable);
+    REQUIRE(at.nominal_stable);
+    const std::complex<double> root = at.rightmost.root.s;
+    REQUIRE(root.real() < 0.0);
+    const double frequency = root.imag() / (2.0 * std::numbers::pi);
+    const MillModel model(m, at.steady);
+    const TransportTransfer transfer = transport_transfer(model.linearise(model.equilibrium()));
+    REQUIRE(transfer.ok);
+    const DelayRootCount right = nominal_delay_root_count(transfer, root.real() - 20.0);
+    REQUIRE(right.ok);
+    REQUIRE(right.count == 2);
+
+    MillKick kick;
+    kick.stand = 0;
+    kick.gap = 1e-9;
+    MillTimeOptions options;
+    // 1e-17 m: the tolerance must stay far below the motion, which decays to ~3e-12 m by the
+    // fit's end (at 1e-16 m the windowed rate drifts by 1 % at 0.4 s and 4 % at 0.55 s, at
+    // 1e-13 m by 13 % over the fit; at 1e-19 m it holds to 0.05 % up to 0.6 s)
+    options.absolute_tolerance_scale = 1e-7;
+    const double from = 0.1, end = 0.4;
+    const MillTimeResult run =
+        mill_time_domain(m, at.steady, kick, grid(1.0 / (60.0 * frequency), end), options);
+    REQUIRE(run.status == MillTimeStatus::ok);
+    MESSAGE("rightmost root " << root << " 1/s (" << frequency << " Hz), rho " << at.margin.margin
+                              << ", " << run.steps << " steps");
+    for (int k = 0; k < 2; ++k) {
+        std::vector<double> t, g;
+        gap_series(run, k, t, g);
+        const Envelope e = envelope(t, g, from, end);
+        MESSAGE("stand " << k + 1 << ": growth " << e.growth_rate << " /s over " << e.peaks
+                         << " peaks (root " << root.real() << ", error "
+                         << 100.0 * (e.growth_rate / root.real() - 1.0) << " %), frequency "
+                         << e.frequency << " Hz");
+        CHECK(e.peaks > 100);  // 150 periods
+        CHECK(e.growth_rate == doctest::Approx(root.real()).epsilon(0.02));
+        CHECK(e.frequency == doctest::Approx(frequency).epsilon(0.005));
+    }
+}
+
+TEST_CASE("mill time domain: under segments a kick grows at the segments mill's rightmost root") {
+    // Identity 8 with every span cut into two segments (docs/model.md §12.1): the run integrates
+    // the segments' forces and the strip speed between them, the root is the segments model's
+    // (three states per span instead of one; ~95 /s at ~513 Hz against the spring law's ~82 /s at
+    // ~505 Hz), more than 60 /s right of every other but its conjugate. A kick of 1e-10 m keeps
+    // the fastest growth of these cases linear to the run's end (0.09 s).
+    Mill m = two_stand_mill(0.05);
+    m.speed = 9.0;
+    m.span_model = SpanModel::segments;
+    m.span_segments = 2;
+    const MillSpeedStability at = mill_stability_at(m);
+    REQUIRE(at.rightmost.found);
+    REQUIRE(at.rightmost.verified);
+    const std::complex<double> root = at.rightmost.root.s;
+    const double frequency = root.imag() / (2.0 * std::numbers::pi);
+    const MillModel model(m, at.steady);
+    const TransportTransfer transfer = transport_transfer(model.linearise(model.equilibrium()));
+    REQUIRE(transfer.ok);
+    const DelayRootCount right = nominal_delay_root_count(transfer, root.real() - 60.0);
+    REQUIRE(right.ok);
+    REQUIRE(right.count == 2);
+
+    MillKick kick;
+    kick.stand = 0;
+    kick.gap = 1e-10;
+    MillTimeOptions options;
+    options.absolute_tolerance_scale = 1e-3;  // 1e-13 m on a motion of 1e-10 m
+    const double end = 0.09;
+    const MillTimeResult run =
+        mill_time_domain(m, at.steady, kick, grid(1.0 / (60.0 * frequency), end), options);
+    REQUIRE(run.status == MillTimeStatus::ok);
+    MESSAGE("segments: rightmost root " << root << " 1/s (" << frequency << " Hz), " << run.steps
+                                        << " steps");
+    for (int k = 0; k < 2; ++k) {
+        std::vector<double> t, g;
+        gap_series(run, k, t, g);
+        const Envelope e = envelope(t, g, 0.05, end);
+        MESSAGE("stand " << k + 1 << ": growth " << e.growth_rate << " /s (error "
+                         << 100.0 * (e.growth_rate / root.real() - 1.0) << " %), frequency "
+                         << e.frequency << " Hz");
+        CHECK(e.peaks >= 20);  // 0.04 s of 513 Hz
+        CHECK(e.growth_rate == doctest::Approx(root.real()).epsilon(0.02));
+        CHECK(e.frequency == doctest::Approx(frequency).epsilon(0.005));
         double largest = 0.0;
         for (double x : g) largest = std::max(largest, std::abs(x));
         CHECK(largest < 1e-3 * m.thickness[static_cast<std::size_t>(k + 1)]);
