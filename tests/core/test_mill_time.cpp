@@ -23,6 +23,7 @@
 #include "core/mill/mill_stability.h"
 #include "core/mill/mill_time.h"
 #include "core/stability.h"
+#include "tools/verify_mill/envelope.h"
 #include "tools/verify_mill/mills.h"
 
 namespace mill_time_test {
@@ -30,59 +31,10 @@ namespace mill_time_test {
 using namespace rollgap::core;
 using rollgap::tools::mills::two_stand_mill;
 
-// The envelope's growth rate (least squares on the log of the positive peaks of g, each peak
-// refined by the parabola through its three samples) and the frequency (upward zero crossings)
-// over [from, to].
-struct Envelope {
-    double growth_rate = 0.0;  // 1/s
-    double frequency = 0.0;    // Hz
-    int peaks = 0;
-};
-
-Envelope envelope(const std::vector<double>& t, const std::vector<double>& g, double from,
-                  double to) {
-    double sx = 0, sy = 0, sxx = 0, sxy = 0;
-    Envelope e;
-    std::vector<double> crossings;
-    for (std::size_t i = 1; i + 1 < g.size(); ++i) {
-        if (t[i] < from || t[i] > to) continue;
-        if (g[i] > 0 && g[i] > g[i - 1] && g[i] >= g[i + 1]) {
-            const double curvature = g[i - 1] - 2 * g[i] + g[i + 1];
-            const double shift = 0.5 * (g[i - 1] - g[i + 1]) / curvature;  // in samples
-            const double peak = g[i] - 0.25 * (g[i - 1] - g[i + 1]) * shift;
-            const double tp = t[i] + shift * (t[i + 1] - t[i]);
-            const double y = std::log(peak);
-            sx += tp;
-            sy += y;
-            sxx += tp * tp;
-            sxy += tp * y;
-            ++e.peaks;
-        }
-        if (g[i - 1] < 0 && g[i] >= 0)
-            crossings.push_back(t[i - 1] + (t[i] - t[i - 1]) * (-g[i - 1]) / (g[i] - g[i - 1]));
-    }
-    e.growth_rate = (e.peaks * sxy - sx * sy) / (e.peaks * sxx - sx * sx);
-    if (crossings.size() > 1)
-        e.frequency =
-            static_cast<double>(crossings.size() - 1) / (crossings.back() - crossings.front());
-    return e;
-}
-
-std::vector<double> grid(double dt, double end) {
-    std::vector<double> times;
-    for (int i = 1; i * dt <= end + 1e-15; ++i) times.push_back(i * dt);
-    return times;
-}
-
-// Stand k's gap over the run.
-void gap_series(const MillTimeResult& run, int k, std::vector<double>& t, std::vector<double>& g) {
-    t.clear();
-    g.clear();
-    for (const MillTimeSample& s : run.samples) {
-        t.push_back(s.t);
-        g.push_back(s.stands[static_cast<std::size_t>(k)].gap);
-    }
-}
+using rollgap::tools::envelope::Envelope;
+using rollgap::tools::envelope::envelope;
+using rollgap::tools::envelope::gap_series;
+using rollgap::tools::envelope::grid;
 
 TEST_CASE("mill time domain: a 1e-9 m kick grows at the rightmost delay root's rate (identity 8)") {
     // Two stands with a 0.05 m span at 9 m/s (tau = 6.2 ms): the rightmost root (the

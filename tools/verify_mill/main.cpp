@@ -28,8 +28,10 @@
 #include "core/mill/mill_model.h"
 #include "core/mill/mill_regenerative.h"
 #include "core/mill/mill_stability.h"
+#include "core/mill/mill_time.h"
 #include "core/stability.h"
 #include "service/worker_pool.h"
+#include "tools/verify_mill/envelope.h"
 #include "tools/verify_mill/lu2019.h"
 #include "tools/verify_mill/mills.h"
 
@@ -56,6 +58,62 @@ core::MillLinearisation linearised(const core::Mill& m) {
     const core::MillSteadyState steady = core::mill_steady_state(m);
     const core::MillModel model(m, steady);
     return model.linearise(model.equilibrium());
+}
+
+// Identity 8: a kick's envelope against the rightmost delay root, in the three configurations
+// tests/core/test_mill_time.cpp checks (growing, decaying, under segments).
+void time_domain_rows(std::ostream& md) {
+    namespace env = rollgap::tools::envelope;
+    struct Case {
+        const char* label;
+        core::Mill mill;
+        double kick, tolerance_scale, from, end;
+    };
+    std::vector<Case> cases;
+    core::Mill grows = two_stand_mill(0.05);
+    grows.speed = 9.0;
+    cases.push_back({"0.05 m span at 9 m/s, growing", grows, 1e-9, 1e-3, 0.05, 0.1});
+    core::Mill decays = grows;
+    for (core::Scenario& stand : decays.stands) stand.structure.rayleigh_damping_ratio = 0.2;
+    cases.push_back(
+        {"the same with structural damping 0.2 (ρ < 1), decaying", decays, 1e-9, 1e-7, 0.1, 0.4});
+    core::Mill segments = grows;
+    segments.span_model = core::SpanModel::segments;
+    segments.span_segments = 2;
+    cases.push_back(
+        {"the growing case under `segments` (n = 2)", segments, 1e-10, 1e-3, 0.05, 0.09});
+    for (const Case& c : cases) {
+        const core::MillSpeedStability at = core::mill_stability_at(c.mill);
+        md << "| time domain (identity 8): " << c.label << ", kick " << sci(c.kick)
+           << " m on stand 1's gap, envelope over " << fixed(c.from, 2) << "–" << fixed(c.end, 2)
+           << " s | ";
+        if (!at.rightmost.found) {
+            md << "no rightmost root | `test_mill_time.cpp` |\n";
+            continue;
+        }
+        const std::complex<double> root = at.rightmost.root.s;
+        const double f = root.imag() / (2.0 * std::numbers::pi);
+        core::MillKick kick;
+        kick.stand = 0;
+        kick.gap = c.kick;
+        core::MillTimeOptions options;
+        options.absolute_tolerance_scale = c.tolerance_scale;
+        const core::MillTimeResult run = core::mill_time_domain(
+            c.mill, at.steady, kick, env::grid(1.0 / (60.0 * f), c.end), options);
+        md << "root " << fixed(root.real(), 3) << " /s at " << fixed(f, 2) << " Hz; ";
+        if (run.status != core::MillTimeStatus::ok) {
+            md << "run " << core::to_string(run.status) << " | `test_mill_time.cpp` |\n";
+            continue;
+        }
+        for (int k = 0; k < 2; ++k) {
+            std::vector<double> t, g;
+            env::gap_series(run, k, t, g);
+            const env::Envelope e = env::envelope(t, g, c.from, c.end);
+            md << (k == 0 ? "" : ", ") << "stand " << k + 1 << " " << fixed(e.growth_rate, 3)
+               << " /s (" << fixed(100.0 * (e.growth_rate / root.real() - 1.0), 3) << " %)";
+        }
+        md << " | `test_mill_time.cpp` |\n";
+    }
 }
 
 void identities(std::ostream& md) {
@@ -150,7 +208,8 @@ void identities(std::ostream& md) {
         }
         md << " | `test_mill_segments.cpp` |\n";
     }
-    md << "| time domain, `segments` spans (7–8) | to come | |\n\n";
+    time_domain_rows(md);
+    md << "\n";
 }
 
 // The default mill under both span models (DECISIONS T: the default stays `spring`; this shows
@@ -323,6 +382,31 @@ void lu_schedule(std::ostream& md) {
           "only. This is a report, not a tolerance test: nothing is fitted to it.\n\n";
 }
 
+// A cell of the critical-speed tables: frozen / delay-independent / nominal-delay / first_any,
+// each speed with its frequency and validity, the headline in bold.
+std::string crossing_cells(const core::MillCriticalSpeeds& speeds) {
+    std::string out;
+    const core::MillCrossing* crossings[] = {&speeds.frozen, &speeds.delay_independent,
+                                             &speeds.nominal_delay, &speeds.first_any};
+    for (int k = 0; k < 4; ++k) {
+        const core::MillCrossing& c = *crossings[k];
+        if (k > 0) out += " / ";
+        if (c.status != core::CriticalSpeedStatus::found) {
+            out += core::to_string(c.status);
+            continue;
+        }
+        const std::string flag =
+            c.validity.valid()                                                    ? "✓"
+            : !c.validity.spring_law_valid && !c.validity.quasi_static_bite_valid ? "✗ spring, bite"
+            : !c.validity.spring_law_valid                                        ? "✗ spring"
+                                                                                  : "✗ bite";
+        const std::string text =
+            fixed(c.speed, 2) + " (" + fixed(c.frequency_Hz, 0) + " Hz " + flag + ")";
+        out += speeds.headline == k ? "**" + text + "**" : text;
+    }
+    return out;
+}
+
 void critical_speed_map(std::ostream& md, const rollgap::core::Control& control) {
     md << "## 4. The default mill's critical speeds over span length and interstand tension\n\n"
           "Every interstand span at the length, every interstand set point at the tension; the "
@@ -344,25 +428,7 @@ void critical_speed_map(std::ostream& md, const rollgap::core::Control& control)
             m.interstand_tension.assign(m.interstand_tension.size(), tension);
             std::fprintf(stderr, "verify_mill: %.1f m, %.0f MPa\n", span, tension / 1e6);
             const core::MillCriticalSpeeds speeds = core::mill_critical_speeds(m, {}, control);
-            const core::MillCrossing* crossings[] = {&speeds.frozen, &speeds.delay_independent,
-                                                     &speeds.nominal_delay, &speeds.first_any};
-            for (int k = 0; k < 4; ++k) {
-                const core::MillCrossing& c = *crossings[k];
-                md << (k == 0 ? " " : " / ");
-                if (c.status != core::CriticalSpeedStatus::found) {
-                    md << core::to_string(c.status);
-                    continue;
-                }
-                const std::string flag =
-                    c.validity.valid() ? "✓"
-                    : !c.validity.spring_law_valid && !c.validity.quasi_static_bite_valid
-                        ? "✗ spring, bite"
-                    : !c.validity.spring_law_valid ? "✗ spring"
-                                                   : "✗ bite";
-                const std::string text =
-                    fixed(c.speed, 2) + " (" + fixed(c.frequency_Hz, 0) + " Hz " + flag + ")";
-                md << (speeds.headline == k ? "**" + text + "**" : text);
-            }
+            md << " " << crossing_cells(speeds);
             md << " |";
         }
         md << "\n";
@@ -380,6 +446,35 @@ void critical_speed_map(std::ostream& md, const rollgap::core::Control& control)
           "at the lower speeds of short spans or high tensions through the first stand's bite "
           "(its 12 mm contact crossed at ~6 m/s takes 0.2 of a 106 Hz period), although stand 1 "
           "takes a few per cent of the motion: the rule judges every stand.\n";
+}
+
+// Issue 19's closing figures: how a two-stand mill's critical speeds move with its span length
+// and its exit boundary (a span to the coiler, or a constant front tension).
+void two_stand_table(std::ostream& md, const rollgap::core::Control& control) {
+    md << "## 6. Two stands: span length and exit boundary\n\n"
+          "The default mill's last two stands (1.60 → 1.36 → 1.20 mm, 60 MPa between them), the "
+          "interstand span at the length, the exit a 5 m span to the coiler (`span`, the default) "
+          "or the last stand's front tension held (`constant`). Cells as in §4.\n\n"
+          "| span, m | exit `span` | exit `constant` |\n|---|---|---|\n";
+    for (double span : {2.5, 5.0, 10.0}) {
+        md << "| " << fixed(span, 1) << " |";
+        for (const core::MillBoundary exit :
+             {core::MillBoundary::span, core::MillBoundary::constant}) {
+            core::Mill m = two_stand_mill(span);
+            m.exit = exit;
+            std::fprintf(stderr, "verify_mill: two stands, %.1f m\n", span);
+            md << " " << crossing_cells(core::mill_critical_speeds(m, {}, control)) << " |";
+        }
+        md << "\n";
+    }
+    md << "\nThe span's stiffness E·y/L sets how much tension a given mismatch of strip speeds "
+          "makes: shorter spans couple the stands harder, so every crossing falls with the span "
+          "(the third-octave frozen crossing and the in-band nominal-delay one, the headline). On "
+          "10 m the spring law leaves its range below the third-octave mode (ωL/c ≈ 1.3 at "
+          "~103 Hz, stiffness error ~60 %), the band ends below it and no root inside the band "
+          "crosses. Holding the exit tension constant removes the exit span's own tension loop: "
+          "the frozen crossing, which that loop feeds, rises; the in-band nominal-delay crossing, "
+          "carried by the thickness path between the two stands, moves much less.\n\n";
 }
 
 }  // namespace
@@ -420,6 +515,7 @@ int main(int argc, char** argv) {
     lu_schedule(md);
     critical_speed_map(md, control);
     spring_vs_segments(md, control);
+    two_stand_table(md, control);
     std::ofstream out(doc);
     out << md.str();
     if (!out) {
