@@ -66,51 +66,31 @@ void time_domain_rows(std::ostream& md) {
     namespace env = rollgap::tools::envelope;
     struct Case {
         const char* label;
-        core::Mill mill;
-        double kick, tolerance_scale, from, end;
+        env::KickCase kick;
     };
-    std::vector<Case> cases;
-    core::Mill grows = two_stand_mill(0.05);
-    grows.speed = 9.0;
-    cases.push_back({"0.05 m span at 9 m/s, growing", grows, 1e-9, 1e-3, 0.05, 0.1});
-    core::Mill decays = grows;
-    for (core::Scenario& stand : decays.stands) stand.structure.rayleigh_damping_ratio = 0.2;
-    cases.push_back(
-        {"the same with structural damping 0.2 (ρ < 1), decaying", decays, 1e-9, 1e-7, 0.1, 0.4});
-    core::Mill segments = grows;
-    segments.span_model = core::SpanModel::segments;
-    segments.span_segments = 2;
-    cases.push_back(
-        {"the growing case under `segments` (n = 2)", segments, 1e-10, 1e-3, 0.05, 0.09});
+    const Case cases[] = {
+        {"0.05 m span at 9 m/s, growing", env::growing_case()},
+        {"the same with structural damping 0.2 (ρ < 1), decaying", env::decaying_case()},
+        {"the growing case under `segments` (n = 2)", env::segments_case()}};
     for (const Case& c : cases) {
-        const core::MillSpeedStability at = core::mill_stability_at(c.mill);
-        md << "| time domain (identity 8): " << c.label << ", kick " << sci(c.kick)
-           << " m on stand 1's gap, envelope over " << fixed(c.from, 2) << "–" << fixed(c.end, 2)
-           << " s | ";
-        if (!at.rightmost.found) {
+        md << "| time domain (identity 8): " << c.label << ", kick " << sci(c.kick.kick)
+           << " m on stand 1's gap, envelope over " << fixed(c.kick.from, 2) << "–"
+           << fixed(c.kick.end, 2) << " s | ";
+        const env::KickFit fit = env::fit_kick(c.kick);
+        if (!fit.at.rightmost.found) {
             md << "no rightmost root | `test_mill_time.cpp` |\n";
             continue;
         }
-        const std::complex<double> root = at.rightmost.root.s;
-        const double f = root.imag() / (2.0 * std::numbers::pi);
-        core::MillKick kick;
-        kick.stand = 0;
-        kick.gap = c.kick;
-        core::MillTimeOptions options;
-        options.absolute_tolerance_scale = c.tolerance_scale;
-        const core::MillTimeResult run = core::mill_time_domain(
-            c.mill, at.steady, kick, env::grid(1.0 / (60.0 * f), c.end), options);
-        md << "root " << fixed(root.real(), 3) << " /s at " << fixed(f, 2) << " Hz; ";
-        if (run.status != core::MillTimeStatus::ok) {
-            md << "run " << core::to_string(run.status) << " | `test_mill_time.cpp` |\n";
+        md << "root " << fixed(fit.root.real(), 3) << " /s at " << fixed(fit.frequency, 2)
+           << " Hz; ";
+        if (fit.run.status != core::MillTimeStatus::ok) {
+            md << "run " << core::to_string(fit.run.status) << " | `test_mill_time.cpp` |\n";
             continue;
         }
-        for (int k = 0; k < 2; ++k) {
-            std::vector<double> t, g;
-            env::gap_series(run, k, t, g);
-            const env::Envelope e = env::envelope(t, g, c.from, c.end);
-            md << (k == 0 ? "" : ", ") << "stand " << k + 1 << " " << fixed(e.growth_rate, 3)
-               << " /s (" << fixed(100.0 * (e.growth_rate / root.real() - 1.0), 3) << " %)";
+        for (std::size_t k = 0; k < fit.stands.size(); ++k) {
+            const double rate = fit.stands[k].growth_rate;
+            md << (k == 0 ? "" : ", ") << "stand " << k + 1 << " " << fixed(rate, 3) << " /s ("
+               << fixed(100.0 * (rate / fit.root.real() - 1.0), 3) << " %)";
         }
         md << " | `test_mill_time.cpp` |\n";
     }
