@@ -1,0 +1,251 @@
+#include "core/speed_limit.h"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <utility>
+
+#include "core/parallel_for.h"
+#include "core/roll_bite.h"
+
+namespace rollgap::core {
+
+const char* to_string(SpeedLimitKind kind) {
+    switch (kind) {
+        case SpeedLimitKind::chatter: return "chatter";
+        case SpeedLimitKind::force: return "force";
+        case SpeedLimitKind::torque: return "torque";
+        case SpeedLimitKind::power: return "power";
+        case SpeedLimitKind::skid: return "skid";
+        case SpeedLimitKind::steady_state: return "steady_state";
+    }
+    return "steady_state";
+}
+
+const char* to_string(SpeedLimitStatus status) {
+    switch (status) {
+        case SpeedLimitStatus::ok: return "ok";
+        case SpeedLimitStatus::no_window: return "no_window";
+        case SpeedLimitStatus::no_operating: return "no_operating";
+        case SpeedLimitStatus::cancelled: return "cancelled";
+    }
+    return "no_window";
+}
+
+SteadyFigures steady_figures(const Scenario& s, double speed) {
+    SteadyFigures out;
+    out.speed = speed;
+    Scenario at = s;
+    at.rolls.speed = speed;
+    BiteOptions options;
+    options.distributions = false;
+    const BiteResult bite = solve_roll_bite(at, steady_bite_state(at), options);
+    if (bite.status != BiteStatus::ok) return out;
+    out.ok = true;
+    out.force = bite.force;
+    out.torque = std::abs(bite.torque);
+    // both work rolls turn at v / a (the rigid radius: the roll's own angular speed)
+    out.power = 2.0 * out.torque * speed / s.rolls.radius;
+    out.forward_slip = bite.forward_slip;
+    return out;
+}
+
+namespace {
+
+using Interval = std::pair<double, double>;
+
+// One checked limit: its margin at a steady state (>= 0 where it permits the speed), NaN where
+// the bite has no steady state (that speed is the steady_state limit's to refuse).
+struct Check {
+    SpeedLimitKind kind;
+    double limit;
+    std::function<double(const SteadyFigures&)> margin;
+};
+
+// The speeds a predicate permits over the grid, each change of its answer between two grid
+// speeds located by bisection to `tolerance` relative.
+std::vector<Interval> permitted_intervals(const std::vector<double>& grid,
+                                          const std::vector<bool>& on_grid,
+                                          const std::function<bool(double)>& permits,
+                                          double tolerance) {
+    std::vector<Interval> out;
+    double start = on_grid.front() ? grid.front() : -1.0;
+    for (std::size_t k = 0; k + 1 < grid.size(); ++k) {
+        if (on_grid[k] == on_grid[k + 1]) continue;
+        double lo = grid[k], hi = grid[k + 1];  // permits(lo) == on_grid[k]
+        while (hi - lo > tolerance * hi) {
+            const double mid = 0.5 * (lo + hi);
+            (permits(mid) == on_grid[k] ? lo : hi) = mid;
+        }
+        if (on_grid[k]) {
+            out.emplace_back(start, lo);  // the last permitted speed found
+        } else {
+            start = hi;
+        }
+    }
+    if (on_grid.back()) out.emplace_back(start, grid.back());
+    return out;
+}
+
+std::vector<Interval> intersect(const std::vector<Interval>& a, const std::vector<Interval>& b) {
+    std::vector<Interval> out;
+    std::size_t i = 0, j = 0;
+    while (i < a.size() && j < b.size()) {
+        const double lo = std::max(a[i].first, b[j].first);
+        const double hi = std::min(a[i].second, b[j].second);
+        if (lo <= hi) out.emplace_back(lo, hi);
+        (a[i].second < b[j].second ? i : j) += 1;
+    }
+    return out;
+}
+
+// The interval holding v, else the nearest (the lower on a tie); nullptr when there is none.
+const Interval* nearest(const std::vector<Interval>& intervals, double v) {
+    const Interval* best = nullptr;
+    double best_distance = std::numeric_limits<double>::infinity();
+    for (const Interval& x : intervals) {
+        const double distance = v < x.first ? x.first - v : v > x.second ? v - x.second : 0.0;
+        if (distance < best_distance) {
+            best_distance = distance;
+            best = &x;
+        }
+    }
+    return best;
+}
+
+}  // namespace
+
+SpeedLimitResult speed_limit(const Scenario& s, const PlantLimits& limits,
+                             const CriticalSpeedOptions& options, const Control& control) {
+    SpeedLimitResult out;
+    out.operating_speed = s.rolls.speed;
+    constexpr double tolerance = 1e-9;
+
+    // the grid of the critical-speed search, its last point the range's end
+    std::vector<double> grid;
+    for (int k = 0;; ++k) {
+        const double v = options.speed_min + k * options.speed_step;
+        if (v >= options.speed_max * (1.0 - 1e-12)) break;
+        grid.push_back(v);
+    }
+    grid.push_back(options.speed_max);
+    std::vector<SteadyFigures> figures(grid.size());
+    parallel_for(static_cast<int>(grid.size()), control, [&](int k) {
+        figures[static_cast<std::size_t>(k)] = steady_figures(s, grid[static_cast<std::size_t>(k)]);
+    });
+    if (control.should_stop()) {
+        out.status = SpeedLimitStatus::cancelled;
+        return out;
+    }
+    const SteadyFigures operating = steady_figures(s, out.operating_speed);
+
+    std::vector<Check> checks;
+    checks.push_back({SpeedLimitKind::steady_state, 0.0,
+                      [](const SteadyFigures& f) { return f.ok ? 1.0 : -1.0; }});
+    if (limits.max_force)
+        checks.push_back({SpeedLimitKind::force, *limits.max_force,
+                          [l = *limits.max_force](const SteadyFigures& f) { return l - f.force; }});
+    if (limits.max_torque)
+        checks.push_back(
+            {SpeedLimitKind::torque, *limits.max_torque,
+             [l = *limits.max_torque](const SteadyFigures& f) { return l - f.torque; }});
+    if (limits.max_power)
+        checks.push_back({SpeedLimitKind::power, *limits.max_power,
+                          [l = *limits.max_power](const SteadyFigures& f) { return l - f.power; }});
+    if (limits.min_forward_slip)
+        checks.push_back({SpeedLimitKind::skid, *limits.min_forward_slip,
+                          [l = *limits.min_forward_slip](const SteadyFigures& f) {
+                              return f.forward_slip - l;
+                          }});
+
+    // each limit's permitted speeds: where its margin is >= 0, or the bite has no steady state
+    std::vector<std::vector<Interval>> permitted;
+    for (const Check& check : checks) {
+        const auto permits_figures = [&check](const SteadyFigures& f) {
+            if (check.kind == SpeedLimitKind::steady_state) return f.ok;
+            return !f.ok || check.margin(f) >= 0.0;
+        };
+        std::vector<bool> on_grid(grid.size());
+        for (std::size_t k = 0; k < grid.size(); ++k) on_grid[k] = permits_figures(figures[k]);
+        permitted.push_back(permitted_intervals(
+            grid, on_grid, [&](double v) { return permits_figures(steady_figures(s, v)); },
+            tolerance));
+    }
+    // the chatter limit: every speed up to V_c (1 - margin)
+    if (limits.chatter) {
+        CriticalSpeedOptions search = options;
+        search.stop_at_crossing = true;
+        out.chatter = critical_speed(s, search, control);
+        if (out.chatter.status == CriticalSpeedStatus::cancelled) {
+            out.status = SpeedLimitStatus::cancelled;
+            return out;
+        }
+        double limit = options.speed_max;  // stable in the range (or no steady state anywhere)
+        if (out.chatter.status == CriticalSpeedStatus::found)
+            limit = out.chatter.critical_speed * (1.0 - limits.chatter_margin);
+        else if (out.chatter.status == CriticalSpeedStatus::unstable_at_lower_bound) limit = -1.0;
+        checks.push_back({SpeedLimitKind::chatter, limit, {}});
+        permitted.push_back(limit >= options.speed_min
+                                ? std::vector<Interval>{{options.speed_min, limit}}
+                                : std::vector<Interval>{});
+    }
+
+    std::vector<Interval> all = permitted.front();
+    for (std::size_t k = 1; k < permitted.size(); ++k) all = intersect(all, permitted[k]);
+    const Interval* window = nearest(all, out.operating_speed);
+    if (window != nullptr) {
+        out.status = SpeedLimitStatus::ok;
+        out.window_min = window->first;
+        out.window_max = window->second;
+        out.advised_speed = window->second;
+        out.operating_permitted =
+            out.operating_speed >= window->first && out.operating_speed <= window->second;
+    }
+
+    // each limit's own ends around the window (around the operating speed without one)
+    const double reference =
+        window != nullptr ? 0.5 * (window->first + window->second) : out.operating_speed;
+    for (std::size_t k = 0; k < checks.size(); ++k) {
+        const Check& check = checks[k];
+        LimitAnswer answer;
+        answer.kind = check.kind;
+        answer.limit = check.limit;
+        if (check.kind == SpeedLimitKind::chatter) {
+            answer.at_operating = out.operating_speed;
+            answer.utilisation = check.limit > 0.0 ? out.operating_speed / check.limit
+                                                   : std::numeric_limits<double>::infinity();
+            answer.met_at_operating = out.operating_speed <= check.limit;
+        } else if (check.kind == SpeedLimitKind::steady_state) {
+            answer.at_operating = operating.ok ? 1.0 : 0.0;
+            answer.utilisation = std::nan("");
+            answer.met_at_operating = operating.ok;
+        } else {
+            answer.met_at_operating = operating.ok && check.margin(operating) >= 0.0;
+            switch (check.kind) {
+                case SpeedLimitKind::force: answer.at_operating = operating.force; break;
+                case SpeedLimitKind::torque: answer.at_operating = operating.torque; break;
+                case SpeedLimitKind::power: answer.at_operating = operating.power; break;
+                default: answer.at_operating = operating.forward_slip; break;
+            }
+            answer.utilisation = check.kind == SpeedLimitKind::skid
+                                     ? check.limit / answer.at_operating
+                                     : answer.at_operating / check.limit;
+            if (!operating.ok) answer.utilisation = std::nan("");
+        }
+        if (const Interval* own = nearest(permitted[k], reference)) {
+            if (own->first > options.speed_min) answer.lower_speed = own->first;
+            if (own->second < options.speed_max) answer.upper_speed = own->second;
+        }
+        if (window != nullptr) {
+            if (answer.lower_speed && *answer.lower_speed == out.window_min && !out.binding_min)
+                out.binding_min = check.kind;
+            if (answer.upper_speed && *answer.upper_speed == out.window_max && !out.binding_max)
+                out.binding_max = check.kind;
+        }
+        out.limits.push_back(answer);
+    }
+    return out;
+}
+
+}  // namespace rollgap::core

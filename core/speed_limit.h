@@ -1,0 +1,81 @@
+#pragma once
+// The speeds a stand may run at under a plant's limits (docs/model.md §13): the roll force, the
+// torque per work roll, the motor power of both work rolls and the forward slip (the skid margin)
+// of the steady bite over the speed range, the chatter limit (the critical speed less a safety
+// margin) and where the bite has a steady state at all. Each limit permits a set of speeds;
+// their intersection is the permitted set, and the answer is its interval around the operating
+// speed (DECISIONS A: the force falls with speed, so a force limit is usually a lower bound),
+// each end named by the limit that binds there. A limit not given is not checked.
+#include <optional>
+#include <vector>
+
+#include "core/control.h"
+#include "core/scenario.h"
+#include "core/stability.h"
+
+namespace rollgap::core {
+
+enum class SpeedLimitKind { chatter, force, torque, power, skid, steady_state };
+const char* to_string(SpeedLimitKind);
+
+struct PlantLimits {
+    std::optional<double> max_force;         // N
+    std::optional<double> max_torque;        // N m per work roll, |torque|
+    std::optional<double> max_power;         // W, both work rolls: 2 |torque| v / a
+    std::optional<double> min_forward_slip;  // (u2 - v) / v, the skid margin
+    bool chatter = true;                     // the critical speed is a limit
+    double chatter_margin = 0.0;             // the chatter limit is V_c (1 - margin), [0, 1)
+};
+
+// One stand's steady figures at one roll speed: what the limits are checked on.
+struct SteadyFigures {
+    bool ok = false;  // the bite has a steady state
+    double speed = 0.0;
+    double force = 0.0;         // N
+    double torque = 0.0;        // N m per work roll (magnitude)
+    double power = 0.0;         // W, both work rolls
+    double forward_slip = 0.0;  // fraction
+};
+SteadyFigures steady_figures(const Scenario& s, double speed);
+
+// One limit over the range: the interval of speeds it permits that holds the answer's window,
+// its ends where it binds (a limit met everywhere on one side has no end there), and its margin
+// at the operating speed.
+struct LimitAnswer {
+    SpeedLimitKind kind = SpeedLimitKind::force;
+    double limit = 0.0;         // the plant's value in SI (chatter: the limit speed, m/s)
+    double at_operating = 0.0;  // the figure at the operating speed (chatter: the speed)
+    double utilisation = 0.0;   // at_operating / limit (skid: limit / at_operating)
+    bool met_at_operating = false;
+    std::optional<double> lower_speed;  // m/s: below it this limit is violated
+    std::optional<double> upper_speed;  // m/s: above it this limit is violated
+};
+
+enum class SpeedLimitStatus {
+    ok,            // a permitted window (the operating speed inside it or not)
+    no_window,     // no speed in the range meets every checked limit
+    no_operating,  // the operating speed has no steady state and nothing else to start from
+    cancelled
+};
+const char* to_string(SpeedLimitStatus);
+
+struct SpeedLimitResult {
+    SpeedLimitStatus status = SpeedLimitStatus::no_window;
+    double operating_speed = 0.0;  // m/s, the scenario's rolls.speed
+    // The permitted interval holding the operating speed, else the nearest (the lower on a tie)
+    double window_min = 0.0, window_max = 0.0;  // m/s
+    // What binds at each end; none where the end is the range's own
+    std::optional<SpeedLimitKind> binding_min, binding_max;
+    bool operating_permitted = false;
+    double advised_speed = 0.0;       // m/s: window_max, the fastest permitted speed
+    std::vector<LimitAnswer> limits;  // every checked limit, steady_state always among them
+    CriticalSpeedResult chatter;      // when the chatter limit is checked
+};
+
+// The limits over options' speed range: the steady figures on its grid (speed_step, in parallel
+// on the control's threads), each sign change of a limit refined by Brent to 1e-9 m/s relative;
+// the chatter limit from critical_speed() with the same options.
+SpeedLimitResult speed_limit(const Scenario& s, const PlantLimits& limits,
+                             const CriticalSpeedOptions& options = {}, const Control& control = {});
+
+}  // namespace rollgap::core
