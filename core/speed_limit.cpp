@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "core/parallel_for.h"
+#include "core/propagation.h"
 #include "core/roll_bite.h"
 
 namespace rollgap::core {
@@ -183,7 +184,9 @@ SpeedLimitResult speed_limit(const Scenario& s, const PlantLimits& limits,
         }
         double limit = options.speed_max;  // stable in the range (or no steady state anywhere)
         if (out.chatter.status == CriticalSpeedStatus::found)
-            limit = out.chatter.critical_speed * (1.0 - limits.chatter_margin);
+            limit = (out.chatter.critical_speed -
+                     normal_quantile(limits.confidence) * limits.chatter_sigma) *
+                    (1.0 - limits.chatter_margin);
         else if (out.chatter.status == CriticalSpeedStatus::unstable_at_lower_bound) limit = -1.0;
         checks.push_back({SpeedLimitKind::chatter, limit, {}});
         permitted.push_back(limit >= options.speed_min

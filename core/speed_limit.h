@@ -25,6 +25,11 @@ struct PlantLimits {
     std::optional<double> min_forward_slip;  // (u2 - v) / v, the skid margin
     bool chatter = true;                     // the critical speed is a limit
     double chatter_margin = 0.0;             // the chatter limit is V_c (1 - margin), [0, 1)
+    // The critical speed's standard deviation from the scenario's calibration posterior
+    // (core/propagation.h), m/s: the chatter limit is then (V_c - z_c sigma)(1 - margin), the
+    // one-sided lower bound at `confidence` (DECISIONS A); 0: V_c itself.
+    double chatter_sigma = 0.0;
+    double confidence = 0.95;
 };
 
 // One stand's steady figures at one roll speed: what the limits are checked on.

@@ -130,6 +130,14 @@ TEST_CASE("speed limit: the chatter limit is the critical speed less the margin"
     REQUIRE(a != nullptr);
     CHECK(a->limit == limit);
     CHECK(a->utilisation == doctest::Approx(s.rolls.speed / limit).epsilon(1e-15));
+    // with the critical speed's uncertainty: the one-sided 95 % bound, less the margin
+    limits.chatter_sigma = 0.36;
+    const SpeedLimitResult sure = speed_limit(s, limits, {}, pool.control);
+    const double bound = (critical.critical_speed - 1.6448536269514722 * 0.36) * 0.9;
+    CHECK(sure.window_max == doctest::Approx(bound).epsilon(1e-14));
+    CHECK(sure.binding_max == SpeedLimitKind::chatter);
+    limits.confidence = 0.5;  // the median: the critical speed itself
+    CHECK(speed_limit(s, limits, {}, pool.control).window_max == limit);
     MESSAGE("default stand: critical " << critical.critical_speed << " m/s, limit " << limit
                                        << ", running at " << 100.0 * a->utilisation << " %");
 }
