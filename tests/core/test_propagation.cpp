@@ -15,6 +15,7 @@
 #include "core/propagation.h"
 #include "core/scenario.h"
 #include "core/stability.h"
+#include "support/critical_speed_figure.h"
 #include "support/pool_control.h"
 
 namespace propagation_test {
@@ -73,16 +74,7 @@ TEST_CASE("propagation: linear is exact on a linear figure; sampling agrees with
 TEST_CASE("propagation: the default stand's critical speed, linear against sampled") {
     // viscosity 5.5e-4 Pa s +- 2 %, asperity factor 1 +- 3 %, correlation -0.5
     const Scenario base;
-    CriticalSpeedOptions search;
-    search.stop_at_crossing = true;
-    const Figure f = [&](const Eigen::VectorXd& x) -> std::optional<double> {
-        Scenario s = base;
-        s.lubricant.viscosity = x(0);
-        s.friction.asperity_factor = x(1);
-        const CriticalSpeedResult r = critical_speed(s, search);
-        if (r.status != CriticalSpeedStatus::found) return std::nullopt;
-        return r.critical_speed;
-    };
+    const Figure f = rollgap::test::critical_speed_of_viscosity_and_asperity(base);
     const Eigen::Vector2d mean(base.lubricant.viscosity, base.friction.asperity_factor);
     const Eigen::Vector2d sd(0.02 * mean(0), 0.03 * mean(1));
     Eigen::Matrix2d covariance;

@@ -22,6 +22,7 @@
 #include "core/roll_bite.h"
 #include "core/scenario.h"
 #include "core/stability.h"
+#include "support/critical_speed_figure.h"
 #include "support/pool_control.h"
 
 namespace speed_bound_coverage_test {
@@ -53,6 +54,7 @@ TEST_CASE("coverage: the 95 % bound on the critical speed holds for >= 36 of 40 
 
     const rollgap::test::PoolControl pool(2);
     const Scenario start;  // the defaults: 5.5e-4 Pa s, 1.0
+    const Figure speed = rollgap::test::critical_speed_of_viscosity_and_asperity(start);
     int covered = 0, fitted = 0;
     double mean_sigma = 0.0;
     for (std::uint64_t seed = 1; seed <= 40; ++seed) {
@@ -86,14 +88,6 @@ TEST_CASE("coverage: the 95 % bound on the critical speed holds for >= 36 of 40 
         const Eigen::VectorXd x = r.fit.values;
         const Eigen::MatrixXd covariance = r.fit.standard_errors.asDiagonal() * r.fit.correlation *
                                            r.fit.standard_errors.asDiagonal();
-        const Figure speed = [&](const Eigen::VectorXd& p) -> std::optional<double> {
-            Scenario s = start;
-            s.lubricant.viscosity = p(0);
-            s.friction.asperity_factor = p(1);
-            const CriticalSpeedResult c = critical_speed(s, search);
-            if (c.status != CriticalSpeedStatus::found) return std::nullopt;
-            return c.critical_speed;
-        };
         const Propagated p = propagate_linear(speed, x, covariance, pool.control);
         if (!p.ok) continue;
         mean_sigma += p.standard_deviation;
