@@ -52,6 +52,11 @@ struct CalibrationQuantity {
 };
 const std::vector<CalibrationQuantity>& calibration_quantities();
 
+// The continuous number field of the scenario a fit (or a posterior) names at `pointer`, or
+// nullptr with the violation recorded (with the fields' list and a suggestion).
+const ScenarioField* read_fitted_field(const nlohmann::json* value, const std::string& pointer,
+                                       FieldErrors& errors);
+
 struct CalibrationPlan {
     std::vector<const ScenarioField*> fields;  // one per parameter
     std::vector<std::string> quantity_names;   // one per observation

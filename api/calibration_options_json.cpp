@@ -49,35 +49,6 @@ std::vector<std::string_view> quantity_names() {
     return names;
 }
 
-// The field a parameter names, or nullptr with the violation recorded at `pointer`.
-const ScenarioField* read_field(const nlohmann::json* value, const std::string& pointer,
-                                FieldErrors& errors) {
-    if (value == nullptr) {
-        errors.add(
-            {pointer,
-             "required: the JSON pointer of the scenario field to fit, e.g. \"/strip/flow_stress_MPa\"",
-             std::nullopt, std::nullopt});
-        return nullptr;
-    }
-    const auto path = read_string(*value, pointer, errors);
-    if (!path) return nullptr;
-    const ScenarioField* field = find_scenario_field(*path);
-    if (field != nullptr && field->kind == FieldKind::number) return field;
-    std::string detail;
-    if (field != nullptr) {
-        detail =
-            concat(quoted_for_message(*path), " is not a continuous number field; a fit needs one");
-    } else if (is_scenario_group(*path)) {
-        detail = concat(quoted_for_message(*path), " is a group of fields, not a field");
-    } else {
-        detail = concat(quoted_for_message(*path),
-                        " is not a field of the scenario (as 'rollgap scenario' prints it)");
-        detail += did_you_mean(*path, fittable_paths());
-    }
-    errors.add({pointer, std::move(detail), choices_text(fittable_paths()), std::nullopt});
-    return nullptr;
-}
-
 // A field's own range as a closed box the fit can touch: an open end moves inside by a
 // relative 1e-9 of the range (the asperity factor's (0, 1] has no usable 0).
 std::pair<double, double> closed_box(const Interval& range) {
@@ -97,7 +68,7 @@ std::optional<ParameterRead> read_parameter(const nlohmann::json& value, const s
     const OptionsReader reader(value, pointer, parameter_members, errors);
     if (!reader.is_object()) return std::nullopt;
     ParameterRead out;
-    out.field = read_field(reader.find("field"), reader.at("field"), errors);
+    out.field = read_fitted_field(reader.find("field"), reader.at("field"), errors);
     if (out.field == nullptr) return std::nullopt;
     const ScenarioField& field = *out.field;
     const auto [box_min, box_max] = closed_box(field.range);
@@ -286,6 +257,35 @@ std::vector<Read> read_list(const OptionsReader& options, std::string_view name,
 }
 
 }  // namespace
+
+// The field a parameter names, or nullptr with the violation recorded at `pointer`.
+const ScenarioField* read_fitted_field(const nlohmann::json* value, const std::string& pointer,
+                                       FieldErrors& errors) {
+    if (value == nullptr) {
+        errors.add(
+            {pointer,
+             "required: the JSON pointer of the scenario field to fit, e.g. \"/strip/flow_stress_MPa\"",
+             std::nullopt, std::nullopt});
+        return nullptr;
+    }
+    const auto path = read_string(*value, pointer, errors);
+    if (!path) return nullptr;
+    const ScenarioField* field = find_scenario_field(*path);
+    if (field != nullptr && field->kind == FieldKind::number) return field;
+    std::string detail;
+    if (field != nullptr) {
+        detail =
+            concat(quoted_for_message(*path), " is not a continuous number field; a fit needs one");
+    } else if (is_scenario_group(*path)) {
+        detail = concat(quoted_for_message(*path), " is a group of fields, not a field");
+    } else {
+        detail = concat(quoted_for_message(*path),
+                        " is not a field of the scenario (as 'rollgap scenario' prints it)");
+        detail += did_you_mean(*path, fittable_paths());
+    }
+    errors.add({pointer, std::move(detail), choices_text(fittable_paths()), std::nullopt});
+    return nullptr;
+}
 
 const std::vector<CalibrationQuantity>& calibration_quantities() {
     static const std::vector<CalibrationQuantity> table{

@@ -6,6 +6,7 @@
 #include "api/calibration_json.h"
 #include "api/map_json.h"
 #include "api/result_json.h"
+#include "api/speed_limit_json.h"
 #include "api/stability_json.h"
 #include "api/sweep_json.h"
 #include "api/tension_cycle_json.h"
@@ -186,6 +187,14 @@ std::span<const CsvTable> calibration_csv_tables() {
          [](const json&) { return calibration_parameter_columns(); }},
         {"observations", "One row per observation.", "", {}, "/observations", [](const json&) {
              return calibration_observation_columns();
+         }}};
+    return tables;
+}
+
+std::span<const CsvTable> speed_limit_csv_tables() {
+    static const std::vector<CsvTable> tables{
+        {"limits", "One row per checked limit.", "", {}, "/limits", [](const json&) {
+             return speed_limit_check_columns();
          }}};
     return tables;
 }

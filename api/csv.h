@@ -57,6 +57,7 @@ std::span<const CsvTable> amplitude_csv_tables();
 std::span<const CsvTable> sweep_csv_tables();
 std::span<const CsvTable> map_csv_tables();
 std::span<const CsvTable> calibration_csv_tables();
+std::span<const CsvTable> speed_limit_csv_tables();
 
 // A map's sheet, a stand's or a mill's: one row per cell, its pair of values as two columns
 // named by the parameters' pointers without the leading slash ("strip/reduction"), then the

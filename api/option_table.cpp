@@ -156,8 +156,71 @@ const std::vector<Option>& rows() {
              closed(0.0, 6.0),
              "The stand kicked, numbered from 1 at the entry; 0: the stand that moves most in "
              "the rightmost root (the last stand without one)."},
+            {max_roll_force,
+             {},
+             OptionType::number,
+             units::kilonewton,
+             open_closed(0.0, 1e6),
+             "The stand's largest permitted roll force (docs/model.md §13.1); the force falls "
+             "as the speed rises (the film thickens), so this limit usually bounds the speed "
+             "from below. Absent: not checked."},
+            {max_torque,
+             {},
+             OptionType::number,
+             units::kilonewton_metre,
+             open_closed(0.0, 1e5),
+             "The largest permitted rolling torque per work roll (its magnitude). Absent: not "
+             "checked."},
+            {max_power,
+             {},
+             OptionType::number,
+             units::kilowatt,
+             open_closed(0.0, 1e6),
+             "The main drive's rated power for both work rolls, 2 |torque| v / R. Absent: not "
+             "checked."},
+            {min_forward_slip,
+             {},
+             OptionType::number,
+             units::one,
+             closed(-0.5, 0.5),
+             "The skid margin: the smallest permitted forward slip (u2 - v) / v; as it nears 0 "
+             "the neutral point reaches the exit and the rolls skid. 0.005 is a common margin. "
+             "Absent: not checked."},
+            {chatter_limit,
+             {},
+             OptionType::boolean,
+             units::one,
+             {},
+             "Whether the critical chatter speed is a limit (docs/model.md §7.3)."},
+            {chatter_margin,
+             {},
+             OptionType::number,
+             units::one,
+             closed_open(0.0, 1.0),
+             "Safety margin on the chatter limit, a fraction: the limit is (V_c - z sigma)(1 - "
+             "margin); 0.1 runs at most at 90 % of the critical speed."},
+            {confidence,
+             {},
+             OptionType::number,
+             units::one,
+             closed_open(0.5, 1.0),
+             "Confidence of the one-sided lower bound V_c - z sigma on the critical speed, when "
+             "the scenario carries a posterior (0.95: z = 1.645)."},
+            {samples,
+             {},
+             OptionType::integer,
+             units::one,
+             closed(0.0, 500.0),
+             "Seeded draws from the posterior at which the critical speed is also computed, the "
+             "check on the linear propagation (each draw is a critical-speed search); 0: none."},
+            {seed,
+             {},
+             OptionType::integer,
+             units::one,
+             closed(0.0, 2147483647.0),
+             "Seed of the draws: the same seed draws the same samples."},
         };
-        static_assert(option_names.size() == static_cast<std::size_t>(kick_stand) + 1);
+        static_assert(option_names.size() == static_cast<std::size_t>(seed) + 1);
         assert(all.size() == option_names.size());
         for (std::size_t i = 0; i < all.size(); ++i) {
             assert(static_cast<std::size_t>(all[i].id) == i && "rows in OptionId order");
@@ -188,6 +251,10 @@ const std::vector<OptionComponent>& components() {
         {"TandemOptions",
          {search_speed_min, search_speed_max, search_speed_step, search_tolerance, critical_speed,
           mill_time_series, mill_window, time_series_points, kick_gap, kick_stand}},
+        {"SpeedLimitOptions",
+         {search_speed_min, search_speed_max, search_speed_step, search_tolerance, max_roll_force,
+          max_torque, max_power, min_forward_slip, chatter_limit, chatter_margin, confidence,
+          samples, seed}},
     };
     return table;
 }

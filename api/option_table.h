@@ -46,10 +46,20 @@ enum class OptionId {
     mill_window,
     kick_gap,
     kick_stand,
+    // the speed limit (docs/model.md §13)
+    max_roll_force,
+    max_torque,
+    max_power,
+    min_forward_slip,
+    chatter_limit,
+    chatter_margin,
+    confidence,
+    samples,
+    seed,
 };
 
 // The member names by OptionId, constexpr so that a reader's list of known members can name them.
-inline constexpr std::array<std::string_view, 18> option_names{
+inline constexpr std::array<std::string_view, 27> option_names{
     "speed_min_m_per_s",
     "speed_max_m_per_s",
     "speed_step_m_per_s",
@@ -68,6 +78,15 @@ inline constexpr std::array<std::string_view, 18> option_names{
     "window_s",
     "kick_um",
     "kick_stand",
+    "max_roll_force_kN",
+    "max_torque_kN_m",
+    "max_power_kW",
+    "min_forward_slip",
+    "chatter",
+    "chatter_margin",
+    "confidence",
+    "samples",
+    "seed",
 };
 constexpr std::string_view option_name(OptionId id) {
     return option_names[static_cast<std::size_t>(id)];

@@ -52,6 +52,9 @@ core::CriticalSpeedOptions critical_speed_options_from_json(const nlohmann::json
                                                             const std::string& pointer,
                                                             FieldErrors& errors);
 nlohmann::json critical_speed_options_json(const core::CriticalSpeedOptions& options);
+// The same members read by a reader of a larger options object (speed_limit's), and their names.
+void read_critical_speed_search(const OptionsReader& reader, core::CriticalSpeedOptions& search);
+std::span<const std::string_view> critical_speed_search_members();
 
 // The number of scan speeds core::critical_speed evaluates for these options.
 int scan_point_count(const core::CriticalSpeedOptions& options);

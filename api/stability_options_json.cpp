@@ -90,6 +90,12 @@ nlohmann::json search_json(const core::CriticalSpeedOptions& search) {
 
 }  // namespace
 
+void read_critical_speed_search(const OptionsReader& reader, core::CriticalSpeedOptions& search) {
+    read_search(reader, search);
+}
+
+std::span<const std::string_view> critical_speed_search_members() { return search_members; }
+
 void read_detail(const OptionsReader& reader, Detail& detail) {
     const nlohmann::json* value = reader.find(detail_name);
     if (value == nullptr) return;

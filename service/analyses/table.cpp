@@ -12,6 +12,7 @@
 #include "api/field_errors.h"
 #include "api/map_json.h"
 #include "api/result_json.h"
+#include "api/speed_limit_json.h"
 #include "api/stability_json.h"
 #include "api/sweep_json.h"
 #include "api/tandem_result_json.h"
@@ -26,6 +27,7 @@
 #include "service/analyses/evaluation.h"
 #include "service/analyses/map.h"
 #include "service/analyses/roll_gap.h"
+#include "service/analyses/speed_limit.h"
 #include "service/analyses/stability.h"
 #include "service/analyses/sweep.h"
 #include "service/analyses/tandem.h"
@@ -54,6 +56,7 @@ constexpr std::array<OptionsDefaults, 1> map_defaults{{
     {"MapOptions", R"({"parameters": [{"parameter": "/strip/reduction", "values": [0.15]},
                         {"parameter": "/strip/entry_thickness_mm", "values": [1.6]}]})"},
 }};
+constexpr std::array<OptionsDefaults, 1> speed_limit_defaults{{{"SpeedLimitOptions", "{}"}}};
 constexpr std::array<OptionsDefaults, 1> tandem_defaults{{{"TandemOptions", "{}"}}};
 constexpr std::array<OptionsDefaults, 1> tandem_sweep_defaults{{
     {"TandemSweepOptions", R"({"parameter": "/spans/length_m/0", "values": [5]})"},
@@ -139,6 +142,13 @@ const std::array table{
         &prepare_calibration, "/v1/calibrate", "CalibrateResponse", "CalibrateOptions",
         "CalibrationResult", &api::calibration_result_schemas, calibration_defaults,
         calibration_request_options, &api::calibration_csv_tables},
+    Analysis{"speed_limit", "Speed limit",
+             "the speeds the stand may run at under the plant's limits (force, torque, power, "
+             "skid, chatter with its uncertainty), the binding limit and the margins "
+             "(docs/model.md §13)",
+             &prepare_speed_limit, "/v1/speed-limit", "SpeedLimitResponse", "SpeedLimitOptions",
+             "SpeedLimitResult", &api::speed_limit_result_schemas, speed_limit_defaults, no_names,
+             &api::speed_limit_csv_tables},
     Analysis{"tandem",
              "Tandem mill",
              "a tandem mill at its speed: pass schedule, stability by stand and the three "

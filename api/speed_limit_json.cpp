@@ -1,0 +1,645 @@
+// Reading the speed-limit analysis' options (the plant's limits, the posterior) and writing its
+// result (api/speed_limit_json.h; docs/model.md §13).
+#include "api/speed_limit_json.h"
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <string_view>
+#include <utility>
+
+#include <Eigen/Eigenvalues>
+
+#include "api/calibration_json.h"
+#include "api/option_table.h"
+#include "api/options_reader.h"
+#include "api/stability_json.h"
+#include "api/text.h"
+#include "api/units.h"
+
+namespace rollgap::api {
+namespace {
+
+using std::string_view_literals::operator""sv;
+
+constexpr std::string_view posterior_name = "posterior";
+constexpr std::array<std::string_view, 2> posterior_members{"parameters"sv, "correlation"sv};
+// A parameter as calibrate writes it: field, value and standard_error are read, unit is checked,
+// the rest is what the fit reports about itself and is ignored here.
+constexpr std::array<std::string_view, 9> posterior_parameter_members{
+    "field"sv, "value"sv,    "standard_error"sv,           "unit"sv, "start"sv, "min"sv,
+    "max"sv,   "at_bound"sv, "prior_normalised_residual"sv};
+
+// The options object's members: the search's, the limits', the posterior's.
+const std::vector<std::string_view>& option_members() {
+    static const std::vector<std::string_view> members = [] {
+        std::vector<std::string_view> out(critical_speed_search_members().begin(),
+                                          critical_speed_search_members().end());
+        for (const OptionId id :
+             {OptionId::max_roll_force, OptionId::max_torque, OptionId::max_power,
+              OptionId::min_forward_slip, OptionId::chatter_limit, OptionId::chatter_margin,
+              OptionId::confidence, OptionId::samples, OptionId::seed})
+            out.push_back(option_name(id));
+        out.push_back(posterior_name);
+        return out;
+    }();
+    return members;
+}
+
+void read_limit(const OptionsReader& reader, OptionId id, std::optional<double>& target) {
+    double value = 0.0;
+    if (reader.read(id, value)) target = value;
+}
+
+// The posterior's parameters: each a scenario number field with a value at the scenario's and a
+// standard error > 0, no field twice.
+void read_parameters(const nlohmann::json& list, const std::string& pointer,
+                     const core::Scenario* scenario, Posterior& out, FieldErrors& errors) {
+    if (!list.is_array() || list.empty() ||
+        list.size() > static_cast<std::size_t>(max_posterior_parameters)) {
+        errors.add({pointer,
+                    concat("must be an array of 1 to ", std::to_string(max_posterior_parameters),
+                           " fitted parameters, as calibrate's result.parameters lists them"),
+                    concat("[1, ", std::to_string(max_posterior_parameters), "] items"),
+                    std::nullopt});
+        return;
+    }
+    const std::size_t n = list.size();
+    out.fields.assign(n, nullptr);
+    out.mean = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(n));
+    out.standard_errors = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(n));
+    for (std::size_t i = 0; i < n; ++i) {
+        const std::string at = concat(pointer, "/", std::to_string(i));
+        const OptionsReader reader(list[i], at, posterior_parameter_members, errors);
+        if (!reader.is_object()) continue;
+        const ScenarioField* field =
+            read_fitted_field(reader.find("field"), reader.at("field"), errors);
+        if (field == nullptr) continue;
+        out.fields[i] = field;
+        for (std::size_t k = 0; k < i; ++k) {
+            if (out.fields[k] == field) {
+                errors.add({reader.at("field"),
+                            concat(field->path, " is already parameter ", std::to_string(k)),
+                            std::nullopt, std::nullopt});
+            }
+        }
+        if (const nlohmann::json* unit = reader.find("unit")) {
+            if (!unit->is_string() || unit->get_ref<const std::string&>() != field->unit.code) {
+                errors.add({reader.at("unit"),
+                            concat("the unit of ", field->path, " is ", field->unit.code,
+                                   "; the value and standard error are read in it"),
+                            std::string(field->unit.code), std::string(field->unit.code)});
+            }
+        }
+        double value = 0.0, sigma = 0.0;
+        const bool has_value = reader.number("value", field->unit, field->range, value);
+        if (reader.find("value") == nullptr) {
+            errors.add({reader.at("value"),
+                        concat("required, in the field's unit (", field->unit.code, ")"),
+                        std::nullopt, std::string(field->unit.code)});
+        }
+        const bool has_sigma =
+            reader.number("standard_error", field->unit, open_closed(0.0, 1e300), sigma);
+        if (reader.find("standard_error") == nullptr) {
+            errors.add({reader.at("standard_error"),
+                        concat("required: the fitted value's standard error, in the field's unit (",
+                               field->unit.code, "), > 0"),
+                        "(0, 1e+300]", std::string(field->unit.code)});
+        }
+        if (has_value) {
+            out.mean(static_cast<Eigen::Index>(i)) = value;
+            // The posterior is centred on the scenario: a value elsewhere would describe another
+            // stand than the one analysed.
+            if (scenario != nullptr) {
+                core::Scenario copy = *scenario;
+                const double current = field->number(copy);
+                if (std::abs(current - value) >
+                    1e-9 * std::max(std::abs(current), std::abs(value))) {
+                    errors.add(
+                        {reader.at("value"),
+                         concat("the posterior is centred at ",
+                                format_number(from_si(value, field->unit)), " ", field->unit.code,
+                                " but the scenario's ", field->path, " is ",
+                                format_number(from_si(current, field->unit)),
+                                ": send calibrate's calibrated_scenario as the scenario with its "
+                                "posterior"),
+                         std::nullopt, std::string(field->unit.code)});
+                }
+            }
+        }
+        if (has_sigma) out.standard_errors(static_cast<Eigen::Index>(i)) = sigma;
+    }
+}
+
+// The correlation: n × n, symmetric, unit diagonal, entries in [-1, 1], positive semidefinite
+// (to rounding). Absent: the identity.
+void read_correlation(const nlohmann::json* value, const std::string& pointer, std::size_t n,
+                      Posterior& out, FieldErrors& errors) {
+    const auto index = [](std::size_t i) { return static_cast<Eigen::Index>(i); };
+    out.correlation = Eigen::MatrixXd::Identity(index(n), index(n));
+    if (value == nullptr || value->is_null()) return;
+    const std::string shape = concat(std::to_string(n), " × ", std::to_string(n));
+    if (!value->is_array() || value->size() != n) {
+        errors.add({pointer,
+                    concat("must be the ", shape,
+                           " correlation matrix of the parameters, as calibrate returns it"),
+                    std::nullopt, std::nullopt});
+        return;
+    }
+    bool ok = true;
+    for (std::size_t i = 0; i < n; ++i) {
+        const nlohmann::json& row = (*value)[i];
+        const std::string row_at = concat(pointer, "/", std::to_string(i));
+        if (!row.is_array() || row.size() != n) {
+            errors.add({row_at, concat("must be a row of ", std::to_string(n), " numbers"),
+                        std::nullopt, std::nullopt});
+            ok = false;
+            continue;
+        }
+        for (std::size_t k = 0; k < n; ++k) {
+            const Interval range = i == k ? closed(1.0, 1.0) : closed(-1.0, 1.0);
+            const auto r = read_number(row[k], concat(row_at, "/", std::to_string(k)), range,
+                                       units::one, errors);
+            if (r) out.correlation(index(i), index(k)) = *r;
+            else ok = false;
+        }
+    }
+    if (!ok) return;
+    for (std::size_t i = 0; i < n; ++i) {
+        for (std::size_t k = 0; k < i; ++k) {
+            if (std::abs(out.correlation(index(i), index(k)) -
+                         out.correlation(index(k), index(i))) > 1e-9) {
+                errors.add({concat(pointer, "/", std::to_string(i), "/", std::to_string(k)),
+                            concat("must equal entry [", std::to_string(k), "][", std::to_string(i),
+                                   "]: a correlation matrix is symmetric"),
+                            std::nullopt, std::nullopt});
+                return;
+            }
+        }
+    }
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(out.correlation);
+    if (eigen.info() != Eigen::Success || eigen.eigenvalues().minCoeff() < -1e-6) {
+        errors.add({pointer,
+                    concat("is not positive semidefinite (smallest eigenvalue ",
+                           format_number(eigen.eigenvalues().minCoeff()),
+                           "): no joint distribution has these correlations"),
+                    std::nullopt, std::nullopt});
+    }
+}
+
+void read_posterior(const nlohmann::json& value, const std::string& pointer,
+                    const core::Scenario* scenario, SpeedLimitOptions& out, FieldErrors& errors) {
+    if (value.is_null()) return;
+    const OptionsReader reader(value, pointer, posterior_members, errors);
+    if (!reader.is_object()) return;
+    const nlohmann::json* parameters = reader.find("parameters");
+    if (parameters == nullptr) {
+        errors.add({reader.at("parameters"),
+                    "required: the fitted fields, each {field, value, standard_error} in the "
+                    "field's unit (calibrate's result.parameters)",
+                    std::nullopt, std::nullopt});
+        return;
+    }
+    Posterior posterior;
+    read_parameters(*parameters, reader.at("parameters"), scenario, posterior, errors);
+    if (errors.has_error_at_or_below(reader.at("parameters"))) return;
+    read_correlation(reader.find("correlation"), reader.at("correlation"), posterior.fields.size(),
+                     posterior, errors);
+    if (errors.has_error_at_or_below(reader.at("correlation"))) return;
+    out.posterior = std::move(posterior);
+}
+
+nlohmann::json posterior_json(const Posterior& posterior) {
+    nlohmann::json parameters = nlohmann::json::array();
+    for (std::size_t i = 0; i < posterior.fields.size(); ++i) {
+        const ScenarioField& field = *posterior.fields[i];
+        const auto j = static_cast<Eigen::Index>(i);
+        parameters.push_back({{"field", field.path},
+                              {"unit", field.unit.code},
+                              {"value", echo(posterior.mean(j), field.unit)},
+                              {"standard_error", echo(posterior.standard_errors(j), field.unit)}});
+    }
+    nlohmann::json correlation = nlohmann::json::array();
+    for (Eigen::Index i = 0; i < posterior.correlation.rows(); ++i) {
+        nlohmann::json row = nlohmann::json::array();
+        for (Eigen::Index k = 0; k < posterior.correlation.cols(); ++k)
+            row.push_back(posterior.correlation(i, k));
+        correlation.push_back(std::move(row));
+    }
+    return {{"parameters", std::move(parameters)}, {"correlation", std::move(correlation)}};
+}
+
+// --- the result ---------------------------------------------------------------------------
+
+// A limit's unit as the options write it, and its value converted.
+Unit limit_unit(core::SpeedLimitKind kind) {
+    switch (kind) {
+        case core::SpeedLimitKind::chatter: return units::metre_per_second;
+        case core::SpeedLimitKind::force: return units::kilonewton;
+        case core::SpeedLimitKind::torque: return units::kilonewton_metre;
+        case core::SpeedLimitKind::power: return units::kilowatt;
+        default: return units::one;
+    }
+}
+
+nlohmann::json finite_or_null(double value) {
+    return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr);
+}
+
+nlohmann::json optional_speed(const std::optional<double>& speed) {
+    return speed ? nlohmann::json(*speed) : nlohmann::json(nullptr);
+}
+
+nlohmann::json kind_or_null(const std::optional<core::SpeedLimitKind>& kind) {
+    return kind ? nlohmann::json(core::to_string(*kind)) : nlohmann::json(nullptr);
+}
+
+nlohmann::json kind_schema(bool nullable) {
+    return enum_schema({"chatter", "force", "torque", "power", "skid", "steady_state"}, nullable);
+}
+
+const ResultTable<core::LimitAnswer>& limit_table() {
+    static const ResultTable<core::LimitAnswer> table{
+        "SpeedLimitCheck",
+        "One checked limit: the plant's value, the figure at the operating speed and the speeds "
+        "where the limit binds, in `unit`.",
+        {
+            {"limit", "Which limit: chatter, force, torque, power, skid or steady_state.",
+             kind_schema(false),
+             [](const core::LimitAnswer& a) { return nlohmann::json(core::to_string(a.kind)); }},
+            {"unit",
+             "The unit of value and at_operating: kN (force), kN.m (torque per work roll), kW "
+             "(power), 1 (forward slip), m/s (chatter: the limit speed and the operating speed).",
+             string_schema(),
+             [](const core::LimitAnswer& a) { return nlohmann::json(limit_unit(a.kind).code); }},
+            {"value",
+             "The limit: the plant's value; for chatter the limit speed (V_c - z sigma)(1 - "
+             "margin); null for steady_state, and for chatter when the stand chatters at the "
+             "lowest speed of the range.",
+             number_schema(units::one),
+             [](const core::LimitAnswer& a) {
+                 if (a.kind == core::SpeedLimitKind::steady_state || a.limit < 0.0)
+                     return nlohmann::json(nullptr);
+                 return nlohmann::json(from_si(a.limit, limit_unit(a.kind)));
+             }},
+            {"at_operating",
+             "The figure at the operating speed (the roll force, torque, power, forward slip; "
+             "chatter: the operating speed); null without a steady state there.",
+             number_schema(units::one),
+             [](const core::LimitAnswer& a) {
+                 if (a.kind == core::SpeedLimitKind::steady_state) return nlohmann::json(nullptr);
+                 if (a.kind != core::SpeedLimitKind::chatter && !std::isfinite(a.utilisation))
+                     return nlohmann::json(nullptr);
+                 return nlohmann::json(from_si(a.at_operating, limit_unit(a.kind)));
+             }},
+            {"utilisation",
+             "How much of the limit the operating speed uses: at_operating / value (skid: value / "
+             "at_operating, null where the forward slip is not positive); 0.62 reads \"running at "
+             "62 % of the limit\", above 1 the limit is exceeded.",
+             number_schema(units::one),
+             [](const core::LimitAnswer& a) {
+                 if (a.kind == core::SpeedLimitKind::skid && !(a.at_operating > 0.0))
+                     return nlohmann::json(nullptr);
+                 return finite_or_null(a.utilisation);
+             }},
+            {"met_at_operating", "Whether the operating speed meets this limit.", boolean_schema(),
+             [](const core::LimitAnswer& a) { return nlohmann::json(a.met_at_operating); }},
+            {"lower_speed_m_per_s",
+             "Below this speed the limit is violated; null if it holds down to the range's "
+             "lowest speed.",
+             number_schema(units::metre_per_second),
+             [](const core::LimitAnswer& a) { return optional_speed(a.lower_speed); }},
+            {"upper_speed_m_per_s",
+             "Above this speed the limit is violated; null if it holds up to the range's "
+             "highest speed.",
+             number_schema(units::metre_per_second),
+             [](const core::LimitAnswer& a) { return optional_speed(a.upper_speed); }},
+        }};
+    return table;
+}
+
+struct ParameterRow {
+    const ScenarioField* field;
+    double value, standard_error, sensitivity;  // SI
+};
+
+const ResultTable<ParameterRow>& propagated_parameter_table() {
+    static const ResultTable<ParameterRow> table{
+        "PropagatedParameter",
+        "One posterior parameter and what it contributes to the critical speed's uncertainty.",
+        {
+            {"field", "The scenario field's JSON pointer.", string_schema(),
+             [](const ParameterRow& r) { return nlohmann::json(r.field->path); }},
+            {"unit", "The field's unit (UCUM code): of value and standard_error.", string_schema(),
+             [](const ParameterRow& r) { return nlohmann::json(r.field->unit.code); }},
+            {"value", "The posterior mean, in the field's unit.", number_schema(units::one, false),
+             [](const ParameterRow& r) { return nlohmann::json(from_si(r.value, r.field->unit)); }},
+            {"standard_error", "The posterior standard deviation, in the field's unit.",
+             number_schema(units::one, false),
+             [](const ParameterRow& r) {
+                 return nlohmann::json(from_si(r.standard_error, r.field->unit));
+             }},
+            {"critical_speed_change_m_per_s",
+             "dV_c/dx times the standard error: the critical speed's change for one standard "
+             "error of this field (central differences at ± one standard error).",
+             number_schema(units::metre_per_second),
+             [](const ParameterRow& r) {
+                 return finite_or_null(r.sensitivity * r.standard_error);
+             }},
+        }};
+    return table;
+}
+
+const ResultTable<core::Propagated>& sampled_table() {
+    static const ResultTable<core::Propagated> table{
+        "SampledCriticalSpeed",
+        "The critical speed at seeded draws from the posterior: the check on the linear "
+        "propagation.",
+        {
+            {"samples", "Draws with a critical speed.", integer_schema(),
+             [](const core::Propagated& p) { return nlohmann::json(p.samples); }},
+            {"failed_samples", "Draws without one (no crossing in the range, no steady state).",
+             integer_schema(),
+             [](const core::Propagated& p) { return nlohmann::json(p.failed_samples); }},
+            {"mean_m_per_s", "The draws' mean critical speed.",
+             number_schema(units::metre_per_second),
+             [](const core::Propagated& p) {
+                 return p.ok ? nlohmann::json(p.value) : nlohmann::json(nullptr);
+             }},
+            {"standard_deviation_m_per_s", "The draws' standard deviation (n − 1).",
+             number_schema(units::metre_per_second),
+             [](const core::Propagated& p) {
+                 return p.ok ? nlohmann::json(p.standard_deviation) : nlohmann::json(nullptr);
+             }},
+        }};
+    return table;
+}
+
+const ResultTable<SpeedLimitUncertainty>& uncertainty_table() {
+    static const ResultTable<SpeedLimitUncertainty> table{
+        "CriticalSpeedUncertainty",
+        "The critical speed's uncertainty from the scenario's calibration posterior "
+        "(docs/model.md §13.2): linear, sigma² = g Σ gᵀ, and the one-sided lower bound the chatter "
+        "limit is taken at.",
+        {
+            {"propagated",
+             "Whether the critical speed exists at the posterior mean and at every difference "
+             "point (else sigma is not known and the chatter limit is V_c itself).",
+             boolean_schema(),
+             [](const SpeedLimitUncertainty& u) { return nlohmann::json(u.linear.ok); }},
+            {"critical_speed_m_per_s", "The critical speed at the posterior mean.",
+             number_schema(units::metre_per_second),
+             [](const SpeedLimitUncertainty& u) {
+                 return u.linear.ok ? nlohmann::json(u.linear.value) : nlohmann::json(nullptr);
+             }},
+            {"standard_deviation_m_per_s", "sigma = sqrt(g Σ gᵀ).",
+             number_schema(units::metre_per_second),
+             [](const SpeedLimitUncertainty& u) {
+                 return u.linear.ok ? nlohmann::json(u.linear.standard_deviation)
+                                    : nlohmann::json(nullptr);
+             }},
+            {"confidence", "Of the one-sided lower bound.", number_schema(units::one, false),
+             [](const SpeedLimitUncertainty& u) { return nlohmann::json(u.confidence); }},
+            {"z", "The standard normal quantile at the confidence.",
+             number_schema(units::one, false),
+             [](const SpeedLimitUncertainty& u) {
+                 return nlohmann::json(core::normal_quantile(u.confidence));
+             }},
+            {"lower_bound_m_per_s",
+             "V_c - z sigma: the critical speed is above it with the confidence.",
+             number_schema(units::metre_per_second),
+             [](const SpeedLimitUncertainty& u) {
+                 return u.linear.ok ? nlohmann::json(core::lower_bound(u.linear, u.confidence))
+                                    : nlohmann::json(nullptr);
+             }},
+            {"parameters", "Each posterior parameter's share, in the posterior's order.",
+             array_schema(ref_schema("PropagatedParameter")),
+             [](const SpeedLimitUncertainty& u) {
+                 nlohmann::json rows = nlohmann::json::array();
+                 const Posterior& p = *u.posterior;
+                 for (std::size_t i = 0; i < p.fields.size(); ++i) {
+                     const auto j = static_cast<Eigen::Index>(i);
+                     const double g = u.linear.ok ? u.linear.gradient(j) : std::nan("");
+                     rows.push_back(propagated_parameter_table().write(
+                         {p.fields[i], p.mean(j), p.standard_errors(j), g}));
+                 }
+                 return rows;
+             }},
+            {"sampled", "The draws' figures when options.samples > 0, else null.",
+             ref_schema("SampledCriticalSpeed", true),
+             [](const SpeedLimitUncertainty& u) {
+                 if (!u.sampled) return nlohmann::json(nullptr);
+                 nlohmann::json out = sampled_table().write(*u.sampled);
+                 return out;
+             }},
+        }};
+    return table;
+}
+
+const ResultTable<SpeedLimitReport>& result_table() {
+    static const ResultTable<SpeedLimitReport> table{
+        "SpeedLimitResult",
+        "The speeds the stand may run at under the plant's limits (docs/model.md §13): the "
+        "permitted window around the operating speed, the limit binding at each end, every "
+        "checked limit and the advised speed.",
+        {
+            {"status",
+             "ok: a permitted window (the operating speed inside it or not); no_window: no speed "
+             "in the range meets every checked limit; no_operating: the operating speed has no "
+             "steady state and nothing else to start from.",
+             enum_schema({"ok", "no_window", "no_operating"}),
+             [](const SpeedLimitReport& r) {
+                 return nlohmann::json(core::to_string(r.result.status));
+             }},
+            {"summary", "The answer in one sentence, for people.", string_schema(),
+             [](const SpeedLimitReport& r) { return nlohmann::json(speed_limit_summary(r)); }},
+            {"operating_speed_m_per_s", "The scenario's roll speed.",
+             number_schema(units::metre_per_second, false),
+             [](const SpeedLimitReport& r) { return nlohmann::json(r.result.operating_speed); }},
+            {"advised_speed_m_per_s",
+             "The highest permitted speed: the window's upper end, the chatter limit taken at "
+             "its lower bound (V_c - z sigma)(1 - margin); null without a window.",
+             number_schema(units::metre_per_second),
+             [](const SpeedLimitReport& r) {
+                 return r.result.status == core::SpeedLimitStatus::ok
+                            ? nlohmann::json(r.result.advised_speed)
+                            : nlohmann::json(nullptr);
+             }},
+            {"binding_limit",
+             "The limit that sets the advised speed; null when it is the range's highest speed "
+             "(speed_max_m_per_s).",
+             kind_schema(true),
+             [](const SpeedLimitReport& r) { return kind_or_null(r.result.binding_max); }},
+            {"window_min_m_per_s", "The permitted window's lower end; null without a window.",
+             number_schema(units::metre_per_second),
+             [](const SpeedLimitReport& r) {
+                 return r.result.status == core::SpeedLimitStatus::ok
+                            ? nlohmann::json(r.result.window_min)
+                            : nlohmann::json(nullptr);
+             }},
+            {"window_max_m_per_s", "The permitted window's upper end (the advised speed).",
+             number_schema(units::metre_per_second),
+             [](const SpeedLimitReport& r) {
+                 return r.result.status == core::SpeedLimitStatus::ok
+                            ? nlohmann::json(r.result.window_max)
+                            : nlohmann::json(nullptr);
+             }},
+            {"binding_min",
+             "The limit that sets the window's lower end (a force limit usually does: the force "
+             "falls as the speed rises); null when it is the range's lowest speed.",
+             kind_schema(true),
+             [](const SpeedLimitReport& r) { return kind_or_null(r.result.binding_min); }},
+            {"operating_permitted", "Whether the operating speed lies in the window.",
+             boolean_schema(),
+             [](const SpeedLimitReport& r) {
+                 return nlohmann::json(r.result.operating_permitted);
+             }},
+            {"checked",
+             "The limits checked: steady_state always, the others when the options give them "
+             "(chatter unless chatter is false).",
+             array_schema(kind_schema(false)),
+             [](const SpeedLimitReport& r) {
+                 nlohmann::json names = nlohmann::json::array();
+                 for (const core::LimitAnswer& a : r.result.limits)
+                     names.push_back(core::to_string(a.kind));
+                 return names;
+             }},
+            {"limits", "Every checked limit, in the order of checked.",
+             array_schema(ref_schema("SpeedLimitCheck")),
+             [](const SpeedLimitReport& r) {
+                 nlohmann::json rows = nlohmann::json::array();
+                 for (const core::LimitAnswer& a : r.result.limits)
+                     rows.push_back(limit_table().write(a));
+                 return rows;
+             }},
+            {"critical_speed",
+             "The critical-speed search behind the chatter limit (null when chatter is not "
+             "checked).",
+             ref_schema("CriticalSpeedSummary", true),
+             [](const SpeedLimitReport& r) {
+                 return r.limits.chatter ? critical_speed_summary_json(r.result.chatter)
+                                         : nlohmann::json(nullptr);
+             }},
+            {"uncertainty",
+             "The critical speed's uncertainty from options.posterior; null without one.",
+             ref_schema("CriticalSpeedUncertainty", true),
+             [](const SpeedLimitReport& r) {
+                 return r.uncertainty ? uncertainty_table().write(*r.uncertainty)
+                                      : nlohmann::json(nullptr);
+             }},
+        }};
+    return table;
+}
+
+std::string percent(double fraction) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.0f %%", 100.0 * fraction);
+    return text;
+}
+
+std::string speed_text(double speed) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.2f m/s", speed);
+    return text;
+}
+
+}  // namespace
+
+core::Scenario Posterior::at(const core::Scenario& scenario, const Eigen::VectorXd& x) const {
+    core::Scenario out = scenario;
+    for (std::size_t i = 0; i < fields.size(); ++i)
+        fields[i]->number(out) = x(static_cast<Eigen::Index>(i));
+    return out;
+}
+
+SpeedLimitOptions speed_limit_options_from_json(const nlohmann::json& options,
+                                                const std::string& pointer,
+                                                const core::Scenario* valid_scenario,
+                                                FieldErrors& errors) {
+    SpeedLimitOptions out;
+    const OptionsReader reader(options, pointer, option_members(), errors);
+    read_critical_speed_search(reader, out.search);
+    read_limit(reader, OptionId::max_roll_force, out.limits.max_force);
+    read_limit(reader, OptionId::max_torque, out.limits.max_torque);
+    read_limit(reader, OptionId::max_power, out.limits.max_power);
+    read_limit(reader, OptionId::min_forward_slip, out.limits.min_forward_slip);
+    reader.read(OptionId::chatter_limit, out.limits.chatter);
+    reader.read(OptionId::chatter_margin, out.limits.chatter_margin);
+    reader.read(OptionId::confidence, out.limits.confidence);
+    reader.read(OptionId::samples, out.samples);
+    reader.read(OptionId::seed, out.seed);
+    if (const nlohmann::json* posterior = reader.find(posterior_name))
+        read_posterior(*posterior, reader.at(posterior_name), valid_scenario, out, errors);
+    if (out.samples > 0 && !out.posterior && !reader.failed(posterior_name)) {
+        errors.add({reader.at(option_name(OptionId::samples)),
+                    "draws need a posterior to draw from: give options.posterior (calibrate's "
+                    "fitted parameters and correlation) or set samples to 0",
+                    std::nullopt, std::nullopt});
+    }
+    if (out.samples > 0 && !out.limits.chatter && !reader.failed(option_name(OptionId::samples))) {
+        errors.add({reader.at(option_name(OptionId::samples)),
+                    "the draws check the critical speed's uncertainty, which is not used when "
+                    "chatter is false: set samples to 0",
+                    std::nullopt, std::nullopt});
+    }
+    return out;
+}
+
+nlohmann::json speed_limit_options_json(const SpeedLimitOptions& options) {
+    nlohmann::json document = critical_speed_options_json(options.search);
+    const core::PlantLimits& l = options.limits;
+    if (l.max_force) put_option(document, OptionId::max_roll_force, *l.max_force);
+    if (l.max_torque) put_option(document, OptionId::max_torque, *l.max_torque);
+    if (l.max_power) put_option(document, OptionId::max_power, *l.max_power);
+    if (l.min_forward_slip) put_option(document, OptionId::min_forward_slip, *l.min_forward_slip);
+    put_option(document, OptionId::chatter_limit, l.chatter);
+    put_option(document, OptionId::chatter_margin, l.chatter_margin);
+    put_option(document, OptionId::confidence, l.confidence);
+    put_option(document, OptionId::samples, options.samples);
+    put_option(document, OptionId::seed, options.seed);
+    document[std::string(posterior_name)] =
+        options.posterior ? posterior_json(*options.posterior) : nlohmann::json(nullptr);
+    return document;
+}
+
+std::string speed_limit_summary(const SpeedLimitReport& report) {
+    const core::SpeedLimitResult& r = report.result;
+    const std::string at = concat("runs at ", speed_text(r.operating_speed));
+    if (r.status == core::SpeedLimitStatus::no_operating)
+        return concat("The stand has no steady state at ", speed_text(r.operating_speed),
+                      " and nowhere else to start from: no speed is permitted.");
+    if (r.status == core::SpeedLimitStatus::no_window)
+        return concat("The stand ", at,
+                      "; no speed in the range meets every checked limit (see limits).");
+    std::string binding = r.binding_max ? concat(core::to_string(*r.binding_max), " limit")
+                                        : std::string("the range's highest speed");
+    for (const core::LimitAnswer& a : r.limits) {
+        if (r.binding_max && a.kind == *r.binding_max && std::isfinite(a.utilisation) &&
+            a.kind == core::SpeedLimitKind::chatter) {
+            binding = concat("its ", speed_text(a.limit), " chatter limit");
+            return concat("The stand ", at, ", ", percent(a.utilisation), " of ", binding,
+                          "; it may run at ", speed_text(r.window_min), " to ",
+                          speed_text(r.window_max), ".");
+        }
+    }
+    return concat("The stand ", at, (r.operating_permitted ? " (permitted)" : " (not permitted)"),
+                  "; it may run at ", speed_text(r.window_min), " to ", speed_text(r.window_max),
+                  ", the upper end set by ", binding, ".");
+}
+
+nlohmann::json speed_limit_result_json(const SpeedLimitReport& report) {
+    return result_table().write(report);
+}
+
+std::vector<std::string> speed_limit_check_columns() { return limit_table().names(); }
+
+std::vector<ResultSchema> speed_limit_result_schemas() {
+    return {result_schema(limit_table()),
+            result_schema(propagated_parameter_table()),
+            result_schema(sampled_table()),
+            result_schema(uncertainty_table()),
+            result_schema(critical_speed_summary_table()),
+            result_schema(result_table())};
+}
+
+}  // namespace rollgap::api
