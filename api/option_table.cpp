@@ -219,8 +219,16 @@ const std::vector<Option>& rows() {
              units::one,
              closed(0.0, 2147483647.0),
              "Seed of the draws: the same seed draws the same samples."},
+            {what_to_change,
+             {},
+             OptionType::boolean,
+             units::one,
+             {},
+             "Whether to answer what to change to run faster: the advised speed's derivative "
+             "with respect to each field of `changes` at the binding limit (docs/model.md "
+             "§13.4), ranked by the speed one typical step gains."},
         };
-        static_assert(option_names.size() == static_cast<std::size_t>(seed) + 1);
+        static_assert(option_names.size() == static_cast<std::size_t>(what_to_change) + 1);
         assert(all.size() == option_names.size());
         for (std::size_t i = 0; i < all.size(); ++i) {
             assert(static_cast<std::size_t>(all[i].id) == i && "rows in OptionId order");
@@ -254,7 +262,7 @@ const std::vector<OptionComponent>& components() {
         {"SpeedLimitOptions",
          {search_speed_min, search_speed_max, search_speed_step, search_tolerance, max_roll_force,
           max_torque, max_power, min_forward_slip, chatter_limit, chatter_margin, confidence,
-          samples, seed}},
+          samples, seed, what_to_change}},
     };
     return table;
 }

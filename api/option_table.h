@@ -56,10 +56,11 @@ enum class OptionId {
     confidence,
     samples,
     seed,
+    what_to_change,
 };
 
 // The member names by OptionId, constexpr so that a reader's list of known members can name them.
-inline constexpr std::array<std::string_view, 27> option_names{
+inline constexpr std::array<std::string_view, 28> option_names{
     "speed_min_m_per_s",
     "speed_max_m_per_s",
     "speed_step_m_per_s",
@@ -87,6 +88,7 @@ inline constexpr std::array<std::string_view, 27> option_names{
     "confidence",
     "samples",
     "seed",
+    "what_to_change",
 };
 constexpr std::string_view option_name(OptionId id) {
     return option_names[static_cast<std::size_t>(id)];

@@ -2,6 +2,7 @@
 // result (api/speed_limit_json.h; docs/model.md §13).
 #include "api/speed_limit_json.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -23,6 +24,8 @@ namespace {
 using std::string_view_literals::operator""sv;
 
 constexpr std::string_view posterior_name = "posterior";
+constexpr std::string_view changes_name = "changes";
+constexpr std::array<std::string_view, 2> change_members{"field"sv, "step"sv};
 constexpr std::array<std::string_view, 2> posterior_members{"parameters"sv, "correlation"sv};
 // A parameter as calibrate writes it: field, value and standard_error are read, unit is checked,
 // the rest is what the fit reports about itself and is ignored here.
@@ -38,9 +41,10 @@ const std::vector<std::string_view>& option_members() {
         for (const OptionId id :
              {OptionId::max_roll_force, OptionId::max_torque, OptionId::max_power,
               OptionId::min_forward_slip, OptionId::chatter_limit, OptionId::chatter_margin,
-              OptionId::confidence, OptionId::samples, OptionId::seed})
+              OptionId::confidence, OptionId::samples, OptionId::seed, OptionId::what_to_change})
             out.push_back(option_name(id));
         out.push_back(posterior_name);
+        out.push_back(changes_name);
         return out;
     }();
     return members;
@@ -227,6 +231,58 @@ nlohmann::json posterior_json(const Posterior& posterior) {
         correlation.push_back(std::move(row));
     }
     return {{"parameters", std::move(parameters)}, {"correlation", std::move(correlation)}};
+}
+
+// The fields to differentiate: number fields of the scenario other than the speed, each with a
+// step > 0 no wider than its range, none twice.
+void read_changes(const nlohmann::json& list, const std::string& pointer,
+                  std::vector<ChangeField>& out, FieldErrors& errors) {
+    if (!list.is_array() || list.size() > static_cast<std::size_t>(max_change_fields)) {
+        errors.add({pointer,
+                    concat("must be an array of at most ", std::to_string(max_change_fields),
+                           " fields with their typical steps, e.g. [{\"field\": "
+                           "\"/strip/reduction\", \"step\": 0.01}]"),
+                    concat("[0, ", std::to_string(max_change_fields), "] items"), std::nullopt});
+        return;
+    }
+    std::vector<ChangeField> read;
+    for (std::size_t i = 0; i < list.size(); ++i) {
+        const std::string at = concat(pointer, "/", std::to_string(i));
+        const OptionsReader reader(list[i], at, change_members, errors);
+        if (!reader.is_object()) continue;
+        const ScenarioField* field =
+            read_fitted_field(reader.find("field"), reader.at("field"), errors);
+        if (field == nullptr) continue;
+        if (field->path == "/rolls/speed_m_per_s") {
+            errors.add({reader.at("field"),
+                        "the roll speed is what the speed limit answers, not a change to it",
+                        std::nullopt, std::nullopt});
+            continue;
+        }
+        for (const ChangeField& earlier : read) {
+            if (earlier.field == field)
+                errors.add({reader.at("field"), concat(field->path, " is listed twice"),
+                            std::nullopt, std::nullopt});
+        }
+        const Interval steps = open_closed(0.0, field->range.max - field->range.min);
+        double step = 0.0;
+        if (reader.find("step") == nullptr) {
+            errors.add({reader.at("step"),
+                        concat("required: a typical step of the field, in its unit (",
+                               field->unit.code, ")"),
+                        steps.text(), std::string(field->unit.code)});
+        } else if (reader.number("step", field->unit, steps, step)) {
+            read.push_back({field, step});
+        }
+    }
+    out = std::move(read);
+}
+
+nlohmann::json changes_json(const std::vector<ChangeField>& changes) {
+    nlohmann::json out = nlohmann::json::array();
+    for (const ChangeField& c : changes)
+        out.push_back({{"field", c.field->path}, {"step", echo(c.step, c.field->unit)}});
+    return out;
 }
 
 // --- the result ---------------------------------------------------------------------------
@@ -436,6 +492,135 @@ const ResultTable<SpeedLimitUncertainty>& uncertainty_table() {
     return table;
 }
 
+std::string speed_text(double speed);
+
+struct ChangeRow {
+    const ScenarioField* field;
+    double value, step;                // SI
+    std::optional<double> derivative;  // m/s per SI unit
+    bool within_bounds = true;
+
+    std::optional<double> gain() const {
+        if (!derivative) return std::nullopt;
+        return std::abs(*derivative * step);
+    }
+};
+
+// The rows of what to change, ranked by the speed a typical step gains (rows without a
+// derivative last, in the request's order).
+std::vector<ChangeRow> change_rows(const WhatToChange& w) {
+    std::vector<ChangeRow> rows;
+    for (std::size_t j = 0; j < w.changes.size(); ++j) {
+        const ChangeField& c = w.changes[j];
+        core::Scenario copy = w.scenario;
+        ChangeRow row{c.field, c.field->number(copy), c.step, w.sensitivity.derivatives[j]};
+        if (row.derivative) {
+            const double moved = row.value + (*row.derivative >= 0.0 ? c.step : -c.step);
+            row.within_bounds = c.field->range.contains(from_si(moved, c.field->unit));
+        }
+        rows.push_back(row);
+    }
+    std::stable_sort(rows.begin(), rows.end(), [](const ChangeRow& a, const ChangeRow& b) {
+        return a.gain().value_or(-1.0) > b.gain().value_or(-1.0);
+    });
+    return rows;
+}
+
+const ResultTable<ChangeRow>& change_table() {
+    static const ResultTable<ChangeRow> table{
+        "SpeedLimitChange",
+        "One field a plant can set: how the advised speed moves with it, per unit and per "
+        "typical step, at the binding limit.",
+        {
+            {"field", "The scenario field's JSON pointer.", string_schema(),
+             [](const ChangeRow& r) { return nlohmann::json(r.field->path); }},
+            {"unit", "The field's unit (UCUM code): of value and step.", string_schema(),
+             [](const ChangeRow& r) { return nlohmann::json(r.field->unit.code); }},
+            {"value", "The scenario's value.", number_schema(units::one, false),
+             [](const ChangeRow& r) { return nlohmann::json(from_si(r.value, r.field->unit)); }},
+            {"step", "The typical step (options.changes).", number_schema(units::one, false),
+             [](const ChangeRow& r) { return nlohmann::json(from_si(r.step, r.field->unit)); }},
+            {"advised_speed_change_m_per_s_per_unit",
+             "d(advised speed)/d(field) in m/s per the field's unit; null where the model had no "
+             "answer at a difference point.",
+             number_schema(units::one),
+             [](const ChangeRow& r) {
+                 if (!r.derivative) return nlohmann::json(nullptr);
+                 return nlohmann::json(*r.derivative * to_si(1.0, r.field->unit));
+             }},
+            {"speed_gain_m_per_s",
+             "What one typical step in `direction` gains, to first order (the same limit still "
+             "binding).",
+             number_schema(units::metre_per_second),
+             [](const ChangeRow& r) {
+                 return r.gain() ? nlohmann::json(*r.gain()) : nlohmann::json(nullptr);
+             }},
+            {"direction", "raise or lower the field to gain speed; null without a derivative.",
+             enum_schema({"raise", "lower"}, true),
+             [](const ChangeRow& r) {
+                 if (!r.derivative) return nlohmann::json(nullptr);
+                 return nlohmann::json(*r.derivative >= 0.0 ? "raise" : "lower");
+             }},
+            {"within_bounds", "Whether the step in that direction stays inside the field's bounds.",
+             boolean_schema(), [](const ChangeRow& r) { return nlohmann::json(r.within_bounds); }},
+        }};
+    return table;
+}
+
+std::string change_note(const WhatToChange& w, double margin) {
+    const core::BindingSensitivity& b = w.sensitivity;
+    if (!b.kind)
+        return "No limit binds below the range's highest speed: nothing to gain by a change.";
+    if (*b.kind == core::SpeedLimitKind::steady_state)
+        return "The bite loses its steady state above the advised speed: that edge has no margin "
+               "to differentiate.";
+    if (!b.ok) return "The binding limit's margin could not be differentiated there.";
+    if (*b.kind == core::SpeedLimitKind::chatter)
+        return concat("The chatter limit binds: a change moves the critical speed (",
+                      speed_text(b.speed), " here), and the advised speed by ",
+                      format_number(1.0 - margin),
+                      " of that (the margin held). First order: "
+                      "a step large enough for another limit to bind gains less.");
+    return concat("The ", core::to_string(*b.kind), " limit binds at ", speed_text(b.speed),
+                  ". First order: a step large enough for another limit to bind gains less.");
+}
+
+const ResultTable<SpeedLimitReport>& what_to_change_table() {
+    static const ResultTable<SpeedLimitReport> table{
+        "WhatToChange",
+        "What to change to run faster (docs/model.md §13.4): the advised speed's derivatives "
+        "at the binding limit by the implicit function theorem, ranked by the speed a typical "
+        "step gains.",
+        {
+            {"binding_limit", "The limit the derivatives are of; null when none binds.",
+             kind_schema(true),
+             [](const SpeedLimitReport& r) {
+                 return kind_or_null(r.what_to_change->sensitivity.kind);
+             }},
+            {"crossing_speed_m_per_s",
+             "Where its margin crosses zero: the window's end, or the critical speed for "
+             "chatter; null without derivatives.",
+             number_schema(units::metre_per_second),
+             [](const SpeedLimitReport& r) {
+                 const core::BindingSensitivity& b = r.what_to_change->sensitivity;
+                 return b.ok ? nlohmann::json(b.speed) : nlohmann::json(nullptr);
+             }},
+            {"note", "What the figures mean here, for people.", string_schema(),
+             [](const SpeedLimitReport& r) {
+                 return nlohmann::json(change_note(*r.what_to_change, r.limits.chatter_margin));
+             }},
+            {"changes", "One row per field of options.changes, the largest gain first.",
+             array_schema(ref_schema("SpeedLimitChange")),
+             [](const SpeedLimitReport& r) {
+                 nlohmann::json rows = nlohmann::json::array();
+                 for (const ChangeRow& row : change_rows(*r.what_to_change))
+                     rows.push_back(change_table().write(row));
+                 return rows;
+             }},
+        }};
+    return table;
+}
+
 const ResultTable<SpeedLimitReport>& result_table() {
     static const ResultTable<SpeedLimitReport> table{
         "SpeedLimitResult",
@@ -520,6 +705,13 @@ const ResultTable<SpeedLimitReport>& result_table() {
                  return r.limits.chatter ? critical_speed_summary_json(r.result.chatter)
                                          : nlohmann::json(nullptr);
              }},
+            {"what_to_change",
+             "What to change to run faster; null when options.what_to_change is false.",
+             ref_schema("WhatToChange", true),
+             [](const SpeedLimitReport& r) {
+                 return r.what_to_change ? what_to_change_table().write(r)
+                                         : nlohmann::json(nullptr);
+             }},
             {"uncertainty",
              "The critical speed's uncertainty from options.posterior; null without one.",
              ref_schema("CriticalSpeedUncertainty", true),
@@ -545,6 +737,22 @@ std::string speed_text(double speed) {
 
 }  // namespace
 
+std::vector<ChangeField> default_change_fields() {
+    // What a plant sets between coils, with a step it would take (in the fields' units).
+    static const std::vector<std::pair<std::string_view, double>> typical{
+        {"/tension/back/stress_MPa", 5.0}, {"/tension/front/stress_MPa", 5.0},
+        {"/strip/reduction", 0.01},        {"/lubricant/viscosity_Pa_s", 0.0001},
+        {"/roughness/roll_rq_um", 0.1},    {"/roughness/strip_rq_um", 0.1},
+        {"/rolls/radius_mm", 10.0},
+    };
+    std::vector<ChangeField> out;
+    for (const auto& [path, step] : typical) {
+        const ScenarioField* field = find_scenario_field(path);
+        if (field != nullptr) out.push_back({field, to_si(step, field->unit)});
+    }
+    return out;
+}
+
 core::Scenario Posterior::at(const core::Scenario& scenario, const Eigen::VectorXd& x) const {
     core::Scenario out = scenario;
     for (std::size_t i = 0; i < fields.size(); ++i)
@@ -568,6 +776,9 @@ SpeedLimitOptions speed_limit_options_from_json(const nlohmann::json& options,
     reader.read(OptionId::confidence, out.limits.confidence);
     reader.read(OptionId::samples, out.samples);
     reader.read(OptionId::seed, out.seed);
+    reader.read(OptionId::what_to_change, out.what_to_change);
+    if (const nlohmann::json* changes = reader.find(changes_name))
+        read_changes(*changes, reader.at(changes_name), out.changes, errors);
     if (const nlohmann::json* posterior = reader.find(posterior_name))
         read_posterior(*posterior, reader.at(posterior_name), valid_scenario, out, errors);
     if (out.samples > 0 && !out.posterior && !reader.failed(posterior_name)) {
@@ -597,6 +808,8 @@ nlohmann::json speed_limit_options_json(const SpeedLimitOptions& options) {
     put_option(document, OptionId::confidence, l.confidence);
     put_option(document, OptionId::samples, options.samples);
     put_option(document, OptionId::seed, options.seed);
+    put_option(document, OptionId::what_to_change, options.what_to_change);
+    document[std::string(changes_name)] = changes_json(options.changes);
     document[std::string(posterior_name)] =
         options.posterior ? posterior_json(*options.posterior) : nlohmann::json(nullptr);
     return document;
@@ -635,6 +848,8 @@ std::vector<std::string> speed_limit_check_columns() { return limit_table().name
 
 std::vector<ResultSchema> speed_limit_result_schemas() {
     return {result_schema(limit_table()),
+            result_schema(change_table()),
+            result_schema(what_to_change_table()),
             result_schema(propagated_parameter_table()),
             result_schema(sampled_table()),
             result_schema(uncertainty_table()),

@@ -18,6 +18,9 @@
 //   samples             0     [0, 500] seeded draws from the posterior, the check on the linear
 //                       propagation; 0: none
 //   seed                1     of the draws
+//   what_to_change      true  the advised speed's derivatives at the binding limit
+//   changes             [{field, step}]: the fields differentiated and their typical steps, in
+//                       the fields' units (default: default_change_fields())
 
 #include <optional>
 #include <string>
@@ -29,6 +32,7 @@
 #include "api/field_errors.h"
 #include "api/result_table.h"
 #include "api/scenario_schema.h"
+#include "core/limit_sensitivity.h"
 #include "core/propagation.h"
 #include "core/scenario.h"
 #include "core/speed_limit.h"
@@ -51,6 +55,15 @@ struct Posterior {
 };
 
 inline constexpr int max_posterior_parameters = 12;
+inline constexpr int max_change_fields = 30;
+
+// A field a plant can set and its typical step (SI): what "what to change" differentiates.
+struct ChangeField {
+    const ScenarioField* field = nullptr;
+    double step = 0.0;
+};
+// The default list: the tensions, the reduction, the viscosity, the roughnesses, the roll radius.
+std::vector<ChangeField> default_change_fields();
 inline constexpr int max_posterior_samples = 500;
 
 struct SpeedLimitOptions {
@@ -59,6 +72,8 @@ struct SpeedLimitOptions {
     std::optional<Posterior> posterior;
     int samples = 0;
     int seed = 1;
+    bool what_to_change = true;
+    std::vector<ChangeField> changes = default_change_fields();
 };
 
 // `valid_scenario`: the request's scenario if it passed validation (the posterior's values are
@@ -78,10 +93,18 @@ struct SpeedLimitUncertainty {
     int seed = 1;
 };
 
+// What to change (docs/model.md §13.4): the binding limit's derivatives, one per change field.
+struct WhatToChange {
+    std::vector<ChangeField> changes;
+    core::BindingSensitivity sensitivity;
+    core::Scenario scenario;  // the values the changes start from
+};
+
 struct SpeedLimitReport {
     core::PlantLimits limits;
     core::SpeedLimitResult result;
     std::optional<SpeedLimitUncertainty> uncertainty;
+    std::optional<WhatToChange> what_to_change;
 };
 
 nlohmann::json speed_limit_result_json(const SpeedLimitReport& report);

@@ -3,8 +3,12 @@
 #include <memory>
 #include <optional>
 #include <utility>
+#include <vector>
+#include <vector>
 
 #include "api/speed_limit_json.h"
+#include "core/limit_sensitivity.h"
+#include "core/limit_sensitivity.h"
 #include "core/propagation.h"
 #include "core/speed_limit.h"
 #include "core/stability.h"
@@ -57,6 +61,18 @@ PreparedAnalysis prepare_speed_limit(const core::Scenario& scenario, const nlohm
             if (report.result.status == core::SpeedLimitStatus::cancelled)
                 throw AnalysisCancelled{};
             throw_if_cancelled(control);
+            if (parsed->what_to_change) {
+                // docs/model.md §13.4: the margin differenced over a tenth of each typical step
+                api::WhatToChange& what = report.what_to_change.emplace();
+                what.changes = parsed->changes;
+                what.scenario = scenario;
+                std::vector<core::ScenarioNumber> numbers;
+                for (const api::ChangeField& c : parsed->changes)
+                    numbers.push_back({c.field->number, 0.1 * c.step});
+                what.sensitivity = core::binding_sensitivity(scenario, report.limits, report.result,
+                                                             numbers, control);
+                throw_if_cancelled(control);
+            }
             return api::speed_limit_result_json(report);
         },
     };

@@ -63,16 +63,26 @@ TEST_CASE("speed_limit options: the defaults are resolved and echoed") {
     const PreparedAnalysis prepared =
         prepare_speed_limit(core::Scenario{}, json::object(), "/options", errors);
     CHECK(errors.empty());
-    CHECK(prepared.resolved_options == json{{"speed_min_m_per_s", 1.0},
-                                            {"speed_max_m_per_s", 60.0},
-                                            {"speed_step_m_per_s", 0.5},
-                                            {"relative_tolerance", 1e-4},
-                                            {"chatter", true},
-                                            {"chatter_margin", 0.0},
-                                            {"confidence", 0.95},
-                                            {"samples", 0},
-                                            {"seed", 1},
-                                            {"posterior", nullptr}});
+    CHECK(prepared.resolved_options ==
+          json{{"speed_min_m_per_s", 1.0},
+               {"speed_max_m_per_s", 60.0},
+               {"speed_step_m_per_s", 0.5},
+               {"relative_tolerance", 1e-4},
+               {"chatter", true},
+               {"chatter_margin", 0.0},
+               {"confidence", 0.95},
+               {"samples", 0},
+               {"seed", 1},
+               {"what_to_change", true},
+               {"changes",
+                {{{"field", "/tension/back/stress_MPa"}, {"step", 5.0}},
+                 {{"field", "/tension/front/stress_MPa"}, {"step", 5.0}},
+                 {{"field", "/strip/reduction"}, {"step", 0.01}},
+                 {{"field", "/lubricant/viscosity_Pa_s"}, {"step", 0.0001}},
+                 {{"field", "/roughness/roll_rq_um"}, {"step", 0.1}},
+                 {{"field", "/roughness/strip_rq_um"}, {"step", 0.1}},
+                 {{"field", "/rolls/radius_mm"}, {"step", 10.0}}}},
+               {"posterior", nullptr}});
 }
 
 TEST_CASE("speed_limit options: every bound is enforced, with its pointer, bound and unit") {
@@ -311,4 +321,66 @@ TEST_CASE("speed_limit: a posterior reaches the chatter limit as (V_c - z sigma)
     // The same seed draws the same samples.
     const json again = run_speed_limit(body["options"]);
     CHECK(again["result"]["uncertainty"]["sampled"] == sampled);
+}
+
+TEST_CASE("speed_limit options: what to change is read strictly") {
+    const auto refused = [](const json& changes, const std::string& pointer) {
+        return test::refused_options("speed_limit", {{"changes", changes}}, pointer);
+    };
+    refused({{{"field", "/rolls/speed_m_per_s"}, {"step", 1}}}, "/options/changes/0/field");
+    refused({{{"field", "/strip/reduction"}, {"step", 0.01}},
+             {{"field", "/strip/reduction"}, {"step", 0.02}}},
+            "/options/changes/1/field");
+    const json zero =
+        refused({{{"field", "/strip/reduction"}, {"step", 0}}}, "/options/changes/0/step");
+    CHECK(zero["unit"] == "1");
+    refused({{{"field", "/strip/reduction"}}}, "/options/changes/0/step");
+    refused({{{"field", "/strip/reductio"}, {"step", 0.01}}}, "/options/changes/0/field");
+    refused(json::object(), "/options/changes");
+}
+
+TEST_CASE("speed_limit: what to change equals central differences of the whole analysis") {
+    // The default stand under a power limit of 4,800 kW (it uses 4,489 kW at 19 m/s) and the
+    // chatter limit with a 10 % margin: the chatter limit binds at 0.9 V_c = 18.09 m/s. Each
+    // derivative the answer gives is checked against the answer itself rerun at the field ± a
+    // quarter of its step (the critical speed refined to 1e-8, so its tolerance is no noise).
+    const json options = {{"max_power_kW", 4800},
+                          {"chatter_margin", 0.1},
+                          {"relative_tolerance", 1e-8},
+                          {"changes",
+                           {{{"field", "/strip/reduction"}, {"step", 0.01}},
+                            {{"field", "/tension/back/stress_MPa"}, {"step", 5}},
+                            {{"field", "/lubricant/viscosity_Pa_s"}, {"step", 0.0001}}}}};
+    const json result = run_speed_limit(options)["result"];
+    const json& what = result["what_to_change"];
+    CAPTURE(what.dump());
+    REQUIRE(what["binding_limit"] == result["binding_limit"]);
+    const json& changes = what["changes"];
+    REQUIRE(changes.size() == 3);
+    for (std::size_t i = 1; i < changes.size(); ++i)
+        CHECK(changes[i - 1]["speed_gain_m_per_s"].get<double>() >=
+              changes[i]["speed_gain_m_per_s"].get<double>());
+    json quiet = options;
+    quiet["what_to_change"] = false;
+    for (const json& change : changes) {
+        const std::string field = change["field"].get<std::string>();
+        CAPTURE(field);
+        const double value = change["value"].get<double>();
+        const double h = 0.25 * change["step"].get<double>();
+        const auto advised = [&](double at) {
+            json scenario = json::object();
+            scenario[json::json_pointer(field)] = at;
+            const json r = run_speed_limit(quiet, scenario)["result"];
+            REQUIRE(r["binding_limit"] == result["binding_limit"]);
+            return r["advised_speed_m_per_s"].get<double>();
+        };
+        const double differences = (advised(value + h) - advised(value - h)) / (2.0 * h);
+        const double derivative = change["advised_speed_change_m_per_s_per_unit"].get<double>();
+        MESSAGE(field << ": " << derivative << " m/s per unit in the answer, " << differences
+                      << " from the whole analysis");
+        CHECK(derivative == doctest::Approx(differences).epsilon(0.01));
+        CHECK(change["speed_gain_m_per_s"].get<double>() ==
+              doctest::Approx(std::abs(derivative) * change["step"].get<double>()));
+        CHECK(change["direction"] == (derivative > 0 ? "raise" : "lower"));
+    }
 }
