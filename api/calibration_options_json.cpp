@@ -17,6 +17,7 @@
 #include "api/options_reader.h"
 #include "api/quantity_json.h"
 #include "api/result_table.h"
+#include "api/posterior_json.h"
 #include "api/scenario_json.h"
 #include "api/stability_json.h"
 #include "api/text.h"
@@ -24,8 +25,9 @@
 namespace rollgap::api {
 namespace {
 
-constexpr std::array<std::string_view, 4> option_members{
-    "parameters", "observations", option_name(OptionId::max_iterations), "critical_speed"};
+constexpr std::array<std::string_view, 5> option_members{"parameters", "observations",
+                                                         option_name(OptionId::max_iterations),
+                                                         "critical_speed", "joint_prior"};
 constexpr std::array<std::string_view, 4> parameter_members{"field", "min", "max", "prior"};
 constexpr std::array<std::string_view, 2> prior_members{"value", "standard_uncertainty"};
 constexpr std::array<std::string_view, 5> observation_members{"scenario", "quantity", "value",
@@ -92,7 +94,8 @@ std::optional<ParameterRead> read_parameter(const nlohmann::json& value, const s
                 {"min", from_si(out.parameter.lower, field.unit)},
                 {"max", from_si(out.parameter.upper, field.unit)},
                 {"prior", nullptr}};
-    if (const auto* prior = reader.find("prior")) {
+    // null, as the answer echoes a parameter without one: no prior (the echo reruns)
+    if (const auto* prior = reader.find("prior"); prior != nullptr && !prior->is_null()) {
         const OptionsReader prior_reader(*prior, reader.at("prior"), prior_members, errors);
         if (!prior_reader.is_object()) return std::nullopt;
         bool ok = true;
@@ -296,6 +299,8 @@ const std::vector<CalibrationQuantity>& calibration_quantities() {
         {"chatter_frequency_Hz", core::Observable::chatter_frequency, units::hertz},
         {"natural_frequency_Hz", core::Observable::natural_frequency, units::hertz},
         {"damping_ratio", core::Observable::damping_ratio, units::one},
+        {"running_frequency_Hz", core::Observable::running_frequency, units::hertz},
+        {"running_damping_ratio", core::Observable::running_damping_ratio, units::one},
     };
     return table;
 }
@@ -333,6 +338,50 @@ CalibrationPlan calibration_plan_from_json(const nlohmann::json& options,
         }
     }
 
+    // A stored posterior as the prior of the parameters it covers (docs/model.md §11.6).
+    std::optional<Posterior> joint;
+    if (const nlohmann::json* value = reader.find("joint_prior"))
+        joint = read_posterior(*value, reader.at("joint_prior"), nullptr, errors);
+    if (joint && !errors.has_error_at_or_below(reader.at("parameters"))) {
+        core::JointPrior prior;
+        prior.mean = joint->mean;
+        prior.covariance = joint->covariance();
+        for (std::size_t k = 0; k < joint->fields.size(); ++k) {
+            const std::string at = append_pointer(
+                append_pointer(append_pointer(reader.at("joint_prior"), "parameters"),
+                               std::to_string(k)),
+                "field");
+            const auto fitted =
+                std::find_if(parameters.begin(), parameters.end(),
+                             [&](const ParameterRead& p) { return p.field == joint->fields[k]; });
+            if (fitted == parameters.end()) {
+                errors.add({at,
+                            concat(joint->fields[k]->path,
+                                   " is not fitted: a prior is on fitted parameters; add it to "
+                                   "options.parameters or leave it out of the joint prior"),
+                            std::nullopt, std::nullopt});
+                continue;
+            }
+            if (fitted->parameter.has_prior) {
+                errors.add(
+                    {append_pointer(append_pointer(reader.at("parameters"),
+                                                   std::to_string(fitted - parameters.begin())),
+                                    "prior"),
+                     concat(joint->fields[k]->path,
+                            " has the joint prior already: give it one prior, not two"),
+                     std::nullopt, std::nullopt});
+            }
+            prior.indices.push_back(static_cast<int>(fitted - parameters.begin()));
+        }
+        if (prior.covariance.llt().info() != Eigen::Success) {
+            errors.add({append_pointer(reader.at("joint_prior"), "correlation"),
+                        "makes the prior's covariance singular: a prior needs a positive definite "
+                        "one (no correlation of ±1)",
+                        std::nullopt, std::nullopt});
+        }
+        plan.setup.joint_prior = std::move(prior);
+    }
+
     nlohmann::json parameter_echo = nlohmann::json::array(),
                    observation_echo = nlohmann::json::array();
     for (const auto& p : parameters) parameter_echo.push_back(p.echo);
@@ -345,7 +394,8 @@ CalibrationPlan calibration_plan_from_json(const nlohmann::json& options,
         {"parameters", std::move(parameter_echo)},
         {"observations", std::move(observation_echo)},
         {option_name(OptionId::max_iterations), max_iterations},
-        {"critical_speed", critical_speed_options_json(plan.setup.critical_speed)}};
+        {"critical_speed", critical_speed_options_json(plan.setup.critical_speed)},
+        {"joint_prior", joint ? posterior_json(*joint) : nlohmann::json(nullptr)}};
     if (errors.size() != errors_before || valid_scenario == nullptr) return plan;
 
     // Start values inside their boxes; conditions read like scenarios.

@@ -30,6 +30,7 @@
 #include <nlohmann/json.hpp>
 
 #include "api/field_errors.h"
+#include "api/posterior_json.h"
 #include "api/result_table.h"
 #include "api/scenario_schema.h"
 #include "core/limit_sensitivity.h"
@@ -40,21 +41,6 @@
 
 namespace rollgap::api {
 
-// Fitted scenario fields with their joint Gaussian uncertainty, in SI.
-struct Posterior {
-    std::vector<const ScenarioField*> fields;
-    Eigen::VectorXd mean;
-    Eigen::VectorXd standard_errors;
-    Eigen::MatrixXd correlation;
-
-    Eigen::MatrixXd covariance() const {
-        return standard_errors.asDiagonal() * correlation * standard_errors.asDiagonal();
-    }
-    // The scenario with the fields at x (SI).
-    core::Scenario at(const core::Scenario& scenario, const Eigen::VectorXd& x) const;
-};
-
-inline constexpr int max_posterior_parameters = 12;
 inline constexpr int max_change_fields = 30;
 
 // A field a plant can set and its typical step (SI): what "what to change" differentiates.

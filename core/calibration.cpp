@@ -29,9 +29,11 @@ using Eigen::VectorXd;
 class Fit {
 public:
     Fit(const std::vector<CalibrationParameter>& parameters, int observation_count,
-        const ResidualFunction& model, const CalibrationOptions& options, const Control& control)
+        const ResidualFunction& model, const CalibrationOptions& options, const Control& control,
+        const JointPrior* joint)
         : p_(parameters), m_(observation_count), n_(static_cast<int>(parameters.size())),
-          model_(model), options_(options), control_(control) {
+          model_(model), options_(options), control_(control), joint_(joint) {
+        if (joint_ != nullptr) joint_factor_ = joint_->covariance.llt().matrixL();
         lower_.resize(n_);
         upper_.resize(n_);
         scale_.resize(n_);
@@ -65,6 +67,16 @@ private:
             r(m_ + j) = parameter.has_prior
                             ? (x(j) - parameter.prior_value) / parameter.prior_uncertainty
                             : 0.0;
+        }
+        if (joint_ != nullptr) {
+            // whitened: L⁻¹ (x_S − mean), its k-th row in the slot of the k-th covered parameter
+            VectorXd d(static_cast<Eigen::Index>(joint_->indices.size()));
+            for (std::size_t k = 0; k < joint_->indices.size(); ++k)
+                d(static_cast<Eigen::Index>(k)) =
+                    x(joint_->indices[k]) - joint_->mean(static_cast<Eigen::Index>(k));
+            const VectorXd w = joint_factor_.triangularView<Eigen::Lower>().solve(d);
+            for (std::size_t k = 0; k < joint_->indices.size(); ++k)
+                r(m_ + joint_->indices[k]) = w(static_cast<Eigen::Index>(k));
         }
         return true;
     }
@@ -108,6 +120,8 @@ private:
     const ResidualFunction& model_;
     CalibrationOptions options_;
     const Control& control_;
+    const JointPrior* joint_;
+    MatrixXd joint_factor_;  // L of the joint prior's covariance
     VectorXd lower_, upper_, scale_;
     std::atomic<int> evaluations_{0};
 };
@@ -364,8 +378,9 @@ void Fit::fill_statistics(CalibrationResult& result, const VectorXd&, const Vect
 
 CalibrationResult calibrate(const std::vector<CalibrationParameter>& parameters,
                             int observation_count, const ResidualFunction& residuals,
-                            const CalibrationOptions& options, const Control& control) {
-    Fit fit(parameters, observation_count, residuals, options, control);
+                            const CalibrationOptions& options, const Control& control,
+                            const JointPrior* joint_prior) {
+    Fit fit(parameters, observation_count, residuals, options, control, joint_prior);
     return fit.run();
 }
 

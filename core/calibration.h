@@ -34,6 +34,16 @@ struct CalibrationParameter {
     double prior_uncertainty = 0.0;  // > 0 when has_prior
 };
 
+// A joint Gaussian prior over some of the parameters: a stored posterior (docs/model.md §11.6),
+// so that a stand adapts coil after coil. Its rows L⁻¹ (x_S − mean) with Σ = L Lᵀ take the
+// places of those parameters' own prior rows (a covered parameter has none of its own); they
+// are linear, so the posterior information JᵀJ gains exactly Σ⁻¹ on S.
+struct JointPrior {
+    std::vector<int> indices;    // the parameters it covers, each once
+    Eigen::VectorXd mean;        // SI, one per index
+    Eigen::MatrixXd covariance;  // SI, symmetric positive definite
+};
+
 // Fills `residuals` (size observation_count) at `x`; false when the model has no answer there
 // (no steady bite, no critical speed in range): the fit treats the point as unacceptable.
 // `control` carries the executor and the thread budget of this one evaluation (its inner loops
@@ -91,6 +101,7 @@ struct CalibrationResult {
 
 CalibrationResult calibrate(const std::vector<CalibrationParameter>& parameters,
                             int observation_count, const ResidualFunction& residuals,
-                            const CalibrationOptions& options = {}, const Control& control = {});
+                            const CalibrationOptions& options = {}, const Control& control = {},
+                            const JointPrior* joint_prior = nullptr);
 
 }  // namespace rollgap::core

@@ -19,6 +19,8 @@ const char* to_string(Observable quantity) {
         case Observable::chatter_frequency: return "chatter_frequency";
         case Observable::natural_frequency: return "natural_frequency";
         case Observable::damping_ratio: return "damping_ratio";
+        case Observable::running_frequency: return "running_frequency";
+        case Observable::running_damping_ratio: return "running_damping_ratio";
     }
     return "unknown";
 }
@@ -34,6 +36,9 @@ bool needs_bite(Observable q) {
 }
 bool needs_critical(Observable q) {
     return q == Observable::critical_speed || q == Observable::chatter_frequency;
+}
+bool needs_running(Observable q) {
+    return q == Observable::running_frequency || q == Observable::running_damping_ratio;
 }
 
 constexpr double nan = std::numeric_limits<double>::quiet_NaN();
@@ -194,14 +199,16 @@ public:
         for (std::size_t c = 0; c < setup_.conditions.size(); ++c) {
             if (control.should_stop()) break;
             const int condition = static_cast<int>(c);
-            bool bite_needed = false, critical_needed = false, modes_needed = false;
+            bool bite_needed = false, critical_needed = false, modes_needed = false,
+                 running_needed = false;
             for (const auto& o : setup_.observations) {
                 if (o.condition != condition) continue;
                 bite_needed |= needs_bite(o.quantity);
                 critical_needed |= needs_critical(o.quantity);
                 modes_needed |= needs_mode(o.quantity);
+                running_needed |= needs_running(o.quantity);
             }
-            if (!bite_needed && !critical_needed && !modes_needed) continue;
+            if (!bite_needed && !critical_needed && !modes_needed && !running_needed) continue;
             const Scenario s = with(x, condition);
             std::optional<BiteResult> bite;
             if (bite_needed)
@@ -212,6 +219,8 @@ public:
             }
             std::optional<Modes> modes;
             if (modes_needed) modes = modes_of(s);
+            std::optional<SpeedStability> running;
+            if (running_needed) running = stability_at(s);
 
             for (std::size_t i = 0; i < setup_.observations.size(); ++i) {
                 const ScenarioObservation& o = setup_.observations[i];
@@ -235,6 +244,15 @@ public:
                                                                        : critical->frequency_Hz;
                     if (!std::isfinite(p.value))
                         p.failure = "the mode crossing at the critical speed is not oscillatory";
+                } else if (needs_running(o.quantity)) {
+                    if (running->steady_status != BiteStatus::ok ||
+                        running->status != DynamicsStatus::ok || running->oscillatory.empty()) {
+                        p.failure = "no linearisation of the running stand at its speed";
+                        continue;
+                    }
+                    p.value = o.quantity == Observable::running_frequency
+                                  ? running->least_damped.frequency_Hz
+                                  : running->least_damped.damping_ratio;
                 } else {
                     if (!modes->ok) {
                         p.failure = modes->failure;
@@ -304,6 +322,12 @@ long stability_evaluations_per_prediction(const ScenarioCalibration& setup) {
                             return o.condition == static_cast<int>(c) && needs_critical(o.quantity);
                         });
         if (critical) total += scan + 30;
+        const bool running =
+            std::any_of(setup.observations.begin(), setup.observations.end(),
+                        [&](const ScenarioObservation& o) {
+                            return o.condition == static_cast<int>(c) && needs_running(o.quantity);
+                        });
+        if (running) total += 1;
     }
     return total;
 }
@@ -350,7 +374,8 @@ ScenarioCalibrationResult calibrate_scenario(const ScenarioCalibration& setup,
         }
         return true;
     };
-    out.fit = calibrate(setup.parameters, m, residuals, setup.options, control);
+    out.fit = calibrate(setup.parameters, m, residuals, setup.options, control,
+                        setup.joint_prior ? &*setup.joint_prior : nullptr);
     if (out.fit.status != CalibrationStatus::cancelled)
         out.predictions = predictor.predict(out.fit.values, control);
     return out;

@@ -7,6 +7,7 @@
 // its computations: one roll-bite solve, one critical-speed search, one modal analysis.
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,10 @@ enum class Observable {
     chatter_frequency,  // Hz, of the mode that goes unstable at the critical speed
     natural_frequency,  // Hz, of one undamped mode of the stack with the strip spring k4
     damping_ratio,      // 1, of that mode with the structure's damping (c1, c2, Rayleigh)
+    // Operational modal analysis (docs/model.md §11.6): the least-damped oscillatory root of the
+    // running stand linearised at the condition's speed (§7.3), bite and tension loop included
+    running_frequency,      // Hz
+    running_damping_ratio,  // 1
 };
 const char* to_string(Observable);
 bool needs_mode(Observable);
@@ -59,6 +64,8 @@ struct ScenarioCalibration {
     // is a differentiable function of the parameters for the finite-difference Jacobian.
     CriticalSpeedOptions critical_speed;
     CalibrationOptions options;
+    // A stored posterior as the prior of some parameters (coil-by-coil adaptation).
+    std::optional<JointPrior> joint_prior;
 };
 
 struct ObservationPrediction {
