@@ -142,7 +142,7 @@ struct HttpServer::Impl {
         if (refuse(t_context.route, request, response, config(), state.keys, on_admin,
                    t_context.client))
             return httplib::Server::HandlerResponse::Handled;
-        if (request.method == "POST" || request.method == "PUT") {
+        if (request.method == "POST" || request.method == "PUT" || request.method == "PATCH") {
             auto& dispatched = const_cast<httplib::Request&>(request);
             t_context.path = std::exchange(dispatched.path, std::string(dispatched_path));
             return httplib::Server::HandlerResponse::Unhandled;  // → handle_post
@@ -271,6 +271,10 @@ struct HttpServer::Impl {
                 const bool mill = route->id == RouteId::mill || route->id == RouteId::mills_default;
                 (mill ? mill_endpoints : scenario_endpoints)
                     .put(request, std::move(document), t_context.client, response);
+            } else if (request.method == "PATCH") {
+                const bool mill = route->id == RouteId::mill;
+                (mill ? mill_endpoints : scenario_endpoints)
+                    .patch(request, std::move(document), t_context.client, response);
             } else {
                 run_route(*route, request, std::move(document), response);
             }
@@ -354,6 +358,7 @@ struct HttpServer::Impl {
             };
             listener.Post(std::string(dispatched_path), post_or_put);
             listener.Put(std::string(dispatched_path), post_or_put);
+            listener.Patch(std::string(dispatched_path), post_or_put);
         }
         listener.set_error_handler([](const httplib::Request&, httplib::Response& response) {
             if (const Refusal refusal = current_refusal(); refusal != Refusal::none) {

@@ -142,6 +142,13 @@ bool refuse(const Route* route, const httplib::Request& request, httplib::Respon
             response, api::ProblemCode::forbidden,
             concat("the client key ", identity->name, " lacks the scope ", scope_name(scope),
                    " that ", request.method, " ", route->pattern, " needs"));
+    } else if (request.method == "PATCH" && has_body(request) &&
+               !is_merge_patch_media_type(request.get_header_value("Content-Type"))) {
+        // RFC 7396: a merge patch says so (application/json is taken as one too).
+        set_problem(response, api::ProblemCode::unsupported_media_type,
+                    concat("a PATCH body is a JSON merge patch: Content-Type: "
+                           "application/merge-patch+json, not ",
+                           api::quoted_for_message(request.get_header_value("Content-Type"))));
     } else if ((request.method == "POST" || request.method == "PUT") && has_body(request) &&
                !is_json_media_type(request.get_header_value("Content-Type"))) {
         // An empty body is the request {} whatever its declared type.

@@ -136,6 +136,11 @@ bool is_json_media_type(std::string_view content_type) {
     return lower(type) == "application/json";
 }
 
+bool is_merge_patch_media_type(std::string_view content_type) {
+    const std::string_view type = trim(content_type.substr(0, content_type.find(';')));
+    return lower(type) == "application/merge-patch+json" || lower(type) == "application/json";
+}
+
 bool has_body(const httplib::Request& request) {
     if (request.has_header("Transfer-Encoding")) return true;
     const std::string length = request.get_header_value("Content-Length");

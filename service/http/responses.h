@@ -41,6 +41,8 @@ std::string lower(std::string_view text);
 std::string_view trim(std::string_view text);
 // application/json, with or without parameters (charset=utf-8), any case.
 bool is_json_media_type(std::string_view content_type);
+// application/merge-patch+json (RFC 7396), or application/json.
+bool is_merge_patch_media_type(std::string_view content_type);
 // The request announces a body (chunked, or a non-zero Content-Length).
 bool has_body(const httplib::Request& request);
 

@@ -15,11 +15,11 @@ constexpr std::array scenario_routes{
     // `default` is served from code; PUT and DELETE on it are answered 422 (a reserved name).
     Route{RouteId::scenarios_default, "/v1/scenarios/default", get | put | del, false, "", false},
     Route{RouteId::scenarios, "/v1/scenarios", get, true, "", false},
-    Route{RouteId::scenario, "/v1/scenarios/{name}", get | put | del, true, "", false},
+    Route{RouteId::scenario, "/v1/scenarios/{name}", get | put | patch | del, true, "", false},
     // Stored mills (tandem documents), the same rules; `default` is the default mill.
     Route{RouteId::mills_default, "/v1/mills/default", get | put | del, false, "", false},
     Route{RouteId::mills, "/v1/mills", get, true, "", false},
-    Route{RouteId::mill, "/v1/mills/{name}", get | put | del, true, "", false},
+    Route{RouteId::mill, "/v1/mills/{name}", get | put | patch | del, true, "", false},
 };
 constexpr std::array other_routes{
     Route{RouteId::jobs, "/v1/jobs", get | post, true, "", false},
@@ -83,6 +83,7 @@ std::string allow_header(const Route& route) {
     }
     if (route.methods & post) add("POST");
     if (route.methods & put) add("PUT");
+    if (route.methods & patch) add("PATCH");
     if (route.methods & del) add("DELETE");
     add("OPTIONS");
     return allow;
@@ -92,6 +93,7 @@ bool method_allowed(const Route& route, std::string_view method) {
     if (method == "GET" || method == "HEAD") return (route.methods & get) != 0;
     if (method == "POST") return (route.methods & post) != 0;
     if (method == "PUT") return (route.methods & put) != 0;
+    if (method == "PATCH") return (route.methods & patch) != 0;
     if (method == "DELETE") return (route.methods & del) != 0;
     return false;
 }

@@ -8,7 +8,7 @@
 
 namespace rollgap::service::http {
 
-enum Method : unsigned { get = 1, post = 2, del = 4, put = 8 };
+enum Method : unsigned { get = 1, post = 2, del = 4, put = 8, patch = 16 };
 
 enum class RouteId {
     scenarios_default,

@@ -213,7 +213,7 @@ void ScenarioEndpoints::get_or_delete(const httplib::Request& request, const std
     if (request.method == "DELETE") {
         remove(name, request, client, response);
     } else {
-        get(name, response);
+        get(name, request, response);
     }
 }
 
@@ -244,20 +244,40 @@ void ScenarioEndpoints::list(const httplib::Request& request, httplib::Response&
     set_json(response, 200, body, "application/json");
 }
 
-void ScenarioEndpoints::get(const std::string& name, httplib::Response& response) {
+void ScenarioEndpoints::get(const std::string& name, const httplib::Request& request,
+                            httplib::Response& response) {
     if (name == api::reserved_scenario_name) {  // never needs the store
         response.status = 200;
         response.set_content(default_text_, "application/json");
         return;
     }
     if (refuse_name(name, response)) return;
+    std::optional<std::int64_t> version;
+    if (request.has_param("version")) {
+        const std::string text = request.get_param_value("version");
+        std::int64_t value = 0;
+        const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+        if (error != std::errc() || end != text.data() + text.size() || value < 1) {
+            invalid_parameter(response, "version", "a version number, 1 or more (the ETag's)");
+            return;
+        }
+        version = value;
+    }
     const auto store = state_.store.get();
     if (!store) return state_.store_unavailable(response, std::string(store_down));
-    auto found = store->get_scenario(name);
+    auto found = store->get_scenario(name, version);
     state_.store.report(found.status);
     if (!found.ok() && found.status != StoreStatus::not_found)
         return state_.store_unavailable(response, std::string(store_down));
     if (found.status == StoreStatus::not_found || found.value->kind != kind_) {
+        if (version) {
+            set_problem(
+                response, api::ProblemCode::not_found,
+                concat("no version ", std::to_string(*version), " of the stored ", noun_, " ", name,
+                       ": the last ", std::to_string(store::StoreLimits{}.scenario_history),
+                       " versions of a name are kept, and a delete is no document"));
+            return;
+        }
         not_found(name, response);
         return;
     }
@@ -336,6 +356,50 @@ void ScenarioEndpoints::put(const httplib::Request& request, json body, const st
     response.set_header("ETag", etag(written.value->version));
     if (created) response.set_header("Location", concat(prefix_, name));
     set_json(response, created ? 201 : 200, resolved, "application/json");
+}
+
+void ScenarioEndpoints::patch(const httplib::Request& request, json body, const std::string& client,
+                              httplib::Response& response) {
+    const std::string name = request.path.substr(prefix_.size());
+    if (refuse_name(name, response)) return;
+    if (!body.is_object()) {
+        set_problem(response, api::ProblemCode::invalid_request,
+                    "a merge patch of a stored document is a JSON object",
+                    {{"", concat("must be an object, not ", api::json_type_name(body)),
+                      std::nullopt, std::nullopt}});
+        return;
+    }
+    const auto store = state_.store.get();
+    if (!store) return state_.store_unavailable(response, std::string(store_down));
+    auto current = store->get_scenario(name);
+    state_.store.report(current.status);
+    if (!current.ok() && current.status != StoreStatus::not_found)
+        return state_.store_unavailable(response, std::string(store_down));
+    if (current.status == StoreStatus::not_found || current.value->kind != kind_) {
+        not_found(name, response);
+        return;
+    }
+    if (!preconditions_hold(entity_tags(request, "If-Match"), entity_tags(request, "If-None-Match"),
+                            current.value->version)) {
+        precondition_failed(response, name);
+        return;
+    }
+    // RFC 7396 onto the stored document: the fields the patch does not name keep their values.
+    json document = json::parse(current.value->body);
+    document.merge_patch(body);
+    json resolved;
+    if (!resolve_body(document, resolved, response)) return;
+    auto written = store->put_scenario(name, dump(resolved), current.value->version, client, kind_);
+    state_.store.report(written.status);
+    switch (written.status) {
+        case StoreStatus::ok: break;
+        case StoreStatus::conflict:  // written meanwhile: the patch was merged onto an old version
+            precondition_failed(response, name);
+            return;
+        default: state_.store_unavailable(response, std::string(store_down)); return;
+    }
+    response.set_header("ETag", etag(written.value->version));
+    set_json(response, 200, resolved, "application/json");
 }
 
 }  // namespace rollgap::service::http

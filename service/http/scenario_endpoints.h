@@ -44,10 +44,16 @@ public:
     // PUT /v1/scenarios/{name}; `body` is the parsed request body ({} when empty).
     void put(const httplib::Request& request, nlohmann::json body, const std::string& client,
              httplib::Response& response);
+    // PATCH /v1/scenarios/{name} (application/merge-patch+json): the patch merged onto the
+    // stored document (not onto the default, as PUT's body is), validated and stored as a new
+    // version over the one it was merged onto (If-Match / If-None-Match as for PUT).
+    void patch(const httplib::Request& request, nlohmann::json body, const std::string& client,
+               httplib::Response& response);
 
 private:
     void list(const httplib::Request& request, httplib::Response& response);
-    void get(const std::string& name, httplib::Response& response);
+    // ?version=N: that version of the name, one of the last ones kept.
+    void get(const std::string& name, const httplib::Request& request, httplib::Response& response);
     void remove(const std::string& name, const httplib::Request& request, const std::string& client,
                 httplib::Response& response);
 

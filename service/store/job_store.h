@@ -233,8 +233,14 @@ public:
                                                 std::optional<std::int64_t> if_match,
                                                 const std::string& author = "anonymous",
                                                 StoredKind kind = StoredKind::stand) = 0;
-    // Any kind: the caller compares StoredScenario::kind with what it expects.
-    virtual Result<StoredScenario> get_scenario(const std::string& name) = 0;
+    // Any kind: the caller compares StoredScenario::kind with what it expects. `version`: that
+    // version of the name (one of the last StoreLimits::scenario_history kept), not_found if it
+    // is not kept or is a delete; none: the current one.
+    virtual Result<StoredScenario> get_scenario(const std::string& name,
+                                                std::optional<std::int64_t> version) = 0;
+    Result<StoredScenario> get_scenario(const std::string& name) {
+        return get_scenario(name, std::nullopt);
+    }
     // A live name of another kind than `kind` is not_found (it is not in that collection).
     virtual StoreStatus delete_scenario(const std::string& name,
                                         std::optional<std::int64_t> if_match,

@@ -52,9 +52,11 @@ public:
                                         const std::string& author, StoredKind kind) override {
         return scenarios_.put(name, body, if_match, author, kind);
     }
-    Result<StoredScenario> get_scenario(const std::string& name) override {
-        return scenarios_.get(name);
+    Result<StoredScenario> get_scenario(const std::string& name,
+                                        std::optional<std::int64_t> version) override {
+        return scenarios_.get(name, version);
     }
+    using JobStore::get_scenario;
     StoreStatus delete_scenario(const std::string& name, std::optional<std::int64_t> if_match,
                                 const std::string& author, StoredKind kind) override {
         return scenarios_.remove(name, if_match, author, kind);

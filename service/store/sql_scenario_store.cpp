@@ -139,14 +139,24 @@ Result<StoredScenario> SqlScenarioStore::put(const std::string& name, const std:
     return {StoreStatus::ok, std::move(stored), {}};
 }
 
-Result<StoredScenario> SqlScenarioStore::get(const std::string& name) {
+Result<StoredScenario> SqlScenarioStore::get(const std::string& name,
+                                             std::optional<std::int64_t> version) {
     if (auto refused = refuse_name(name)) return Result<StoredScenario>::failure(*refused, "name");
     StoredScenario found;
     std::string detail;
     const StoreStatus status = run(
         backend_, false,
         [&](Session& s) {
-            const auto current = newest(s, name, "");
+            std::optional<Row> current;
+            if (version) {
+                const Rows rows = s.exec(
+                    "SELECT version, deleted, body, created, author, kind FROM scenario_versions "
+                    "WHERE name = $1 AND version = $2",
+                    {name, *version});
+                if (!rows.empty()) current = rows.front();
+            } else {
+                current = newest(s, name, "");
+            }
             if (!current || to_int(current->at(1)) != 0) throw Abort{StoreStatus::not_found, {}};
             found = {
                 name,

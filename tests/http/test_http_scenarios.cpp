@@ -201,7 +201,7 @@ TEST_CASE("scenarios over http: validated on write, names checked, default reser
         // The built-in default is still served from code.
         CHECK(client.Get("/v1/scenarios/default")->status == 200);
         CHECK(client.Options("/v1/scenarios/stand-3")->get_header_value("Allow") ==
-              "GET, HEAD, PUT, DELETE, OPTIONS");
+              "GET, HEAD, PUT, PATCH, DELETE, OPTIONS");
     }
     SUBCASE("a body over the size limit is refused before it is read") {
         const std::string answer = raw_exchange(
@@ -486,4 +486,71 @@ TEST_CASE("stored mills over http: create, read, list, base in a tandem request 
         CHECK(stand->status == 201);
         CHECK(stand->get_header_value("ETag") == "\"4\"");  // 1, 2 mill; 3 its delete
     }
+}
+
+TEST_CASE(
+    "scenarios over http: PATCH merges onto the stored version, PUT replaces, ?version reads") {
+    TempDir dir;
+    TestServer server(config_with_store("sqlite:" + (dir.path / "jobs.db").string()));
+    auto client = server.client();
+    const json defaults = body_json(client.Get("/v1/scenarios/default"));
+    REQUIRE(put_scenario(client, "stand-3", stand_patch)->status == 201);
+    const auto patch = [&](const std::string& name, const json& body,
+                           const httplib::Headers& headers = {},
+                           const char* type = "application/merge-patch+json") {
+        return client.Patch(("/v1/scenarios/" + name).c_str(), headers, body.dump(), type);
+    };
+
+    // One field edited; every other field keeps its stored value (not the default's).
+    auto edited = patch("stand-3", {{"strip", {{"reduction", 0.3}}}}, {{"If-Match", "\"1\""}});
+    REQUIRE(edited);
+    CHECK(edited->status == 200);
+    CHECK(edited->get_header_value("ETag") == "\"2\"");
+    const json two = body_json(edited);
+    CHECK(two["strip"]["reduction"] == 0.3);
+    CHECK(two["strip"]["entry_thickness_mm"] == 2.0);
+    CHECK(two["rolls"]["speed_m_per_s"] == 12.0);
+    CHECK(body_json(client.Get("/v1/scenarios/stand-3")) == two);
+
+    // PUT stays a full replacement: its body is a patch onto the default, so the fields it does
+    // not name return to the default's.
+    auto replaced =
+        put_scenario(client, "stand-3", {{"strip", {{"reduction", 0.2}}}}, {{"If-Match", "\"2\""}});
+    REQUIRE(replaced->status == 200);
+    CHECK(body_json(replaced)["strip"]["entry_thickness_mm"] ==
+          defaults["strip"]["entry_thickness_mm"]);
+    CHECK(body_json(replaced)["rolls"]["speed_m_per_s"] == defaults["rolls"]["speed_m_per_s"]);
+
+    // Every kept version reads back as it was, with who and when.
+    auto first = client.Get("/v1/scenarios/stand-3?version=1");
+    REQUIRE(first);
+    CHECK(first->status == 200);
+    CHECK(first->get_header_value("ETag") == "\"1\"");
+    CHECK_FALSE(first->get_header_value("Last-Modified").empty());
+    CHECK(first->get_header_value("Rollgap-Author") == "anonymous");
+    CHECK(body_json(first)["strip"]["reduction"] == 0.25);
+    CHECK(body_json(client.Get("/v1/scenarios/stand-3?version=2")) == two);
+    CHECK(client.Get("/v1/scenarios/stand-3?version=0")->status == 422);
+    CHECK(client.Get("/v1/scenarios/stand-3?version=x")->status == 422);
+    CHECK(client.Get("/v1/scenarios/stand-3?version=99")->status == 404);
+
+    // A stale version, an invalid value, a wrong media type, no such name, the default: refused,
+    // and nothing stored.
+    CHECK(patch("stand-3", {{"strip", {{"reduction", 0.1}}}}, {{"If-Match", "\"2\""}})->status ==
+          412);
+    auto invalid = patch("stand-3", {{"strip", {{"reduction", 2}}}});
+    REQUIRE(invalid);
+    CHECK(invalid->status == 422);
+    CHECK(body_json(invalid)["errors"][0]["pointer"] == "/strip/reduction");
+    CHECK(patch("stand-3", {{"strip", {{"reduction", 0.1}}}}, {}, "text/plain")->status == 415);
+    CHECK(patch("stand-9", {{"strip", {{"reduction", 0.1}}}})->status == 404);
+    auto on_default = patch("default", {{"strip", {{"reduction", 0.1}}}});
+    CHECK(on_default->status == 405);
+    CHECK(client.Get("/v1/scenarios/stand-3")->get_header_value("ETag") == "\"3\"");
+    // application/json is taken as a merge patch too; without If-Match it merges onto the
+    // version it read.
+    auto plain = patch("stand-3", {{"rolls", {{"speed_m_per_s", 14}}}}, {}, "application/json");
+    REQUIRE(plain->status == 200);
+    CHECK(body_json(plain)["strip"]["reduction"] == 0.2);
+    CHECK(body_json(plain)["rolls"]["speed_m_per_s"] == 14);
 }
