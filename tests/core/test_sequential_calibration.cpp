@@ -14,7 +14,7 @@
 #include <Eigen/Dense>
 
 #include "core/calibration_observables.h"
-#include "core/roll_bite.h"
+#include "core/speed_limit.h"
 #include "core/scenario.h"
 #include "support/pool_control.h"
 
@@ -42,12 +42,8 @@ std::vector<Coil> coils() {
          {std::pair{6.0, 14.0}, std::pair{8.0, 17.0}, std::pair{10.0, 20.0}}) {
         Coil coil;
         for (const double v : {low, high}) {
-            Scenario s = truth;
-            s.rolls.speed = v;
-            BiteOptions options;
-            options.distributions = false;
-            const BiteResult bite = solve_roll_bite(s, steady_bite_state(s), options);
-            REQUIRE(bite.status == BiteStatus::ok);
+            const SteadyFigures bite = steady_figures(truth, v);
+            REQUIRE(bite.ok);
             const double force_u = 0.005 * bite.force, slip_u = 0.02 * bite.forward_slip;
             coil.push_back({v, bite.force + force_u * normal(generator),
                             bite.forward_slip + slip_u * normal(generator), force_u, slip_u});

@@ -14,7 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/calibration_observables.h"
-#include "core/roll_bite.h"
+#include "core/speed_limit.h"
 #include "core/scenario.h"
 #include "core/stability.h"
 #include "service/evaluate.h"
@@ -42,12 +42,8 @@ json coil_observations(double low, double high, std::uint64_t seed) {
     std::normal_distribution<double> normal;
     json out = json::array();
     for (const double v : {low, high}) {
-        core::Scenario s = truth;
-        s.rolls.speed = v;
-        core::BiteOptions options;
-        options.distributions = false;
-        const core::BiteResult bite = core::solve_roll_bite(s, core::steady_bite_state(s), options);
-        REQUIRE(bite.status == core::BiteStatus::ok);
+        const core::SteadyFigures bite = core::steady_figures(truth, v);
+        REQUIRE(bite.ok);
         const double force_u = 0.005 * bite.force / 1e3, slip_u = 0.02 * bite.forward_slip;
         const json at = {{"rolls", {{"speed_m_per_s", v}}}};
         out.push_back({{"scenario", at},
