@@ -178,6 +178,7 @@ struct HttpServer::Impl {
     void handle_get_or_delete(const Route& route, const httplib::Request& request,
                               httplib::Response& response) {
         switch (route.id) {
+            case RouteId::scenario_calibrate:  // GET: the stored posterior
             case RouteId::scenarios:
             case RouteId::scenario:
             case RouteId::scenarios_default:  // served from code; DELETE: 422 (reserved)
@@ -264,7 +265,15 @@ struct HttpServer::Impl {
                 }
                 document = std::move(std::get<json>(parsed));
             }
-            if (route->id == RouteId::jobs) {
+            if (route->id == RouteId::scenario_calibrate) {
+                if (state.draining) {
+                    state.overloaded(response,
+                                     "the service is shutting down and accepts no new analyses");
+                    return;
+                }
+                scenario_endpoints.calibrate(request, std::move(document), t_context.client,
+                                             t_context.start, sync, response);
+            } else if (route->id == RouteId::jobs) {
                 job_endpoints.create(std::move(document),
                                      request.get_header_value("Idempotency-Key"), response);
             } else if (request.method == "PUT") {

@@ -87,7 +87,8 @@ Scope route_scope(const Route& route, std::string_view method) {
         case RouteId::scenarios:
         case RouteId::scenario:
         case RouteId::mills:
-        case RouteId::mill: return reads ? scope_read : scope_write;
+        case RouteId::mill:
+        case RouteId::scenario_calibrate: return reads ? scope_read : scope_write;
         case RouteId::jobs:
         case RouteId::job: return reads ? scope_read : scope_compute;
         default: return scope_compute;

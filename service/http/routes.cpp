@@ -16,6 +16,10 @@ constexpr std::array scenario_routes{
     Route{RouteId::scenarios_default, "/v1/scenarios/default", get | put | del, false, "", false},
     Route{RouteId::scenarios, "/v1/scenarios", get, true, "", false},
     Route{RouteId::scenario, "/v1/scenarios/{name}", get | put | patch | del, true, "", false},
+    // GET: the stored posterior; POST: fit new observations with it as the prior, store the
+    // result as a new version (docs/model.md §11.6).
+    Route{RouteId::scenario_calibrate, "/v1/scenarios/{name}/calibrate", get | post, true, "",
+          false},
     // Stored mills (tandem documents), the same rules; `default` is the default mill.
     Route{RouteId::mills_default, "/v1/mills/default", get | put | del, false, "", false},
     Route{RouteId::mills, "/v1/mills", get, true, "", false},
@@ -55,6 +59,14 @@ const Route* match_route(std::string_view path) {
     for (const Route& route : route_table()) {
         if (route.id == RouteId::static_file) {
             if (path.starts_with(static_prefix)) return &route;
+        } else if (route.id == RouteId::scenario_calibrate) {
+            if (path.starts_with(scenario_prefix) && path.ends_with(calibrate_suffix) &&
+                path.size() > scenario_prefix.size() + calibrate_suffix.size()) {
+                const std::string_view name =
+                    path.substr(scenario_prefix.size(),
+                                path.size() - scenario_prefix.size() - calibrate_suffix.size());
+                if (name.find('/') == std::string_view::npos) return &route;
+            }
         } else if (route.id == RouteId::job || route.id == RouteId::scenario ||
                    route.id == RouteId::mill) {
             const std::string_view prefix = route.id == RouteId::job        ? jobs_prefix

@@ -14,6 +14,7 @@ enum class RouteId {
     scenarios_default,
     scenarios,
     scenario,
+    scenario_calibrate,  // a stored stand calibrated from new observations (its posterior kept)
     mills_default,
     mills,
     mill,
@@ -41,6 +42,7 @@ inline constexpr std::string_view unmatched_route = "unmatched";
 inline constexpr std::string_view jobs_prefix = "/v1/jobs/";
 inline constexpr std::string_view scenario_prefix = "/v1/scenarios/";
 inline constexpr std::string_view mill_prefix = "/v1/mills/";
+inline constexpr std::string_view calibrate_suffix = "/calibrate";
 
 std::span<const Route> all_routes();
 

@@ -12,6 +12,7 @@
 #include "api/request_json.h"
 #include "api/scenario_json.h"
 #include "api/tandem_json.h"
+#include "service/evaluate.h"
 #include "api/text.h"
 #include "service/http/responses.h"
 
@@ -109,6 +110,65 @@ std::string http_date(store::Millis millis) {
     char text[40];
     const std::size_t length = std::strftime(text, sizeof text, "%a, %d %b %Y %H:%M:%S GMT", &utc);
     return std::string(text, length);
+}
+
+// The stored posterior restricted to the fields `options.parameters` fits without a prior of
+// its own (the marginal of a Gaussian is its sub-block); null when none of them.
+json marginal_prior(const json& posterior, const json& options) {
+    if (!options.is_object() || !options.contains("parameters") ||
+        !options["parameters"].is_array() || !posterior.is_object())
+        return nullptr;
+    std::vector<std::string> fitted;
+    for (const json& p : options["parameters"]) {
+        if (!p.is_object() || !p.contains("field") || !p["field"].is_string()) continue;
+        if (p.contains("prior") && !p["prior"].is_null()) continue;
+        fitted.push_back(p["field"].get<std::string>());
+    }
+    const json& parameters = posterior.value("parameters", json::array());
+    const json& correlation = posterior.value("correlation", json::array());
+    std::vector<std::size_t> kept;
+    for (std::size_t k = 0; k < parameters.size(); ++k) {
+        if (std::find(fitted.begin(), fitted.end(), parameters[k].value("field", "")) !=
+            fitted.end())
+            kept.push_back(k);
+    }
+    if (kept.empty()) return nullptr;
+    json out = {{"parameters", json::array()}, {"correlation", json::array()}};
+    for (const std::size_t i : kept) {
+        out["parameters"].push_back(parameters[i]);
+        json row = json::array();
+        for (const std::size_t k : kept) row.push_back(correlation.at(i).at(k));
+        out["correlation"].push_back(std::move(row));
+    }
+    return out;
+}
+
+// What a stored version keeps of a calibration answer: each fitted field's value and standard
+// error, and the correlation; "" when the fit has no statistics (a standard error is null).
+std::string posterior_of(const json& result) {
+    json parameters = json::array();
+    for (const json& p : result.value("parameters", json::array())) {
+        if (!p.contains("standard_error") || !p["standard_error"].is_number()) return "";
+        parameters.push_back({{"field", p["field"]},
+                              {"unit", p["unit"]},
+                              {"value", p["value"]},
+                              {"standard_error", p["standard_error"]}});
+    }
+    if (parameters.empty()) return "";
+    return dump(json{{"parameters", std::move(parameters)},
+                     {"correlation", result.value("correlation", json::array())}});
+}
+
+// A posterior stays with an edited version only while the fields it describes keep their values.
+std::string posterior_still_centred(const std::string& posterior, const json& before,
+                                    const json& after) {
+    if (posterior.empty()) return "";
+    const json parsed = json::parse(posterior);
+    for (const json& p : parsed.value("parameters", json::array())) {
+        const json::json_pointer at(p.value("field", ""));
+        if (!before.contains(at) || !after.contains(at) || before[at] != after[at]) return "";
+    }
+    return posterior;
 }
 
 }  // namespace
@@ -209,7 +269,12 @@ void ScenarioEndpoints::get_or_delete(const httplib::Request& request, const std
         list(request, response);
         return;
     }
-    const std::string name = request.path.substr(prefix_.size());
+    std::string name = request.path.substr(prefix_.size());
+    if (kind_ == store::StoredKind::stand && name.ends_with(calibrate_suffix)) {
+        name.resize(name.size() - calibrate_suffix.size());
+        posterior(name, response);
+        return;
+    }
     if (request.method == "DELETE") {
         remove(name, request, client, response);
     } else {
@@ -389,7 +454,10 @@ void ScenarioEndpoints::patch(const httplib::Request& request, json body, const 
     document.merge_patch(body);
     json resolved;
     if (!resolve_body(document, resolved, response)) return;
-    auto written = store->put_scenario(name, dump(resolved), current.value->version, client, kind_);
+    const std::string kept = posterior_still_centred(current.value->posterior,
+                                                     json::parse(current.value->body), resolved);
+    auto written =
+        store->put_scenario(name, dump(resolved), current.value->version, client, kind_, kept);
     state_.store.report(written.status);
     switch (written.status) {
         case StoreStatus::ok: break;
@@ -400,6 +468,122 @@ void ScenarioEndpoints::patch(const httplib::Request& request, json body, const 
     }
     response.set_header("ETag", etag(written.value->version));
     set_json(response, 200, resolved, "application/json");
+}
+
+void ScenarioEndpoints::posterior(const std::string& name, httplib::Response& response) {
+    if (refuse_name(name, response)) return;
+    const auto store = state_.store.get();
+    if (!store) return state_.store_unavailable(response, std::string(store_down));
+    auto found = store->get_scenario(name);
+    state_.store.report(found.status);
+    if (!found.ok() && found.status != StoreStatus::not_found)
+        return state_.store_unavailable(response, std::string(store_down));
+    if (found.status == StoreStatus::not_found || found.value->kind != kind_) {
+        not_found(name, response);
+        return;
+    }
+    response.set_header("ETag", etag(found.value->version));
+    set_json(response, 200,
+             {{"name", name},
+              {"version", found.value->version},
+              {"updated_at", rfc3339(found.value->updated_ms)},
+              {"author", found.value->author},
+              {"posterior", found.value->posterior.empty() ? json(nullptr)
+                                                           : json::parse(found.value->posterior)}},
+             "application/json");
+}
+
+void ScenarioEndpoints::calibrate(const httplib::Request& request, json body,
+                                  const std::string& client, SteadyClock::time_point arrival,
+                                  SyncDispatch& sync, httplib::Response& response) {
+    const std::string path = request.path.substr(prefix_.size());
+    const std::string name = path.substr(0, path.size() - calibrate_suffix.size());
+    if (refuse_name(name, response)) return;
+    if (!body.is_object()) {
+        set_problem(response, api::ProblemCode::invalid_request,
+                    "the body is {\"options\": {...}}, a calibration's options",
+                    {{"", concat("must be an object, not ", api::json_type_name(body)),
+                      std::nullopt, std::nullopt}});
+        return;
+    }
+    for (const auto& [member, value] : body.items()) {
+        if (member == "options") continue;
+        set_problem(response, api::ProblemCode::invalid_request,
+                    concat("the stored ", noun_,
+                           " is the scenario calibrated; the body holds "
+                           "its options only"),
+                    {{concat("/", member), "not a member of this body: only \"options\"",
+                      std::nullopt, std::nullopt}});
+        return;
+    }
+    const EntityTags if_match = entity_tags(request, "If-Match");
+    if (!if_match.present) {
+        set_problem(response, api::ProblemCode::precondition_required,
+                    concat("calibrating ", noun_, " ", name,
+                           " stores a new version: send If-Match with the ETag of the version "
+                           "you calibrate (GET it), so that no other edit is lost"));
+        return;
+    }
+    const auto store = state_.store.get();
+    if (!store) return state_.store_unavailable(response, std::string(store_down));
+    auto current = store->get_scenario(name);
+    state_.store.report(current.status);
+    if (!current.ok() && current.status != StoreStatus::not_found)
+        return state_.store_unavailable(response, std::string(store_down));
+    if (current.status == StoreStatus::not_found || current.value->kind != kind_) {
+        not_found(name, response);
+        return;
+    }
+    if (!preconditions_hold(if_match, entity_tags(request, "If-None-Match"),
+                            current.value->version)) {
+        precondition_failed(response, name);
+        return;
+    }
+    json options = body.value("options", json::object());
+    if (options.is_object() && !options.contains("joint_prior") &&
+        !current.value->posterior.empty()) {
+        const json prior = marginal_prior(json::parse(current.value->posterior), options);
+        if (!prior.is_null()) options["joint_prior"] = prior;
+    }
+    json analysis = {{"analysis", "calibrate"},
+                     {"scenario", json::parse(current.value->body)},
+                     {"options", std::move(options)}};
+    auto prepared = service::prepare(analysis);
+    if (auto* problem = std::get_if<Outcome>(&prepared)) {
+        set_outcome(request, *problem, response);
+        return;
+    }
+    const std::int64_t version = current.value->version;
+    const std::string stored_body = current.value->body;
+    sync.run(request, std::move(analysis), std::move(std::get<PreparedRequest>(prepared)), arrival,
+             response,
+             [this, name, version, client, stored_body](const Outcome& outcome,
+                                                        httplib::Response& answer) {
+                 json document = outcome.body;
+                 const json& result = document["result"];
+                 if (result.value("status", "") != "converged") {
+                     // Nothing learnt that could be kept: answered, not stored.
+                     document["stored"] = nullptr;
+                     set_json(answer, 200, document, "application/json");
+                     return;
+                 }
+                 json calibrated = json::parse(stored_body);
+                 calibrated.merge_patch(result["calibrated_scenario"]);
+                 json resolved;
+                 if (!resolve_body(calibrated, resolved, answer)) return;
+                 const auto target = state_.store.get();
+                 if (!target) return state_.store_unavailable(answer, std::string(store_down));
+                 auto written = target->put_scenario(name, dump(resolved), version, client, kind_,
+                                                     posterior_of(result));
+                 state_.store.report(written.status);
+                 if (written.status == StoreStatus::conflict)
+                     return precondition_failed(answer, name);
+                 if (!written.ok())
+                     return state_.store_unavailable(answer, std::string(store_down));
+                 document["stored"] = {{"name", name}, {"version", written.value->version}};
+                 answer.set_header("ETag", etag(written.value->version));
+                 set_json(answer, 200, document, "application/json");
+             });
 }
 
 }  // namespace rollgap::service::http

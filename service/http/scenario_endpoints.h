@@ -22,6 +22,7 @@
 
 #include "service/http/routes.h"
 #include "service/http/service_state.h"
+#include "service/http/sync_dispatch.h"
 
 namespace rollgap::service::http {
 
@@ -49,6 +50,14 @@ public:
     // version over the one it was merged onto (If-Match / If-None-Match as for PUT).
     void patch(const httplib::Request& request, nlohmann::json body, const std::string& client,
                httplib::Response& response);
+    // POST /v1/scenarios/{name}/calibrate (docs/model.md §11.6): the body's `options` are a
+    // calibration of the stored stand, whose posterior (the part on the fitted fields) is the
+    // joint prior unless the options give one; a converged fit is stored as a new version over
+    // the one If-Match names (required), the calibrated scenario with its posterior, and the
+    // answer is calibrate's with "stored": {name, version}. Computed like a synchronous route.
+    void calibrate(const httplib::Request& request, nlohmann::json body, const std::string& client,
+                   SteadyClock::time_point arrival, SyncDispatch& sync,
+                   httplib::Response& response);
 
 private:
     void list(const httplib::Request& request, httplib::Response& response);
@@ -56,6 +65,8 @@ private:
     void get(const std::string& name, const httplib::Request& request, httplib::Response& response);
     void remove(const std::string& name, const httplib::Request& request, const std::string& client,
                 httplib::Response& response);
+    // GET /v1/scenarios/{name}/calibrate: the current version's stored posterior (null: none).
+    void posterior(const std::string& name, httplib::Response& response);
 
     // The version a write may replace under the request's If-Match / If-None-Match: the one
     // If-Match names (compared by the store inside its transaction), or, for "*", lists and

@@ -65,7 +65,8 @@ void answer_stopped(ServiceState& state, StopReason reason, httplib::Response& r
 }  // namespace
 
 void SyncDispatch::run(const httplib::Request& http_request, json request, PreparedRequest ready,
-                       SteadyClock::time_point arrival, httplib::Response& response) {
+                       SteadyClock::time_point arrival, httplib::Response& response,
+                       const Answer& answer) {
     InFlight counted(state_.in_flight);
     auto call = std::make_shared<SyncCall>();
     call->deadline = arrival + state_.config.deadline;
@@ -136,6 +137,10 @@ void SyncDispatch::run(const httplib::Request& http_request, json request, Prepa
         // the drain or the deadline.
         answer_stopped(state_, stop_reason({.shutdown = state_.hard_cancel.load(), .late = true}),
                        response);
+        return;
+    }
+    if (answer && outcome.ok()) {
+        answer(outcome, response);
         return;
     }
     set_outcome(http_request, outcome, response);

@@ -4,6 +4,7 @@
 // that was queued gets a complete answer: a worker that takes it too late completes it at
 // once, and at the drain timeout stop_all() answers every waiting request 503.
 
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <set>
@@ -25,8 +26,12 @@ public:
     // Computes `ready`, what the facade's prepare() made of `request` on the connection thread,
     // on a worker (the service's evaluator is handed `request` instead when it is not the
     // facade: tests), and answers `http_request` as it asks (set_outcome: JSON or CSV).
+    // `answer`, when given, answers a successful outcome instead (a stored stand's calibration
+    // stores it first); problems are answered as always.
+    using Answer = std::function<void(const Outcome& outcome, httplib::Response& response)>;
     void run(const httplib::Request& http_request, nlohmann::json request, PreparedRequest ready,
-             SteadyClock::time_point arrival, httplib::Response& response);
+             SteadyClock::time_point arrival, httplib::Response& response,
+             const Answer& answer = nullptr);
 
     // The drain timeout passed: every waiting request is answered 503 now, whatever its
     // computation does.

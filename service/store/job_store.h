@@ -158,6 +158,9 @@ struct StoredScenario {
     std::string author;     // who wrote it: the client key's name, or "anonymous"
     bool created = false;   // put_scenario: the name held no scenario before this version
     StoredKind kind = StoredKind::stand;
+    // The calibration posterior this version was fitted with (JSON {parameters, correlation},
+    // docs/model.md §11.6); empty: none.
+    std::string posterior;
 };
 
 struct ScenarioQuery {
@@ -232,7 +235,8 @@ public:
     virtual Result<StoredScenario> put_scenario(const std::string& name, const std::string& body,
                                                 std::optional<std::int64_t> if_match,
                                                 const std::string& author = "anonymous",
-                                                StoredKind kind = StoredKind::stand) = 0;
+                                                StoredKind kind = StoredKind::stand,
+                                                const std::string& posterior = {}) = 0;
     // Any kind: the caller compares StoredScenario::kind with what it expects. `version`: that
     // version of the name (one of the last StoreLimits::scenario_history kept), not_found if it
     // is not kept or is a delete; none: the current one.

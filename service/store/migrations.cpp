@@ -77,6 +77,12 @@ constexpr std::array<std::string_view, 4> version_2 = {
     "CREATE INDEX scenario_versions_live ON scenario_versions (deleted, name, version)",
 };
 
+// A stored stand keeps its calibration posterior (issue 20): the fitted fields with their
+// standard errors and correlation as JSON, NULL for a version without one.
+constexpr std::array<std::string_view, 1> version_3 = {
+    "ALTER TABLE scenario_versions ADD COLUMN posterior TEXT",
+};
+
 std::string dialect_sql(std::string_view sql, Dialect dialect) {
     std::string text(sql);
     const std::string_view key = "{SEQ}";
@@ -116,6 +122,11 @@ StoreStatus migrate(Backend& backend, std::string& detail) {
                 for (std::string_view statement : version_2) s.exec(statement);
                 s.exec("INSERT INTO schema_migrations (version, applied_ms) VALUES ($1, $2)",
                        {std::int64_t{2}, system_millis()});
+            }
+            if (current < 3) {
+                for (std::string_view statement : version_3) s.exec(statement);
+                s.exec("INSERT INTO schema_migrations (version, applied_ms) VALUES ($1, $2)",
+                       {std::int64_t{3}, system_millis()});
             }
         },
         {}, detail);

@@ -49,8 +49,9 @@ public:
     // Stored scenarios: their own rules (sql_scenario_store.cpp).
     Result<StoredScenario> put_scenario(const std::string& name, const std::string& body,
                                         std::optional<std::int64_t> if_match,
-                                        const std::string& author, StoredKind kind) override {
-        return scenarios_.put(name, body, if_match, author, kind);
+                                        const std::string& author, StoredKind kind,
+                                        const std::string& posterior) override {
+        return scenarios_.put(name, body, if_match, author, kind, posterior);
     }
     Result<StoredScenario> get_scenario(const std::string& name,
                                         std::optional<std::int64_t> version) override {

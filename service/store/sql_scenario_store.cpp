@@ -20,12 +20,12 @@ constexpr std::string_view kind_stand = "stand";
 
 std::string kind_text(StoredKind kind) { return std::string(stored_kind_name(kind)); }
 
-// The newest version of a name: version, deleted, body, created, author, kind; none if never
-// stored.
+// The newest version of a name: version, deleted, body, created, author, kind, posterior; none
+// if never stored.
 std::optional<Row> newest(Session& s, const std::string& name, std::string_view lock) {
     const Rows rows = s.exec(
-        "SELECT version, deleted, body, created, author, kind FROM scenario_versions WHERE "
-        "name = $1 "
+        "SELECT version, deleted, body, created, author, kind, posterior FROM scenario_versions "
+        "WHERE name = $1 "
         "ORDER BY version DESC LIMIT 1" +
             std::string(lock),
         {name});
@@ -88,10 +88,11 @@ bool valid_scenario_name(const std::string& name) { return api::is_stored_scenar
 
 Result<StoredScenario> SqlScenarioStore::put(const std::string& name, const std::string& body,
                                              std::optional<std::int64_t> if_match,
-                                             const std::string& author, StoredKind kind) {
+                                             const std::string& author, StoredKind kind,
+                                             const std::string& posterior) {
     if (auto refused = refuse_name(name)) return Result<StoredScenario>::failure(*refused, "name");
     const bool postgresql = backend_.dialect() == Dialect::postgresql;
-    StoredScenario stored{name, body, 0, 0, author, false, kind};
+    StoredScenario stored{name, body, 0, 0, author, false, kind, posterior};
     std::string detail;
     const StoreStatus status = run(
         backend_, true,
@@ -122,10 +123,12 @@ Result<StoredScenario> SqlScenarioStore::put(const std::string& name, const std:
             stored.version = current ? to_int(current->at(0)) + 1 : version_floor(s) + 1;
             // A creator racing on a name never stored before: the key (name, version) lets one
             // win; the other sees a conflict, as an editor with a stale version does.
+            const Param posterior_value = posterior.empty() ? Param(nullptr) : Param(posterior);
             if (s.exec("INSERT INTO scenario_versions (name, version, kind, body, author, created, "
-                       "deleted) VALUES ($1, $2, $3, $4, $5, $6, 0) "
+                       "deleted, posterior) VALUES ($1, $2, $3, $4, $5, $6, 0, $7) "
                        "ON CONFLICT (name, version) DO NOTHING RETURNING version",
-                       {name, stored.version, kind_text(kind), body, author, stored.updated_ms})
+                       {name, stored.version, kind_text(kind), body, author, stored.updated_ms,
+                        posterior_value})
                     .empty()) {
                 throw Abort{StoreStatus::conflict, "created meanwhile"};
             }
@@ -150,8 +153,8 @@ Result<StoredScenario> SqlScenarioStore::get(const std::string& name,
             std::optional<Row> current;
             if (version) {
                 const Rows rows = s.exec(
-                    "SELECT version, deleted, body, created, author, kind FROM scenario_versions "
-                    "WHERE name = $1 AND version = $2",
+                    "SELECT version, deleted, body, created, author, kind, posterior FROM "
+                    "scenario_versions WHERE name = $1 AND version = $2",
                     {name, *version});
                 if (!rows.empty()) current = rows.front();
             } else {
@@ -167,7 +170,8 @@ Result<StoredScenario> SqlScenarioStore::get(const std::string& name,
                 false,
                 current->at(5).value_or(kind_stand.data()) == stored_kind_name(StoredKind::mill)
                     ? StoredKind::mill
-                    : StoredKind::stand};
+                    : StoredKind::stand,
+                current->at(6).value_or("")};
         },
         detail);
     if (status != StoreStatus::ok) return Result<StoredScenario>::failure(status, detail);
@@ -225,7 +229,8 @@ Result<ScenarioPage> SqlScenarioStore::page(const ScenarioQuery& query) {
                                           to_int(r.at(2)),
                                           r.at(3).value_or(""),
                                           false,
-                                          query.kind});
+                                          query.kind,
+                                          {}});
             }
             if (rows.size() > limit) page.next_cursor = page.scenarios.back().name;
         },

@@ -15,7 +15,7 @@ public:
 
     Result<StoredScenario> put(const std::string& name, const std::string& body,
                                std::optional<std::int64_t> if_match, const std::string& author,
-                               StoredKind kind);
+                               StoredKind kind, const std::string& posterior);
     Result<StoredScenario> get(const std::string& name, std::optional<std::int64_t> version);
     StoreStatus remove(const std::string& name, std::optional<std::int64_t> if_match,
                        const std::string& author, StoredKind kind);

@@ -554,3 +554,122 @@ TEST_CASE(
     CHECK(body_json(plain)["strip"]["reduction"] == 0.2);
     CHECK(body_json(plain)["rolls"]["speed_m_per_s"] == 14);
 }
+
+namespace {
+
+// Force and slip observations of a coil (speeds low and high) of a stand whose viscosity is
+// 6.0e-4 Pa s and asperity factor 0.8, each off by `error` of its uncertainty (force up, slip
+// down): measurement errors, so that the coils disagree as real ones do.
+json coil(double low, double high, double error) {
+    json observations = json::array();
+    for (const double v : {low, high}) {
+        json stand = {{"lubricant", {{"viscosity_Pa_s", 6.0e-4}}},
+                      {"friction", {{"asperity_factor", 0.8}}},
+                      {"rolls", {{"speed_m_per_s", v}}}};
+        const service::Outcome bite = service::evaluate({{"analysis", "roll_gap"},
+                                                         {"scenario", stand},
+                                                         {"options", {{"distributions", false}}}});
+        REQUIRE(bite.ok());
+        const double force = bite.body["result"]["force_kN"].get<double>();
+        const double slip = bite.body["result"]["forward_slip"].get<double>();
+        const json at = {{"rolls", {{"speed_m_per_s", v}}}};
+        observations.push_back({{"scenario", at},
+                                {"quantity", "roll_force_kN"},
+                                {"value", force * (1.0 + 0.005 * error)},
+                                {"standard_uncertainty", 0.005 * force}});
+        observations.push_back({{"scenario", at},
+                                {"quantity", "forward_slip"},
+                                {"value", slip * (1.0 - 0.02 * error)},
+                                {"standard_uncertainty", 0.02 * slip}});
+    }
+    return observations;
+}
+
+const json fitted_fields = {{{"field", "/lubricant/viscosity_Pa_s"}},
+                            {{"field", "/friction/asperity_factor"}}};
+
+}  // namespace
+
+TEST_CASE("scenarios over http: a stored stand calibrated coil by coil keeps its posterior") {
+    TempDir dir;
+    TestServer server(config_with_store("sqlite:" + (dir.path / "jobs.db").string()));
+    auto client = server.client();
+    REQUIRE(put_scenario(client, "stand-2", json::object())->status == 201);
+    const auto calibrate = [&](const json& body, const httplib::Headers& headers) {
+        return client.Post("/v1/scenarios/stand-2/calibrate", headers, body.dump(),
+                           "application/json");
+    };
+    // No posterior yet.
+    CHECK(body_json(client.Get("/v1/scenarios/stand-2/calibrate"))["posterior"].is_null());
+
+    const json first = {
+        {"options", {{"parameters", fitted_fields}, {"observations", coil(6, 14, 1.0)}}}};
+    // A calibration stores a new version: it needs If-Match.
+    CHECK(calibrate(first, {})->status == 428);
+    CHECK(calibrate(first, {{"If-Match", "\"7\""}})->status == 412);
+    CHECK(client
+              .Post("/v1/scenarios/stand-9/calibrate", {{"If-Match", "\"1\""}}, first.dump(),
+                    "application/json")
+              ->status == 404);
+    CHECK(calibrate({{"scenario", json::object()}, {"options", first["options"]}},
+                    {{"If-Match", "\"1\""}})
+              ->status == 422);
+    json invalid = first;
+    invalid["options"]["parameters"][0]["field"] = "/lubricant/viscosity";
+    CHECK(calibrate(invalid, {{"If-Match", "\"1\""}})->status == 422);
+
+    auto one = calibrate(first, {{"If-Match", "\"1\""}});
+    REQUIRE(one);
+    REQUIRE_MESSAGE(one->status == 200, one->body);
+    CHECK(one->get_header_value("ETag") == "\"2\"");
+    const json answer = body_json(one);
+    CHECK(answer["stored"] == json{{"name", "stand-2"}, {"version", 2}});
+    CHECK(answer["options"]["joint_prior"].is_null());  // nothing stored to start from
+    // The stored stand is the calibrated one, and keeps the posterior.
+    const json stand = body_json(client.Get("/v1/scenarios/stand-2"));
+    CHECK(stand["lubricant"]["viscosity_Pa_s"] == answer["result"]["parameters"][0]["value"]);
+    const json kept = body_json(client.Get("/v1/scenarios/stand-2/calibrate"));
+    CHECK(kept["version"] == 2);
+    REQUIRE(kept["posterior"]["parameters"].size() == 2);
+    CHECK(kept["posterior"]["correlation"] == answer["result"]["correlation"]);
+
+    // The next coil: the stored posterior is the prior, and the stand ends where one fit of
+    // both coils from the start ends (docs/model.md §11.6).
+    const json second = {
+        {"options", {{"parameters", fitted_fields}, {"observations", coil(10, 20, -0.7)}}}};
+    auto two = calibrate(second, {{"If-Match", "\"2\""}});
+    REQUIRE(two);
+    REQUIRE_MESSAGE(two->status == 200, two->body);
+    const json adapted = body_json(two);
+    CHECK(adapted["options"]["joint_prior"]["parameters"].size() == 2);
+    json both = coil(6, 14, 1.0);
+    for (const json& o : coil(10, 20, -0.7)) both.push_back(o);
+    const service::Outcome joint =
+        service::evaluate({{"analysis", "calibrate"},
+                           {"options", {{"parameters", fitted_fields}, {"observations", both}}}});
+    REQUIRE(joint.ok());
+    for (int k = 0; k < 2; ++k) {
+        const json& s = adapted["result"]["parameters"][k];
+        const json& j = joint.body["result"]["parameters"][k];
+        CAPTURE(s.dump());
+        CAPTURE(j.dump());
+        CHECK(s["at_bound"].is_null());
+        CHECK(std::abs(s["value"].get<double>() - j["value"].get<double>()) <
+              0.02 * j["standard_error"].get<double>());
+        // not the first coil's answer: the second coil moved it
+        CHECK(std::abs(s["value"].get<double>() -
+                       answer["result"]["parameters"][k]["value"].get<double>()) >
+              0.1 * j["standard_error"].get<double>());
+    }
+    // Every version stays readable; a PUT replaces the stand and drops its posterior, a PATCH
+    // of a field the posterior does not describe keeps it.
+    CHECK(body_json(client.Get("/v1/scenarios/stand-2?version=2")) == stand);
+    REQUIRE(client
+                .Patch("/v1/scenarios/stand-2", {{"If-Match", "\"3\""}},
+                       json{{"strip", {{"reduction", 0.2}}}}.dump(), "application/merge-patch+json")
+                ->status == 200);
+    CHECK(body_json(client.Get("/v1/scenarios/stand-2/calibrate"))["posterior"].is_object());
+    REQUIRE(put_scenario(client, "stand-2", json::object(), {{"If-Match", "\"4\""}})->status ==
+            200);
+    CHECK(body_json(client.Get("/v1/scenarios/stand-2/calibrate"))["posterior"].is_null());
+}
