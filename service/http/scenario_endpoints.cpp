@@ -423,6 +423,22 @@ void ScenarioEndpoints::put(const httplib::Request& request, json body, const st
     set_json(response, created ? 201 : 200, resolved, "application/json");
 }
 
+std::optional<store::StoredScenario> ScenarioEndpoints::stored(store::JobStore& store,
+                                                               const std::string& name,
+                                                               httplib::Response& response) {
+    auto found = store.get_scenario(name);
+    state_.store.report(found.status);
+    if (!found.ok() && found.status != StoreStatus::not_found) {
+        state_.store_unavailable(response, std::string(store_down));
+        return std::nullopt;
+    }
+    if (found.status == StoreStatus::not_found || found.value->kind != kind_) {
+        not_found(name, response);
+        return std::nullopt;
+    }
+    return std::move(*found.value);
+}
+
 void ScenarioEndpoints::patch(const httplib::Request& request, json body, const std::string& client,
                               httplib::Response& response) {
     const std::string name = request.path.substr(prefix_.size());
@@ -436,28 +452,21 @@ void ScenarioEndpoints::patch(const httplib::Request& request, json body, const 
     }
     const auto store = state_.store.get();
     if (!store) return state_.store_unavailable(response, std::string(store_down));
-    auto current = store->get_scenario(name);
-    state_.store.report(current.status);
-    if (!current.ok() && current.status != StoreStatus::not_found)
-        return state_.store_unavailable(response, std::string(store_down));
-    if (current.status == StoreStatus::not_found || current.value->kind != kind_) {
-        not_found(name, response);
-        return;
-    }
+    const std::optional<store::StoredScenario> current = stored(*store, name, response);
+    if (!current) return;
     if (!preconditions_hold(entity_tags(request, "If-Match"), entity_tags(request, "If-None-Match"),
-                            current.value->version)) {
+                            current->version)) {
         precondition_failed(response, name);
         return;
     }
     // RFC 7396 onto the stored document: the fields the patch does not name keep their values.
-    json document = json::parse(current.value->body);
+    json document = json::parse(current->body);
     document.merge_patch(body);
     json resolved;
     if (!resolve_body(document, resolved, response)) return;
-    const std::string kept = posterior_still_centred(current.value->posterior,
-                                                     json::parse(current.value->body), resolved);
-    auto written =
-        store->put_scenario(name, dump(resolved), current.value->version, client, kind_, kept);
+    const std::string kept =
+        posterior_still_centred(current->posterior, json::parse(current->body), resolved);
+    auto written = store->put_scenario(name, dump(resolved), current->version, client, kind_, kept);
     state_.store.report(written.status);
     switch (written.status) {
         case StoreStatus::ok: break;
@@ -474,23 +483,17 @@ void ScenarioEndpoints::posterior(const std::string& name, httplib::Response& re
     if (refuse_name(name, response)) return;
     const auto store = state_.store.get();
     if (!store) return state_.store_unavailable(response, std::string(store_down));
-    auto found = store->get_scenario(name);
-    state_.store.report(found.status);
-    if (!found.ok() && found.status != StoreStatus::not_found)
-        return state_.store_unavailable(response, std::string(store_down));
-    if (found.status == StoreStatus::not_found || found.value->kind != kind_) {
-        not_found(name, response);
-        return;
-    }
-    response.set_header("ETag", etag(found.value->version));
-    set_json(response, 200,
-             {{"name", name},
-              {"version", found.value->version},
-              {"updated_at", rfc3339(found.value->updated_ms)},
-              {"author", found.value->author},
-              {"posterior", found.value->posterior.empty() ? json(nullptr)
-                                                           : json::parse(found.value->posterior)}},
-             "application/json");
+    const std::optional<store::StoredScenario> found = stored(*store, name, response);
+    if (!found) return;
+    response.set_header("ETag", etag(found->version));
+    set_json(
+        response, 200,
+        {{"name", name},
+         {"version", found->version},
+         {"updated_at", rfc3339(found->updated_ms)},
+         {"author", found->author},
+         {"posterior", found->posterior.empty() ? json(nullptr) : json::parse(found->posterior)}},
+        "application/json");
 }
 
 void ScenarioEndpoints::calibrate(const httplib::Request& request, json body,
@@ -526,35 +529,27 @@ void ScenarioEndpoints::calibrate(const httplib::Request& request, json body,
     }
     const auto store = state_.store.get();
     if (!store) return state_.store_unavailable(response, std::string(store_down));
-    auto current = store->get_scenario(name);
-    state_.store.report(current.status);
-    if (!current.ok() && current.status != StoreStatus::not_found)
-        return state_.store_unavailable(response, std::string(store_down));
-    if (current.status == StoreStatus::not_found || current.value->kind != kind_) {
-        not_found(name, response);
-        return;
-    }
-    if (!preconditions_hold(if_match, entity_tags(request, "If-None-Match"),
-                            current.value->version)) {
+    const std::optional<store::StoredScenario> current = stored(*store, name, response);
+    if (!current) return;
+    if (!preconditions_hold(if_match, entity_tags(request, "If-None-Match"), current->version)) {
         precondition_failed(response, name);
         return;
     }
     json options = body.value("options", json::object());
-    if (options.is_object() && !options.contains("joint_prior") &&
-        !current.value->posterior.empty()) {
-        const json prior = marginal_prior(json::parse(current.value->posterior), options);
+    if (options.is_object() && !options.contains("joint_prior") && !current->posterior.empty()) {
+        const json prior = marginal_prior(json::parse(current->posterior), options);
         if (!prior.is_null()) options["joint_prior"] = prior;
     }
     json analysis = {{"analysis", "calibrate"},
-                     {"scenario", json::parse(current.value->body)},
+                     {"scenario", json::parse(current->body)},
                      {"options", std::move(options)}};
     auto prepared = service::prepare(analysis);
     if (auto* problem = std::get_if<Outcome>(&prepared)) {
         set_outcome(request, *problem, response);
         return;
     }
-    const std::int64_t version = current.value->version;
-    const std::string stored_body = current.value->body;
+    const std::int64_t version = current->version;
+    const std::string stored_body = current->body;
     sync.run(request, std::move(analysis), std::move(std::get<PreparedRequest>(prepared)), arrival,
              response,
              [this, name, version, client, stored_body](const Outcome& outcome,

@@ -80,6 +80,9 @@ private:
     // false when refused (422 answered).
     bool resolve_body(const nlohmann::json& body, nlohmann::json& resolved,
                       httplib::Response& response) const;
+    // The current version of `name` in this collection, or nothing with 404 or 503 answered.
+    std::optional<store::StoredScenario> stored(store::JobStore& store, const std::string& name,
+                                                httplib::Response& response);
     // 404 naming this collection; a name of the other kind is pointed to its own collection.
     void not_found(const std::string& name, httplib::Response& response) const;
     bool refuse_name(const std::string& name, httplib::Response& response) const;
