@@ -87,9 +87,28 @@ std::optional<Outcome> resolve_base(json& request, ServiceState& state) {
                                                  concat("stored scenario ", name, " is not JSON")));
     }
     json document = std::move(std::get<json>(parsed));
+    const json stored_document = document;
     // null and absent are the same patch: nothing changes.
     if (const auto patch = request.find(member); patch != request.end() && !patch->is_null())
         document.merge_patch(*patch);
+    // A speed limit of a calibrated stand carries the stand's own uncertainty (docs/model.md
+    // §13.3): its stored posterior, unless the request gives one (null: none) or its patch moves
+    // a field the posterior describes (then it would describe another stand).
+    if (analysis != nullptr && analysis->name == "speed_limit" &&
+        !stored.value->posterior.empty()) {
+        json& options = request["options"];
+        if (options.is_null()) options = json::object();
+        if (options.is_object() && !options.contains("posterior")) {
+            const json posterior = json::parse(stored.value->posterior);
+            bool centred = true;
+            for (const json& p : posterior.value("parameters", json::array())) {
+                const json::json_pointer at(p.value("field", ""));
+                centred = centred && stored_document.contains(at) && document.contains(at) &&
+                          stored_document[at] == document[at];
+            }
+            if (centred) options["posterior"] = posterior;
+        }
+    }
     request[std::string(member)] = std::move(document);
     request["base"] = api::scenario_base_json({name, stored.value->version});
     return std::nullopt;

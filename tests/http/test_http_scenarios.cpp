@@ -661,6 +661,27 @@ TEST_CASE("scenarios over http: a stored stand calibrated coil by coil keeps its
                        answer["result"]["parameters"][k]["value"].get<double>()) >
               0.1 * j["standard_error"].get<double>());
     }
+    // A speed limit of the stored stand carries its uncertainty (docs/model.md §13.3), unless the
+    // request moves a field the posterior describes.
+    const auto speed_limit = [&](const json& body) {
+        auto answered = client.Post("/v1/speed-limit", body.dump(), "application/json");
+        REQUIRE(answered);
+        REQUIRE_MESSAGE(answered->status == 200, answered->body);
+        return body_json(answered);
+    };
+    const json limited =
+        speed_limit({{"base", "stand-2"}, {"options", {{"what_to_change", false}}}});
+    CHECK(limited["options"]["posterior"]["parameters"].size() == 2);
+    CHECK(limited["result"]["uncertainty"]["propagated"] == true);
+    CHECK(limited["result"]["uncertainty"]["standard_deviation_m_per_s"].get<double>() > 0.0);
+    const json moved = speed_limit({{"base", "stand-2"},
+                                    {"scenario", {{"lubricant", {{"viscosity_Pa_s", 7e-4}}}}},
+                                    {"options", {{"what_to_change", false}}}});
+    CHECK(moved["result"]["uncertainty"].is_null());
+    const json without = speed_limit(
+        {{"base", "stand-2"}, {"options", {{"what_to_change", false}, {"posterior", nullptr}}}});
+    CHECK(without["result"]["uncertainty"].is_null());
+
     // Every version stays readable; a PUT replaces the stand and drops its posterior, a PATCH
     // of a field the posterior does not describe keeps it.
     CHECK(body_json(client.Get("/v1/scenarios/stand-2?version=2")) == stand);
