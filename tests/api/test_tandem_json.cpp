@@ -225,7 +225,7 @@ TEST_CASE("what the mill gives a stand is refused in the stands' patches, with t
         CHECK(error.detail.find("/tandem/") != std::string::npos);  // names where to set it
 }
 
-TEST_CASE("a stand's own violations carry its pointer; the mill's values are judged per stand") {
+TEST_CASE("a stand's own violations carry its pointer, the mill's values are judged per stand") {
     // the example of the issue: stand 4's roll radius
     CHECK(has(pointers_of({{"stands",
                             {json::object(),

@@ -57,7 +57,7 @@ TEST_CASE(
 }
 
 TEST_CASE(
-    "Rosenbrock as least squares: from (-1.2, 1) to (1, 1); with x1 <= 0.5 to (0.5, 0.25) on the bound") {
+    "Rosenbrock as least squares: from (-1.2, 1) to (1, 1), with x1 <= 0.5 to (0.5, 0.25) on the bound") {
     const CalibrationResult free = calibrate({{-1.2, -5.0, 5.0}, {1.0, -5.0, 5.0}}, 2, rosenbrock);
     REQUIRE(free.status == CalibrationStatus::converged);
     CHECK(free.values(0) == doctest::Approx(1.0).epsilon(1e-8));
@@ -137,7 +137,7 @@ TEST_CASE("parameters that enter only as a product are reported inseparable") {
     CHECK(fit.values(0) * fit.values(1) == doctest::Approx(6.0).epsilon(1e-8));
 }
 
-TEST_CASE("a model failure at the start is a status; a cancelled fit stops and says so") {
+TEST_CASE("a model failure at the start is a status, a cancelled fit stops and says so") {
     auto failing = [](const Eigen::VectorXd&, Eigen::VectorXd&, const Control&) { return false; };
     CHECK(calibrate({{1.0, 0.0, 2.0}}, 1, failing).status == CalibrationStatus::model_failure);
 

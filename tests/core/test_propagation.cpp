@@ -38,7 +38,7 @@ TEST_CASE("normal quantile: Phi(z(p)) = p, published values, symmetry") {
     CHECK(std::isnan(normal_quantile(1.0)));
 }
 
-TEST_CASE("propagation: linear is exact on a linear figure; sampling agrees within its error") {
+TEST_CASE("propagation: linear is exact on a linear figure, sampling agrees within its error") {
     const Eigen::Vector3d a(2.0, -1.0, 0.5);
     const Figure f = [&a](const Eigen::VectorXd& x) -> std::optional<double> {
         return 3.0 + a.dot(x);

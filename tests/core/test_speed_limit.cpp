@@ -35,7 +35,7 @@ const LimitAnswer* answer_of(const SpeedLimitResult& r, SpeedLimitKind kind) {
     return nullptr;
 }
 
-TEST_CASE("speed limit: only the limits given are checked; the steady state always is") {
+TEST_CASE("speed limit: only the limits given are checked, the steady state always is") {
     const Scenario s;
     PlantLimits none;
     none.chatter = false;

@@ -26,7 +26,7 @@ httplib::Client admin_client(const TestServer& server, int read_timeout_ms = 100
 
 }  // namespace
 
-TEST_CASE("admin: /livez, /readyz and /metrics on the admin port; nothing else there") {
+TEST_CASE("admin: /livez, /readyz and /metrics on the admin port, nothing else there") {
     TestServer server;
     REQUIRE(server.server->admin_port() > 0);
     CHECK(server.server->admin_port() != server.port());
@@ -53,7 +53,7 @@ TEST_CASE("admin: /livez, /readyz and /metrics on the admin port; nothing else t
 }
 
 TEST_CASE(
-    "admin: slow clients on every public connection thread are cut off at the read deadline; "
+    "admin: slow clients on every public connection thread are cut off at the read deadline, "
     "/livez answers on the admin port throughout") {
     service::ServerConfig config = test_config();
     config.io_threads = 2;

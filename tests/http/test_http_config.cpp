@@ -169,7 +169,7 @@ TEST_CASE("serve config: --help lists every setting with its environment variabl
 }
 
 TEST_CASE(
-    "serve config: the admin listener's port is 8081 unless set; with --port 0 it is any free port too") {
+    "serve config: the admin listener's port is 8081 unless set, with --port 0 it is any free port too") {
     const auto resolved = [](std::vector<std::string_view> arguments) {
         const auto parsed = parse(std::move(arguments));
         REQUIRE(std::holds_alternative<ServerConfig>(parsed));

@@ -144,7 +144,7 @@ TEST_CASE("edge: Range header lines are dropped as they arrive, an 8 KiB or malf
         200);
 }
 
-TEST_CASE("edge: a request line over 4 KiB gets 414 and closes; a shorter long path is routed") {
+TEST_CASE("edge: a request line over 4 KiB gets 414 and closes, a shorter long path is routed") {
     TestServer server;
     RawConnection connection(server.port());
     connection.send("GET /v1/scenarios/" + std::string(5000, 'a') +

@@ -278,7 +278,7 @@ TEST_CASE("http: garbage on the socket gets a 400 problem and the server keeps s
     CHECK(live->status == 200);
 }
 
-TEST_CASE("http: with a token, compute and job endpoints need it; the others do not") {
+TEST_CASE("http: with a token, compute and job endpoints need it, the others do not") {
     service::ServerConfig config = test_config();
     config.token = "correct-horse-battery-staple";
     TestServer server(config);

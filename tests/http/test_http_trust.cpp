@@ -94,7 +94,7 @@ TEST_CASE("trust: on loopback a Host outside the served names is 421 (DNS rebind
           std::vector<std::string>{"127.0.0.1", "localhost", "127.0.0.1", "::1"});
 }
 
-TEST_CASE("trust: unsafe requests from a foreign browser page are 403; curl without a body works") {
+TEST_CASE("trust: unsafe requests from a foreign browser page are 403, curl without a body works") {
     service::ServerConfig config = default_hosts_config();
     config.allowed_origins = {"https://app.example"};
     TestServer server(config);
@@ -133,7 +133,7 @@ TEST_CASE("trust: unsafe requests from a foreign browser page are 403; curl with
     CHECK(client.Get("/v1/scenarios/default", evil)->status == 200);
 }
 
-TEST_CASE("trust: client keys with scopes; 401 without a known key, 403 naming the scope") {
+TEST_CASE("trust: client keys with scopes, 401 without a known key, 403 naming the scope") {
     const std::string dir = fresh_temp_dir();
     const auto reader = make_key("reader", "read");
     const auto runner = make_key("ci-runner", "compute");
@@ -206,7 +206,7 @@ TEST_CASE("trust: client keys with scopes; 401 without a known key, 403 naming t
         CHECK(log.find(key->key.substr(key->key.rfind('_') + 1)) == std::string::npos);
 }
 
-TEST_CASE("trust: the key file is re-read without a restart; a broken one keeps the last keys") {
+TEST_CASE("trust: the key file is re-read without a restart, a broken one keeps the last keys") {
     const std::string dir = fresh_temp_dir();
     const std::string path = dir + "/keys";
     const auto old_key = make_key("old", "read");

@@ -117,7 +117,7 @@ TEST_CASE("workbench: Chart.js is Debian's file, byte for byte") {
     CHECK(served->body == expected);
 }
 
-TEST_CASE("workbench: an ETag revalidates to 304; an unknown file is a 404 problem") {
+TEST_CASE("workbench: an ETag revalidates to 304, an unknown file is a 404 problem") {
     TestServer server;
     auto client = server.client();
     const auto first = client.Get("/static/js/app.js");

@@ -38,7 +38,7 @@ bool positive_finite(const json& value) {
 
 }  // namespace
 
-TEST_CASE("amplitude options: the defaults are resolved and echoed; the speed is the scenario's") {
+TEST_CASE("amplitude options: the defaults are resolved and echoed, the speed is the scenario's") {
     core::Scenario scenario;
     scenario.rolls.speed = 12.0;
     api::FieldErrors errors;
@@ -123,7 +123,7 @@ TEST_CASE(
 }
 
 TEST_CASE(
-    "amplitude at several speeds: one point per speed, in order; the amplitude rises with speed") {
+    "amplitude at several speeds: one point per speed, in order, the amplitude rises with speed") {
     const json body = run_amplitude({{"speeds_m_per_s", {15, 10}}, {"window_s", 0.2}});
     CHECK(body["options"]["speeds_m_per_s"] == json{15.0, 10.0});
     const json& points = body["result"]["points"];

@@ -118,7 +118,7 @@ std::size_t store_count(JobStore& store, JobState state) {
 #define STORE_BACKENDS SqliteDb, PostgresDb
 
 TEST_CASE_TEMPLATE(
-    "job store: the same key and body return the same job; another body is a conflict", Db,
+    "job store: the same key and body return the same job, another body is a conflict", Db,
     STORE_BACKENDS) {
     Db db;
     ManualClock clock;
@@ -224,7 +224,7 @@ TEST_CASE_TEMPLATE("job store: two concurrent claimers never claim the same job"
 }
 
 TEST_CASE_TEMPLATE(
-    "job store: an expired lease hands the work over; the old holder can no longer write", Db,
+    "job store: an expired lease hands the work over, the old holder can no longer write", Db,
     STORE_BACKENDS) {
     Db db;
     ManualClock clock;
@@ -262,7 +262,7 @@ TEST_CASE_TEMPLATE(
 }
 
 TEST_CASE_TEMPLATE(
-    "job store: renewing and progress keep a lease; release gives it to another replica", Db,
+    "job store: renewing and progress keep a lease, release gives it to another replica", Db,
     STORE_BACKENDS) {
     Db db;
     ManualClock clock;
@@ -437,7 +437,7 @@ TEST_CASE_TEMPLATE("job store: cancelling a sweep stops handing out its chunks",
     CHECK_FALSE(store->claim("replica-b", 1s).value->has_value());
 }
 
-TEST_CASE_TEMPLATE("job store: retention purges finished jobs; the size bound refuses more", Db,
+TEST_CASE_TEMPLATE("job store: retention purges finished jobs, the size bound refuses more", Db,
                    STORE_BACKENDS) {
     Db db;
     ManualClock clock;
@@ -463,7 +463,7 @@ TEST_CASE_TEMPLATE("job store: retention purges finished jobs; the size bound re
 }
 
 TEST_CASE_TEMPLATE(
-    "job store: stored scenarios are versioned; If-Match conflicts; default is reserved", Db,
+    "job store: stored scenarios are versioned, If-Match conflicts, default is reserved", Db,
     STORE_BACKENDS) {
     Db db;
     ManualClock clock;
@@ -528,7 +528,7 @@ TEST_CASE(
     CHECK(store->create(job_spec()).ok());
 }
 
-TEST_CASE("job store (sqlite): jobs survive reopening the file; a queued job then runs") {
+TEST_CASE("job store (sqlite): jobs survive reopening the file, a queued job then runs") {
     SqliteDb db;
     ManualClock clock;
     std::string finished, queued;
@@ -547,7 +547,7 @@ TEST_CASE("job store (sqlite): jobs survive reopening the file; a queued job the
     CHECK(store->get_scenario("mill-1").value->version == 1);
 }
 
-TEST_CASE("job store: the setting chooses the backend; a DSN may come from a file") {
+TEST_CASE("job store: the setting chooses the backend, a DSN may come from a file") {
     CHECK(open_store("mysql://x").status == StoreStatus::invalid);
     CHECK(open_store("sqlite:").status == StoreStatus::invalid);
     CHECK(open_store("sqlite:/dev/null/jobs.db").status ==

@@ -37,7 +37,7 @@ TEST_CASE("jobs: timestamps are RFC 3339 UTC with milliseconds") {
     CHECK(rfc3339(store::Millis{0}) == "1970-01-01T00:00:00.000Z");
 }
 
-TEST_CASE("jobs: a queued job's document; a finished one carries its result and expiry") {
+TEST_CASE("jobs: a queued job's document, a finished one carries its result and expiry") {
     store::JobRecord job = record();
     json document = job_document(job, std::chrono::minutes(10), JobDetail::full);
     CHECK(document["id"] == job.id);
@@ -71,7 +71,7 @@ TEST_CASE("jobs: a queued job's document; a finished one carries its result and 
     CHECK_FALSE(job_expired(job, std::chrono::milliseconds(0), day_ms * 1000));
 }
 
-TEST_CASE("jobs: a chunked job counts its points; a failed job carries its problem") {
+TEST_CASE("jobs: a chunked job counts its points, a failed job carries its problem") {
     store::JobRecord job = record();
     job.state = store::JobState::running;
     job.points = 200;

@@ -42,7 +42,7 @@ TEST_CASE("grid neighbours: each cell with its right and lower neighbour") {
 }
 
 TEST_CASE(
-    "a map's cells equal single searches, row-major, with 1 and 2 threads; the type change is found along the rows") {
+    "a map's cells equal single searches, row-major, with 1 and 2 threads, the type change is found along the rows") {
     // rows: strip roughness 8 and 9 um (the crossing moves from the ~109 Hz gap mode to the
     // ~480 Hz work-roll mode between them); columns: two viscosities
     std::vector<core::Scenario> cells;

@@ -111,7 +111,7 @@ TEST_CASE_TEMPLATE("scenario versions: a name holds a stand or a mill, never bot
     CHECK(stand.value->kind == StoredKind::stand);
 }
 
-TEST_CASE_TEMPLATE("scenario versions: never repeat for a name; authors; bounded history", Db,
+TEST_CASE_TEMPLATE("scenario versions: never repeat for a name, authors, bounded history", Db,
                    SqliteDb, PostgresDb) {
     Db db;
     StoreLimits limits;
@@ -145,7 +145,7 @@ TEST_CASE_TEMPLATE("scenario versions: never repeat for a name; authors; bounded
     CHECK(listed.value->scenarios[0].version == 8);
 }
 
-TEST_CASE_TEMPLATE("scenario versions: the count is bounded; pages by name", Db, SqliteDb,
+TEST_CASE_TEMPLATE("scenario versions: the count is bounded, pages by name", Db, SqliteDb,
                    PostgresDb) {
     Db db;
     StoreLimits limits;
@@ -174,7 +174,7 @@ TEST_CASE_TEMPLATE("scenario versions: the count is bounded; pages by name", Db,
 }
 
 TEST_CASE_TEMPLATE(
-    "scenario versions: deleted names are bounded; a name that lost its marker "
+    "scenario versions: deleted names are bounded, a name that lost its marker "
     "still never repeats a version",
     Db, SqliteDb, PostgresDb) {
     Db db;
@@ -279,7 +279,7 @@ TEST_CASE("scenario versions over http: a stale If-Match after delete and re-cre
     CHECK(put(client, "stand-9", {{"If-Match", "\"3\""}})->status == 200);
 }
 
-TEST_CASE("scenario versions over http: --max-scenarios is 507; GET /v1/scenarios pages") {
+TEST_CASE("scenario versions over http: --max-scenarios is 507, GET /v1/scenarios pages") {
     TestServer server(config_with(3));
     auto client = server.client();
     for (const char* name : {"s-b", "s-a", "s-c"}) REQUIRE(put(client, name)->status == 201);

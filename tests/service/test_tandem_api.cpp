@@ -168,7 +168,7 @@ TEST_CASE("the echoed mill reruns to the same answer") {
     CHECK(again == first);
 }
 
-TEST_CASE("the tandem answer's CSV tables: stands and crossings; no time series unless asked") {
+TEST_CASE("the tandem answer's CSV tables: stands and crossings, no time series unless asked") {
     const service::Analysis* tandem = service::find_analysis(service::analyses(), "tandem");
     REQUIRE(tandem != nullptr);
     const json answer = answer_of({{"analysis", "tandem"}, {"tandem", two_stands}});

@@ -176,7 +176,7 @@ TEST_CASE("a mill map refuses what the mill cannot have, at the pointer that nam
     }
 }
 
-TEST_CASE("a mill map's cells in chunks assemble into the single run; its CSV") {
+TEST_CASE("a mill map's cells in chunks assemble into the single run, its CSV") {
     const json request = map_request(speeds, viscosities, stability);
     auto prepared = service::prepare(request);
     REQUIRE(std::holds_alternative<service::PreparedRequest>(prepared));

@@ -79,7 +79,7 @@ TEST_CASE("a mill sweep's point is the tandem analysis of the mill with that val
     CHECK(result["points"][0]["frequency_Hz"] != result["points"][1]["frequency_Hz"]);
 }
 
-TEST_CASE("a mill sweep: a list parameter sets every element; a stand's field; the CSV") {
+TEST_CASE("a mill sweep: a list parameter sets every element, a stand's field, the CSV") {
     // Every span's tension set point at once.
     const json answer = answer_of(
         {{"analysis", "tandem_sweep"},
