@@ -67,6 +67,11 @@ constexpr std::array settings{
                   "(default 25000)"},
     ConfigSetting{"--max-body-bytes", "ROLLGAP_MAX_BODY_BYTES", "N",
                   "largest request body; beyond: 413 (default 1048576)"},
+    ConfigSetting{"--max-batch-body-bytes", "ROLLGAP_MAX_BATCH_BODY_BYTES", "N",
+                  "largest body of POST /v1/batches (up to 10,000 items); beyond: 413 (default "
+                  "8388608)"},
+    ConfigSetting{"--batch-deadline-ms", "ROLLGAP_BATCH_DEADLINE_MS", "MS",
+                  "time budget of a batch job, from creation (default 3600000)"},
     ConfigSetting{"--log-level", "ROLLGAP_LOG_LEVEL", "LEVEL",
                   "trace, debug, info, warn, error, critical or off (default info)"},
     ConfigSetting{"", "ROLLGAP_TOKEN", "TOKEN",
@@ -159,6 +164,11 @@ constexpr std::array integer_settings{
     IntegerSetting{
         "ROLLGAP_MAX_BODY_BYTES", 1024, 64LL * 1024 * 1024, "1024..67108864 bytes",
         [](ServerConfig& c, long long n) { c.max_body_bytes = static_cast<std::size_t>(n); }},
+    IntegerSetting{
+        "ROLLGAP_MAX_BATCH_BODY_BYTES", 1024, 256LL * 1024 * 1024, "1024..268435456 bytes",
+        [](ServerConfig& c, long long n) { c.max_batch_body_bytes = static_cast<std::size_t>(n); }},
+    IntegerSetting{"ROLLGAP_BATCH_DEADLINE_MS", 1, 86'400'000, "1..86400000 ms",
+                   [](ServerConfig& c, long long n) { c.batch_deadline = milliseconds(n); }},
     IntegerSetting{"ROLLGAP_LEASE_MS", 500, 3'600'000, "500..3600000 ms",
                    [](ServerConfig& c, long long n) { c.lease = milliseconds(n); }},
     IntegerSetting{
@@ -408,6 +418,7 @@ std::string describe(const ServerConfig& config) {
          << " job_deadline_ms=" << config.job_deadline.count()
          << " job_retention_ms=" << config.job_retention.count() << " max_jobs=" << config.max_jobs
          << " job_workers=" << config.job_workers << " max_body_bytes=" << config.max_body_bytes
+         << " max_batch_body_bytes=" << config.max_batch_body_bytes
          << " log_level=" << config.log_level << " instance=" << config.instance
          << " store=" << redacted_store(config.store) << " lease_ms=" << config.lease.count()
          << " chunk_points=" << config.chunk_points

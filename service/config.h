@@ -43,6 +43,9 @@ struct ServerConfig {
     std::chrono::seconds retry_after{1};  // the Retry-After of 503 answers
     std::chrono::milliseconds drain_timeout{25'000};  // SIGTERM: how long in-flight work may take
     std::size_t max_body_bytes = 1024 * 1024;
+    // POST /v1/batches: up to 10,000 items of ~1 kB each (docs/http-api.md, "Batches").
+    std::size_t max_batch_body_bytes = 8 * 1024 * 1024;
+    std::chrono::milliseconds batch_deadline{3'600'000};  // a batch job, from creation
     std::string log_level = "info";    // trace debug info warn error critical off
     std::optional<std::string> token;  // bearer token for the compute endpoints; never logged
                                        // (a client key named "token" with every scope)

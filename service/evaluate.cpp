@@ -49,6 +49,22 @@ std::variant<Outcome, Envelope> check_envelope_of(const nlohmann::json& request,
     if (envelope.analysis == nullptr) {
         return problem_outcome(unknown_analysis_problem(offered, envelope.parsed.analysis));
     }
+    // A batch has no subject of its own: its items carry theirs (in its options).
+    if (envelope.analysis->subject() == Subject::batch) {
+        for (const char* member : {"scenario", "tandem", "base"}) {
+            if (!request.contains(member) || request.at(member).is_null()) continue;
+            envelope_errors.add(
+                {api::concat("/", member),
+                 api::concat("a batch gives \"", member, "\" in its options: /options/", member,
+                             " for every item, /options/items/N/", member, " for one"),
+                 std::nullopt, std::nullopt});
+        }
+        if (!envelope_errors.empty()) {
+            return problem_outcome(envelope_errors.to_problem(api::ProblemCode::invalid_request,
+                                                              "the request envelope is invalid"));
+        }
+        return envelope;
+    }
     // A stand's analysis takes "scenario", a mill's "tandem" (docs/model.md §12.8).
     const bool of_mill = envelope.analysis->subject() == Subject::mill;
     const bool has_scenario = request.contains("scenario") && !request.at("scenario").is_null();
@@ -80,7 +96,7 @@ std::variant<Outcome, PreparedRequest> prepare_request(const nlohmann::json& req
                                                        std::span<const Analysis> offered) {
     auto checked = check_envelope_of(request, offered);
     if (auto* problem = std::get_if<Outcome>(&checked)) return std::move(*problem);
-    const Envelope& envelope = std::get<Envelope>(checked);
+    Envelope& envelope = std::get<Envelope>(checked);
     if (envelope.parsed.unresolved_base) {
         // Only the HTTP service has the store; it resolves "base" before it calls the facade.
         return problem_outcome(api::make_problem(
@@ -100,8 +116,12 @@ std::variant<Outcome, PreparedRequest> prepare_request(const nlohmann::json& req
     ready.analysis = envelope.analysis;
     ready.base = envelope.parsed.base;
     const bool of_mill = envelope.analysis->subject() == Subject::mill;
+    const bool of_batch = envelope.analysis->subject() == Subject::batch;
     const std::string subject_pointer = of_mill ? "/tandem" : "/scenario";
-    if (of_mill) {
+    if (of_batch) {
+        ready.prepared = envelope.analysis->prepare_batch(std::move(envelope.parsed.options),
+                                                          "/options", errors);
+    } else if (of_mill) {
         ready.mill = api::mill_from_patch(
             envelope.parsed.tandem_patch.value_or(nlohmann::json::object()), "/tandem", errors);
         ready.prepared = envelope.analysis->prepare_mill(*ready.mill, envelope.parsed.options,
@@ -157,12 +177,15 @@ Outcome result_outcome(PreparedRequest& ready, nlohmann::json result) {
     outcome.status = status_of(result);
     outcome.body = {
         {"analysis", ready.analysis->name},
-        {ready.mill ? "tandem" : "scenario", ready.mill
-                                                 ? api::resolved_tandem_json(*ready.mill)
-                                                 : api::resolved_scenario_json(ready.scenario)},
         {"options", std::move(ready.prepared.resolved_options)},
         {"result", std::move(result)},
     };
+    // The subject echoed, so the answer can be rerun; a batch's items are in its options.
+    if (ready.analysis->subject() != Subject::batch) {
+        outcome.body[ready.mill ? "tandem" : "scenario"] =
+            ready.mill ? api::resolved_tandem_json(*ready.mill)
+                       : api::resolved_scenario_json(ready.scenario);
+    }
     if (ready.base) outcome.body["base"] = api::scenario_base_json(*ready.base);
     return outcome;
 }

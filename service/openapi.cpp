@@ -293,6 +293,30 @@ void add_result_schemas(json& document) {
             schemas[std::string(component.component)] = std::move(component.schema);
         }
         const std::string response(analysis.response_schema);
+        if (analysis.subject() == Subject::batch) {
+            // No subject of its own; its route answers a job (openapi.json), whose result this is.
+            schemas[response] = {
+                {"type", "object"},
+                {"description",
+                 concat("The ", analysis.name,
+                        " analysis' answer (a job's result): the options it used, without the "
+                        "items (the rows list them by index and label), and the rows.")},
+                {"required", {"analysis", "options", "result"}},
+                {"additionalProperties", false},
+                {"properties",
+                 {{"analysis",
+                   {{"const", analysis.name}, {"description", "The analysis that ran."}}},
+                  {"options",
+                   {{"type", "object"},
+                    {"description",
+                     "The batch's options without its items, and "
+                     "items_total."}}},
+                  {"result", component_ref(analysis.result_schema)}}},
+            };
+            responses.push_back(component_ref(response));
+            mapping[std::string(analysis.name)] = concat("#/components/schemas/", response);
+            continue;
+        }
         const bool of_mill = analysis.subject() == Subject::mill;
         const char* subject = of_mill ? "tandem" : "scenario";
         schemas[response] = {
@@ -343,7 +367,9 @@ json analysis_list() {
             {"csv", !analysis.tables().empty()},
             {"pointwise", analysis.pointwise()},
             {"on_page", analysis.on_page},
-            {"subject", analysis.subject() == Subject::mill ? "tandem" : "scenario"},
+            {"subject", analysis.subject() == Subject::mill    ? "tandem"
+                        : analysis.subject() == Subject::batch ? "items"
+                                                               : "scenario"},
         });
     }
     return list;

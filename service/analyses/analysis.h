@@ -132,8 +132,18 @@ using PrepareMillAnalysis = PreparedAnalysis (*)(const core::Mill& mill,
                                                  const std::string& options_pointer,
                                                  api::FieldErrors& errors);
 
-// What an analysis takes: one stand (the request's "scenario") or a mill ("tandem").
-enum class Subject { stand, mill };
+// A batch of another analysis' requests (docs/http-api.md, "Batches"): the request has no
+// subject of its own; its options list the items, each a stand or a mill with options. Reads
+// the options' shape only (a batch of 10,000 items is prepared on every replica that runs a
+// chunk of it): an item's own violations are its row's problem, computed with the item. Takes
+// the options by value: a batch of 10,000 items is kept once, not copied.
+using PrepareBatchAnalysis = PreparedAnalysis (*)(nlohmann::json options,
+                                                  const std::string& options_pointer,
+                                                  api::FieldErrors& errors);
+
+// What an analysis takes: one stand (the request's "scenario"), a mill ("tandem"), or a batch
+// of items (neither: the items are in its options).
+enum class Subject { stand, mill, batch };
 
 // An options component of the OpenAPI document whose "default"s are those an analysis resolves
 // from `minimal_options` (the defaults live in core; the document shows them).
@@ -167,8 +177,15 @@ struct Analysis {
     bool on_page = true;  // the workbench page offers it (x-rollgap-analyses in OpenAPI)
     // A mill's analysis: `prepare` is nullptr and this reads its options (Subject::mill).
     PrepareMillAnalysis prepare_mill = nullptr;
+    // A batch (Subject::batch): `prepare` and `prepare_mill` are nullptr and this reads its
+    // options. Its route submits a job (202) instead of answering synchronously.
+    PrepareBatchAnalysis prepare_batch = nullptr;
 
-    Subject subject() const { return prepare_mill != nullptr ? Subject::mill : Subject::stand; }
+    Subject subject() const {
+        return prepare_batch != nullptr  ? Subject::batch
+               : prepare_mill != nullptr ? Subject::mill
+                                         : Subject::stand;
+    }
 
     bool pointwise() const { return !point_components.empty(); }
     std::span<const api::CsvTable> tables() const {

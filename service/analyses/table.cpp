@@ -13,6 +13,7 @@
 #include "api/map_json.h"
 #include "api/result_json.h"
 #include "api/speed_limit_json.h"
+#include "api/batch_json.h"
 #include "api/stability_json.h"
 #include "api/sweep_json.h"
 #include "api/tandem_result_json.h"
@@ -28,6 +29,7 @@
 #include "service/analyses/map.h"
 #include "service/analyses/roll_gap.h"
 #include "service/analyses/speed_limit.h"
+#include "service/analyses/batch.h"
 #include "service/analyses/stability.h"
 #include "service/analyses/sweep.h"
 #include "service/analyses/tandem.h"
@@ -87,6 +89,7 @@ constexpr std::array map_points{"MapCell"sv};
 constexpr std::array tandem_sweep_points{"TandemSweepCriticalSpeedPoint"sv,
                                          "TandemSweepStabilityPoint"sv};
 constexpr std::array tandem_map_points{"TandemMapCriticalSpeedCell"sv, "TandemMapStabilityCell"sv};
+constexpr std::array batch_points{"BatchItem"sv};
 
 const std::array table{
     Analysis{"roll_gap", "Roll gap",
@@ -179,6 +182,24 @@ const std::array table{
              nullptr, "/v1/tandem/maps", "TandemMapResponse", "TandemMapOptions", "TandemMapResult",
              &api::tandem_map_result_schemas, tandem_map_defaults, tandem_map_request_options,
              &api::tandem_map_csv_tables, tandem_map_points, false, &prepare_tandem_map},
+    // Last: its items may be any row above that runs whole.
+    Analysis{"batch",
+             "Batch",
+             "many requests of one analysis (typically a speed limit per coil) as one job: one "
+             "headline row per item, an item's problem its own (docs/http-api.md, \"Batches\")",
+             nullptr,
+             "/v1/batches",
+             "BatchResponse",
+             "BatchOptions",
+             "BatchResult",
+             &api::batch_result_schemas,
+             {},
+             no_names,
+             &api::batch_csv_tables,
+             batch_points,
+             false,
+             nullptr,
+             &prepare_batch},
 };
 
 }  // namespace

@@ -3,6 +3,7 @@
 #include "api/json_text.h"
 #include "api/problem.h"
 #include "api/text.h"
+#include "service/analyses/table.h"
 #include "service/http/admin_endpoints.h"
 #include "service/http/job_endpoints.h"
 #include "service/http/listener.h"
@@ -23,6 +24,7 @@
 #include <thread>
 #include <utility>
 
+#include <malloc.h>
 #include <sys/socket.h>
 
 #include <httplib.h>
@@ -82,6 +84,8 @@ struct HttpServer::Impl {
     int admin_bound_port = -1;
 
     std::atomic<bool> started{false};
+    // A body above --max-body-bytes (a large batch) is being parsed and checked (handle_post).
+    std::atomic<bool> large_body_busy{false};
     std::atomic<bool> stopped{false};
     std::mutex shutdown_mutex;
 
@@ -131,6 +135,10 @@ struct HttpServer::Impl {
             {id, method_label(request.method), route, request.path, response.status, seconds,
              context.active ? context.in_bytes : 0, response.body.size(), request.remote_addr,
              context.active ? std::string_view(context.client) : std::string_view("anonymous")});
+        // A body or an answer above the ordinary limit (a batch, its 10,000-row result) built
+        // documents tens of times its size: their freed memory goes back to the system now.
+        const std::size_t in_bytes = context.active ? context.in_bytes : 0;
+        if (std::max(in_bytes, response.body.size()) > state.config.max_body_bytes) malloc_trim(0);
         context = RequestContext{};
     }
 
@@ -226,7 +234,7 @@ struct HttpServer::Impl {
         // pre_route() ran for this request on this thread and let it through.
         const_cast<httplib::Request&>(request).path = std::move(t_context.path);
         const Route* route = t_context.route;
-        const std::size_t limit = config().max_body_bytes;
+        const std::size_t limit = body_limit(route, config());
         std::string body;
         bool too_large = false;
         const bool read = read_content([&](const char* data, std::size_t length) {
@@ -255,10 +263,28 @@ struct HttpServer::Impl {
                         "the request body could not be read");
             return;
         }
+        // A body above the 1 MiB of every other route (a batch's, up to
+        // --max-batch-body-bytes) costs ~40 times its size while it is parsed and checked: one
+        // such body at a time per replica, the next is told to come back.
+        struct LargeBodySlot {
+            std::atomic<bool>* busy = nullptr;
+            ~LargeBodySlot() {
+                if (busy != nullptr) busy->store(false);
+            }
+        } slot;
+        if (body.size() > config().max_body_bytes) {
+            if (large_body_busy.exchange(true)) {
+                state.overloaded(response,
+                                 "another large batch is being accepted; retry after Retry-After");
+                return;
+            }
+            slot.busy = &large_body_busy;
+        }
         guarded(response, [&] {
             json document = json::object();  // an empty body is the request {}
             if (!body.empty()) {
                 auto parsed = api::parse_json_text(body);
+                std::string().swap(body);  // parsed: the text is not needed any more
                 if (auto* problem = std::get_if<api::Problem>(&parsed)) {
                     set_problem(response, *problem);
                     return;
@@ -316,6 +342,13 @@ struct HttpServer::Impl {
             return;
         }
         body["analysis"] = route.analysis;
+        // A batch always runs as a job (202, its chunks spread over the replicas' workers).
+        if (const Analysis* row = find_analysis(analyses(), route.analysis);
+            row != nullptr && row->subject() == Subject::batch) {
+            job_endpoints.create(std::move(body), request.get_header_value("Idempotency-Key"),
+                                 response);
+            return;
+        }
         if (auto refused = resolve_base(body, state)) {
             answer_unresolved(state, *refused, response);
             return;
@@ -343,7 +376,9 @@ struct HttpServer::Impl {
             const int yes = 1;
             ::setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
         });
-        listener.set_payload_max_length(config().max_body_bytes);
+        // The largest a route reads (a batch's); each route's own limit is checked as it reads.
+        listener.set_payload_max_length(
+            std::max(config().max_body_bytes, config().max_batch_body_bytes));
         // What the Keep-Alive header announces; the listener's own loop enforces them.
         listener.set_keep_alive_max_count(ListenerLimits{}.max_requests_per_connection);
         listener.set_keep_alive_timeout(

@@ -3,6 +3,7 @@
 // row in the store), GET /v1/jobs (a page of jobs), GET and DELETE /v1/jobs/{id} on any
 // replica. A job's scenario and options are checked when it runs.
 
+#include <cstdint>
 #include <string>
 
 #include <httplib.h>
@@ -29,6 +30,8 @@ public:
     static constexpr std::size_t max_idempotency_key = 200;
     static constexpr std::size_t default_page = 20;
     static constexpr std::size_t max_page = 100;
+    // The most chunks a batch is split into (each chunk parses the whole stored batch).
+    static constexpr std::int64_t max_batch_chunks = 64;
 
 private:
     // The store, or nullptr after answering 503 store_unavailable.

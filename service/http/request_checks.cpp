@@ -8,6 +8,7 @@
 #include "api/problem.h"
 #include "api/field_errors.h"
 #include "api/text.h"
+#include "service/analyses/table.h"
 #include "service/http/responses.h"
 
 namespace rollgap::service::http {
@@ -95,6 +96,15 @@ Scope route_scope(const Route& route, std::string_view method) {
     }
 }
 
+std::size_t body_limit(const Route* route, const ServerConfig& config) {
+    if (route != nullptr && route->id == RouteId::analysis) {
+        const Analysis* analysis = find_analysis(analyses(), route->analysis);
+        if (analysis != nullptr && analysis->subject() == Subject::batch)
+            return config.max_batch_body_bytes;
+    }
+    return config.max_body_bytes;
+}
+
 bool refuse(const Route* route, const httplib::Request& request, httplib::Response& response,
             const ServerConfig& config, KeyRing& keys, bool on_admin, std::string& client) {
     bool refused = true;
@@ -160,10 +170,10 @@ bool refuse(const Route* route, const httplib::Request& request, httplib::Respon
                 ? std::string("the body must be sent as Content-Type: application/json")
                 : concat("the body must be application/json, not ", api::quoted_for_message(sent)));
     } else if (const auto length = content_length(request);
-               length && *length > config.max_body_bytes) {
+               length && *length > body_limit(route, config)) {
         set_problem(response, api::ProblemCode::payload_too_large,
                     concat("the body has ", std::to_string(*length), " bytes; the limit is ",
-                           std::to_string(config.max_body_bytes)));
+                           std::to_string(body_limit(route, config))));
     } else {
         refused = false;
     }

@@ -20,6 +20,10 @@ namespace rollgap::service::http {
 bool refuse(const Route* route, const httplib::Request& request, httplib::Response& response,
             const ServerConfig& config, KeyRing& keys, bool on_admin, std::string& client);
 
+// The largest body `route` reads: config.max_batch_body_bytes for POST /v1/batches (a batch of
+// up to 10,000 items), config.max_body_bytes for every other route and an unmatched path.
+std::size_t body_limit(const Route* route, const ServerConfig& config);
+
 // The scope `method` on `route` needs (only for routes with `compute` set):
 //   GET/HEAD of jobs and stored scenarios: read; PUT/DELETE of stored scenarios: write;
 //   analyses, POST /v1/jobs and DELETE /v1/jobs/{id}: compute.

@@ -1,5 +1,10 @@
 #include "service/http/scenario_base.h"
 
+#include <functional>
+#include <map>
+#include <string>
+#include <variant>
+
 #include "api/json_text.h"
 #include "api/request_json.h"
 #include "api/text.h"
@@ -13,26 +18,29 @@ using nlohmann::json;
 
 namespace {
 
-Outcome base_problem(std::string detail, std::string error) {
-    return problem_outcome(
-        api::make_problem(api::ProblemCode::invalid_request, std::move(detail),
-                          {{"/base", std::move(error),
-                            std::string(api::stored_scenario_name_pattern), std::nullopt}}));
+// One stored document as the store answered for a name (a batch asks once per name).
+using Lookup = std::function<store::Result<store::StoredScenario>(const std::string&)>;
+
+// What resolving one "base" came to: nothing wrong, a violation at the base's pointer (422), or
+// another answer (503: the store; 500: a corrupted row).
+using Resolution = std::variant<std::monostate, api::FieldError, Outcome>;
+
+api::FieldError base_error(const std::string& pointer, std::string error) {
+    return {pointer, std::move(error), std::string(api::stored_scenario_name_pattern),
+            std::nullopt};
 }
 
-}  // namespace
-
-std::optional<Outcome> resolve_base(json& request, ServiceState& state) {
-    if (!request.is_object()) return std::nullopt;  // the facade reports it
-    const auto found = request.find("base");
-    if (found == request.end() || found->is_null()) return std::nullopt;
+// `request`'s "base" (a name) resolved through `lookup`: the stored document, the request's
+// subject patch merged onto it and then `then_patch` (a batch item's own patch, after the
+// batch's shared one), the request rewritten to the resolved form. Violations at `pointer`.
+Resolution resolve_one(json& request, const Lookup& lookup, const json* then_patch,
+                       const std::string& pointer) {
+    const json& found = request["base"];
     // A client names a stored scenario; the resolved {"name", "version"} form is what this
     // function writes, never something a client may claim.
-    if (!found->is_string()) {
-        return base_problem("\"base\" must name a stored scenario",
-                            concat("must be a string, not ", api::json_type_name(*found)));
-    }
-    const std::string name = found->get<std::string>();
+    if (!found.is_string())
+        return base_error(pointer, concat("must be a string, not ", api::json_type_name(found)));
+    const std::string name = found.get<std::string>();
     // A stand's analysis takes a stored scenario and merges "scenario" onto it; a mill's takes
     // a stored mill and merges "tandem". An unknown analysis is the facade's to report.
     const auto analysis_name = request.find("analysis");
@@ -44,26 +52,19 @@ std::optional<Outcome> resolve_base(json& request, ServiceState& state) {
     const store::StoredKind kind = mill ? store::StoredKind::mill : store::StoredKind::stand;
     const std::string_view member = mill ? "tandem" : "scenario";
     const std::string_view noun = mill ? "mill" : "scenario";
-    if (auto error = api::stored_scenario_name_error(name, "/base")) {
-        return problem_outcome(api::make_problem(api::ProblemCode::invalid_request,
-                                                 "\"base\" is not a stored scenario's name",
-                                                 {std::move(*error)}));
-    }
+    if (auto error = api::stored_scenario_name_error(name, pointer)) return std::move(*error);
 
-    const auto store = state.store.get();
-    if (!store) {
-        state.store.report(store::StoreStatus::unavailable);
+    const auto stored = lookup(name);
+    if (stored.status == store::StoreStatus::unavailable && stored.detail == "no store") {
         return problem_outcome(
             api::make_problem(api::ProblemCode::store_unavailable,
                               "the scenario store is unavailable, so \"base\" cannot be "
                               "resolved; retry later, or send the scenario itself"));
     }
-    auto stored = store->get_scenario(name);
-    state.store.report(stored.status);
     if (stored.status == store::StoreStatus::not_found) {
-        return base_problem(concat("no stored ", noun, " ", api::quoted_for_message(name)),
-                            concat("names no stored ", noun, "; GET ",
-                                   mill ? "/v1/mills" : "/v1/scenarios", " lists them"));
+        return base_error(
+            pointer, concat("names no stored ", noun, " ", api::quoted_for_message(name), "; GET ",
+                            mill ? "/v1/mills" : "/v1/scenarios", " lists them"));
     }
     if (!stored.ok()) {
         return problem_outcome(
@@ -72,9 +73,8 @@ std::optional<Outcome> resolve_base(json& request, ServiceState& state) {
                               "resolved; retry later, or send the scenario itself"));
     }
     if (stored.value->kind != kind) {
-        return base_problem(
-            concat(api::quoted_for_message(name), " is a stored ", mill ? "stand scenario" : "mill",
-                   ", not a ", noun),
+        return base_error(
+            pointer,
             mill ? concat("names a stored stand scenario; a mill's analysis (", analysis->name,
                           ") takes a stored mill (GET /v1/mills lists them)")
                  : std::string("names a stored mill; a stand's analysis takes a stored scenario "
@@ -91,6 +91,7 @@ std::optional<Outcome> resolve_base(json& request, ServiceState& state) {
     // null and absent are the same patch: nothing changes.
     if (const auto patch = request.find(member); patch != request.end() && !patch->is_null())
         document.merge_patch(*patch);
+    if (then_patch != nullptr && !then_patch->is_null()) document.merge_patch(*then_patch);
     // A speed limit of a calibrated stand carries the stand's own uncertainty (docs/model.md
     // §13.3): its stored posterior, unless the request gives one (null: none) or its patch moves
     // a field the posterior describes (then it would describe another stand).
@@ -111,7 +112,113 @@ std::optional<Outcome> resolve_base(json& request, ServiceState& state) {
     }
     request[std::string(member)] = std::move(document);
     request["base"] = api::scenario_base_json({name, stored.value->version});
+    return std::monostate{};
+}
+
+// Looks names up in the store, reporting each answer to the store's health.
+Lookup store_lookup(ServiceState& state) {
+    return [&state](const std::string& name) -> store::Result<store::StoredScenario> {
+        const auto store = state.store.get();
+        if (!store) {
+            state.store.report(store::StoreStatus::unavailable);
+            return {store::StoreStatus::unavailable, std::nullopt, "no store"};
+        }
+        auto stored = store->get_scenario(name);
+        state.store.report(stored.status);
+        return stored;
+    };
+}
+
+Outcome unresolved_outcome(Resolution resolution) {
+    if (auto* outcome = std::get_if<Outcome>(&resolution)) return std::move(*outcome);
+    api::FieldErrors errors;
+    api::FieldError& error = std::get<api::FieldError>(resolution);
+    const std::string detail = concat("\"base\" ", error.detail);
+    errors.add(std::move(error));
+    return problem_outcome(errors.to_problem(api::ProblemCode::invalid_request, detail));
+}
+
+// A batch's items (docs/http-api.md, "Batches"): each item's base, its own or the batch's,
+// resolved like a request's, the batch's shared patch and then the item's merged onto the stored
+// document. A resolved item holds its complete subject and base {"name", "version"}; a
+// posterior the stored stand carries joins its options. Every unresolvable base is reported at
+// once (422); each name is read from the store once per batch.
+std::optional<Outcome> resolve_batch(json& request, ServiceState& state) {
+    json& options = request["options"];
+    if (!options.is_object()) return std::nullopt;  // the facade reports it
+    const auto items = options.find("items");
+    if (items == options.end() || !items->is_array()) return std::nullopt;
+    const json shared_base = options.value("base", json());
+    const auto inner_name = options.find("analysis");
+    const Analysis* inner =
+        inner_name != options.end() && inner_name->is_string()
+            ? find_analysis(analyses(), inner_name->get_ref<const std::string&>())
+            : nullptr;
+    if (inner == nullptr || inner->subject() == Subject::batch) return std::nullopt;
+    const std::string member = inner->subject() == Subject::mill ? "tandem" : "scenario";
+
+    std::map<std::string, store::Result<store::StoredScenario>> read;
+    const Lookup plain = store_lookup(state);
+    const Lookup cached = [&](const std::string& name) {
+        auto found = read.find(name);
+        if (found == read.end()) found = read.emplace(name, plain(name)).first;
+        return found->second;
+    };
+    api::FieldErrors errors;
+    const json shared_options = options.value("options", json::object());
+    for (std::size_t i = 0; i < items->size(); ++i) {
+        json& item = (*items)[i];
+        if (!item.is_object()) continue;  // the facade reports it
+        const bool own = item.contains("base") && !item["base"].is_null();
+        if (!own && shared_base.is_null()) continue;
+        const std::string pointer =
+            own ? concat("/options/items/", std::to_string(i), "/base") : "/options/base";
+        if (!own && errors.has_error_at_or_below(pointer)) continue;
+        json one = {{"analysis", inner->name}, {"base", own ? item["base"] : shared_base}};
+        if (options.contains(member)) one[member] = options[member];
+        json merged = shared_options.is_object() ? shared_options : json::object();
+        if (const auto patch = item.find("options"); patch != item.end() && patch->is_object())
+            merged.merge_patch(*patch);
+        one["options"] = std::move(merged);
+        const json then = item.value(member, json());
+        Resolution resolution = resolve_one(one, cached, &then, pointer);
+        if (auto* error = std::get_if<api::FieldError>(&resolution)) {
+            errors.add(std::move(*error));
+            continue;
+        }
+        if (auto* outcome = std::get_if<Outcome>(&resolution)) return std::move(*outcome);
+        item["base"] = one["base"];
+        item[member] = one[member];
+        const bool asked = item.contains("options") && item["options"].is_object() &&
+                           item["options"].contains("posterior");
+        if (!asked && one["options"].contains("posterior")) {
+            if (!item.contains("options") || !item["options"].is_object())
+                item["options"] = json::object();
+            item["options"]["posterior"] = one["options"]["posterior"];
+        }
+    }
+    if (!errors.empty()) {
+        return problem_outcome(errors.to_problem(
+            api::ProblemCode::invalid_request,
+            concat(std::to_string(errors.size()), errors.size() == 1 ? " base" : " bases",
+                   " of the batch name no stored document it can use")));
+    }
+    // Every item that had the batch's base holds it resolved now.
+    options.erase("base");
     return std::nullopt;
+}
+
+}  // namespace
+
+std::optional<Outcome> resolve_base(json& request, ServiceState& state) {
+    if (!request.is_object()) return std::nullopt;  // the facade reports it
+    const auto analysis = request.find("analysis");
+    if (analysis != request.end() && *analysis == "batch") return resolve_batch(request, state);
+    const auto found = request.find("base");
+    if (found == request.end() || found->is_null()) return std::nullopt;
+    Resolution resolution = resolve_one(request, store_lookup(state), nullptr, "/base");
+    if (std::holds_alternative<std::monostate>(resolution)) return std::nullopt;
+    return unresolved_outcome(std::move(resolution));
 }
 
 void answer_unresolved(ServiceState& state, const Outcome& refused, httplib::Response& response) {

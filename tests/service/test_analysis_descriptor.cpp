@@ -36,6 +36,14 @@ bool has_component(const json& document, std::string_view name) {
 // The request of the analysis' row prepared with the first minimal options of its row.
 service::PreparedAnalysis prepare_minimal(const service::Analysis& analysis) {
     api::FieldErrors errors;
+    if (analysis.subject() == service::Subject::batch) {
+        // A batch has no defaults of its own: the least batch is one item of a cheap analysis.
+        service::PreparedAnalysis prepared = analysis.prepare_batch(
+            json::parse(R"({"analysis": "roll_gap", "items": [{"label": "coil-1"}]})"), "/options",
+            errors);
+        CHECK_MESSAGE(errors.empty(), analysis.name, ": its minimal options are refused");
+        return prepared;
+    }
     REQUIRE(!analysis.options_defaults.empty());
     const json options = json::parse(analysis.options_defaults.front().minimal_options);
     service::PreparedAnalysis prepared =
@@ -76,8 +84,15 @@ TEST_CASE("every analysis is in the OpenAPI document: path, answer, options, res
         REQUIRE(document["paths"].contains(path));
         const json& post = document["paths"][path]["post"];
         CHECK(post.contains("requestBody"));
-        CHECK(post["responses"]["200"]["content"]["application/json"]["schema"]["$ref"] ==
-              test::joined({"#/components/schemas/", analysis.response_schema}));
+        if (analysis.subject() == service::Subject::batch) {
+            // Its route queues a job (202, or 200 for a retried Idempotency-Key); the answer
+            // is that job's result.
+            CHECK(post["responses"]["202"]["content"]["application/json"]["schema"]["$ref"] ==
+                  "#/components/schemas/Job");
+        } else {
+            CHECK(post["responses"]["200"]["content"]["application/json"]["schema"]["$ref"] ==
+                  test::joined({"#/components/schemas/", analysis.response_schema}));
+        }
         CHECK(has_component(document, analysis.response_schema));
         CHECK(has_component(document, analysis.options_schema));
         CHECK(has_component(document, analysis.result_schema));
@@ -96,9 +111,13 @@ TEST_CASE("an analysis with CSV tables offers them in OpenAPI and answers them")
     const json document = service::openapi_document();
     for (const service::Analysis& analysis : service::analyses()) {
         CAPTURE(analysis.name);
-        const json& operation = document["paths"][std::string(analysis.path)]["post"];
+        // A batch's result is a job's: GET /v1/jobs/{id} offers its tables.
+        const json& operation = analysis.subject() == service::Subject::batch
+                                    ? document["paths"]["/v1/jobs/{id}"]["get"]
+                                    : document["paths"][std::string(analysis.path)]["post"];
         const bool offers_csv = operation["responses"]["200"]["content"].contains("text/csv");
-        CHECK(offers_csv == !analysis.tables().empty());
+        if (analysis.subject() == service::Subject::batch) CHECK(offers_csv);
+        else CHECK(offers_csv == !analysis.tables().empty());
         for (const api::CsvTable& table : analysis.tables()) {
             CAPTURE(table.name);
             bool listed = false;
@@ -150,7 +169,10 @@ TEST_CASE("the document's analysis list (x-rollgap-analyses) is the rows, in ord
         CHECK(document["paths"].contains(entry.value("path", "")));
         CHECK(entry["csv"] == !analysis.tables().empty());
         // csv says whether the route answers text/csv, as the operation in the document says.
-        const json& ok = document["paths"][std::string(analysis.path)]["post"]["responses"]["200"];
+        const json& ok =
+            analysis.subject() == service::Subject::batch
+                ? document["paths"]["/v1/jobs/{id}"]["get"]["responses"]["200"]
+                : document["paths"][std::string(analysis.path)]["post"]["responses"]["200"];
         CHECK(entry["csv"] == ok["content"].contains("text/csv"));
         CHECK(entry["pointwise"] == analysis.pointwise());
         CHECK(entry["on_page"] == analysis.on_page);

@@ -344,6 +344,7 @@ public:
     }
 
     Replica& operator[](std::size_t i) { return *replicas_.at(i); }
+    int proxy_port() const { return proxy_port_; }
     std::size_t size() const { return replicas_.size(); }
     PostgresServer& postgres() { return postgres_; }
     const std::string& dsn() const { return dsn_; }

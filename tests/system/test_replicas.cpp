@@ -440,3 +440,76 @@ TEST_CASE(
     CHECK(metric_value(replica.metrics(), "rollgap_store_up") == 1.0);
     CHECK(replica.log_text().find("job store available again") != std::string::npos);
 }
+
+TEST_CASE(
+    "replicas: a batch's coils are chunked over both replicas and through nginx's own limit") {
+    // Two replicas on one PostgreSQL store behind the product's nginx configuration.
+    ReplicaOptions options;
+    options.chunk_points = 10;
+    ReplicaSet replicas(2, options, true);
+    CAPTURE(replicas.logs());
+
+    // 200 coils, each a speed limit with the sweep's coarse search at its own viscosity (about
+    // 7 ms of CPU a coil): 20 chunks of 10 coils.
+    json items = json::array();
+    for (int i = 0; i < 200; ++i) {
+        items.push_back(
+            {{"label", "coil-" + std::to_string(i)},
+             {"scenario", {{"lubricant", {{"viscosity_Pa_s", 4.5e-4 + 1.25e-6 * i}}}}}});
+    }
+    const json request = {{"analysis", "batch"},
+                          {"options",
+                           {{"analysis", "speed_limit"},
+                            {"options",
+                             {{"speed_min_m_per_s", 17},
+                              {"speed_max_m_per_s", 23},
+                              {"relative_tolerance", 0.01},
+                              {"max_roll_force_kN", 7000}}},
+                            {"items", items}}}};
+    const json reference = single_process_result(replicas.directory(), request);
+    httplib::Client a = replicas[0].client();
+    const auto posted = post_json(a, "/v1/batches", {{"options", request["options"]}});
+    REQUIRE(posted);
+    REQUIRE(posted->status == 202);
+    const std::string id = json::parse(posted->body)["id"];
+    httplib::Client b = replicas[1].client();
+    const json job = wait_finished(b, id);
+    REQUIRE(job["state"] == "succeeded");
+    // Byte for byte the single process's rows, whichever replica computed which chunk.
+    CHECK(job["result"] == reference);
+    CHECK(job["result"]["result"]["succeeded"] == 200);
+    const auto owners = chunks_by_owner(replicas, id);
+    for (const auto& [owner, chunks] : owners)
+        MESSAGE(owner << " completed " << chunks << " chunks of the batch");
+    int chunks = 0;
+    for (const auto& [owner, done] : owners) chunks += done;
+    CHECK(chunks == 20);
+    CHECK(owners.size() == 2);
+
+    // Through nginx: a batch above the 1 MiB of every other route (1,000 roll gaps, each a whole
+    // stand document) is accepted at /v1/batches and refused (413, as a problem) at /v1/jobs.
+    httplib::Client proxy = replicas.proxy_client();
+    const json stand = json::parse(proxy.Get("/v1/scenarios/default")->body);
+    json large = json::array();
+    for (int i = 0; i < 1000; ++i)
+        large.push_back({{"label", "coil-" + std::to_string(i)}, {"scenario", stand}});
+    const json options_large = {{"analysis", "roll_gap"}, {"items", large}};
+    const std::string body = json{{"options", options_large}}.dump();
+    REQUIRE(body.size() > 1048576);
+    const auto through = proxy.Post("/v1/batches", body, "application/json");
+    REQUIRE(through);
+    CAPTURE(through->body.substr(0, 300));
+    CHECK(through->status == 202);
+    // The same length declared to /v1/jobs: nginx answers 413 (a problem) without reading it.
+    const std::string as_job = raw_exchange(
+        replicas.proxy_port(),
+        "POST /v1/jobs HTTP/1.1\r\nHost: localhost\r\nContent-Type: application/json\r\n"
+        "Content-Length: " +
+            std::to_string(body.size()) + "\r\n\r\n{");
+    CHECK(raw_status(as_job) == 413);
+    CHECK(as_job.find("application/problem+json") != std::string::npos);
+    const json large_job =
+        wait_finished(proxy, json::parse(through->body)["id"], std::chrono::seconds(120));
+    CHECK(large_job["state"] == "succeeded");
+    CHECK(large_job["result"]["result"]["items_total"] == 1000);
+}

@@ -129,6 +129,14 @@ std::vector<std::pair<std::string, std::string>> fuzz_evaluate_seeds() {
                                  {"stands", json::array({json::object(), json::object()})}};
             request["options"]["critical_speed"] = false;
         }
+        if (analysis.subject() == service::Subject::batch) {
+            // Two cheap items, one of them invalid: its row carries its own problem.
+            request["options"] = {
+                {"analysis", "roll_gap"},
+                {"items",
+                 {{{"label", "coil-1"}},
+                  {{"label", "coil-2"}, {"scenario", {{"strip", {{"reduction", 2}}}}}}}}};
+        }
         seeds.emplace_back(std::string(analysis.name) + ".json", request.dump() + "\n");
     }
     // A request on a stored scenario: the facade alone has no store to resolve it from.
