@@ -1,5 +1,9 @@
 #include "service/http/serve_main.h"
 
+#include <malloc.h>
+
+#include <algorithm>
+
 #include "service/config.h"
 #include "service/http/http_server.h"
 #include "service/version.h"
@@ -27,6 +31,11 @@ constexpr int exit_start_failure = 2;
 
 int serve(const ServerConfig& parsed) {
     const ServerConfig config = parsed.resolved();
+    // glibc gives each thread that allocates an arena of its own, up to 8 per core, and keeps
+    // what a thread freed in its arena: a few large documents (a 10,000-row batch answered on
+    // connection after connection) left ~1.7 GB resident on 2 cores, 250 MB with 2 arenas.
+    // Two per worker keeps the compute threads from contending and the footprint bounded.
+    mallopt(M_ARENA_MAX, static_cast<int>(std::max<std::size_t>(2, 2 * config.workers)));
 
     // One line per event, UTC, logfmt-style prefix; the request lines are logfmt throughout.
     spdlog::set_pattern("ts=%Y-%m-%dT%H:%M:%S.%eZ level=%l %v", spdlog::pattern_time_type::utc);
