@@ -438,6 +438,57 @@ try {
     await checkAxe();
   });
 
+  await test('speed limit: every checked limit on one speed axis, the binding one marked, the window and the speeds are the API data', async () => {
+    await page.click('#reset');
+    await page.click('#tab-speed_limit');
+    await page.fill('#f-options-max-roll-force-kN', '7000');
+    await page.fill('#f-options-max-power-kW', '6000');
+    await page.fill('#f-options-min-forward-slip', '0.005');
+    await page.fill('#f-options-chatter-margin', '0.05');
+    const sent = await postedDuring('/v1/speed-limit', () => runAndWait('speed-limits'));
+    check(sent.length === 1 && sent[0].options.max_roll_force_kN === 7000 && sent[0].options.max_power_kW === 6000, `the page sent: ${JSON.stringify(sent)}`);
+    const api = (await post('/v1/speed-limit', sent[0])).body.result;
+    check(api.status === 'ok' && api.binding_limit, `the API's answer: ${api.status}, binding ${api.binding_limit}`);
+    const chart = await chartData('speed-limits');
+    const names = { force: 'roll force', torque: 'torque', power: 'motor power', skid: 'skid (forward slip)', chatter: 'chatter' };
+    // Each checked limit's bar spans the speeds its own answer gives, the binding one named so.
+    for (const l of api.limits.filter((x) => x.limit !== 'steady_state')) {
+      const binding = l.limit === api.binding_limit || l.limit === api.binding_min;
+      const bar = dataset(chart, `${names[l.limit]} permits${binding ? ' (binding)' : ''}`);
+      check(bar.length === 2, `a bar for ${l.limit}`);
+      if (l.lower_speed_m_per_s !== null) check(bar[0].x === l.lower_speed_m_per_s, `${l.limit} from ${bar[0].x}, the API ${l.lower_speed_m_per_s}`);
+      if (l.upper_speed_m_per_s !== null) check(bar[1].x === l.upper_speed_m_per_s, `${l.limit} to ${bar[1].x}, the API ${l.upper_speed_m_per_s}`);
+    }
+    const window = dataset(chart, 'permitted window');
+    check(window[0].x === api.window_min_m_per_s && window[1].x === api.window_max_m_per_s, `window ${JSON.stringify(window)}`);
+    check(dataset(chart, 'advised speed')[0].x === api.advised_speed_m_per_s, 'the advised speed line');
+    check(dataset(chart, 'operating speed')[0].x === api.operating_speed_m_per_s, 'the operating speed line');
+    const headline = await page.textContent('#headline');
+    check(headline.includes(api.summary), `headline: ${headline}`);
+    // The table of the limits: one row per checked limit, its utilisation the API's.
+    const cells = await page.$$eval('#plots table:first-of-type tbody tr', (rows) => rows.map((tr) => [...tr.cells].map((c) => c.dataset.value ?? c.textContent)));
+    equalArrays(cells.map((c) => c[0]), api.limits.map((l) => names[l.limit] || 'steady state'), 'the limits in the table');
+    const measured = api.limits.map((l, i) => [l, cells[i]]).filter(([l]) => l.utilisation !== null);
+    check(measured.length >= 3, `utilisations at the operating speed: ${measured.length}`);
+    equalArrays(measured.map(([, c]) => Number(c[4])), measured.map(([l]) => l.utilisation), 'utilisations');
+    check(chart.datasets.every((d) => !d.label.startsWith('critical speed:')), 'no uncertainty band without a posterior');
+    // A posterior on the viscosity (centred on the default stand): the chatter lane carries the
+    // band from the 95 % lower bound to the mean, the numbers the API gives.
+    await page.fill('#f-options-posterior-parameters', JSON.stringify([{ field: '/lubricant/viscosity_Pa_s', value: 0.00055, standard_error: 0.00002 }]));
+    const withPosterior = await postedDuring('/v1/speed-limit', () => runAndWait('speed-limits'));
+    const u = (await post('/v1/speed-limit', withPosterior[0])).body.result.uncertainty;
+    check(u && u.propagated && u.standard_deviation_m_per_s > 0, `the API's uncertainty: ${JSON.stringify(u)}`);
+    const banded = await chartData('speed-limits');
+    const band = banded.datasets.find((d) => d.label.startsWith('critical speed:'));
+    check(band && band.data[0].x === u.lower_bound_m_per_s && band.data[1].x === u.critical_speed_m_per_s, `band ${JSON.stringify(band && band.data)}, the API ${u.lower_bound_m_per_s} to ${u.critical_speed_m_per_s}`);
+    // The headline shows it to 4 significant digits (views.js fmt).
+    const sigma = Number(u.standard_deviation_m_per_s.toPrecision(4)).toString();
+    check((await page.textContent('#headline')).includes(sigma), `σ ${sigma} in the headline`);
+    await shot('speed-limit');
+    await checkAxe();
+    for (const id of ['#f-options-max-roll-force-kN', '#f-options-max-power-kW', '#f-options-min-forward-slip', '#f-options-chatter-margin', '#f-options-posterior-parameters']) await page.fill(id, '');
+  });
+
   await test('calibration: observed vs fitted with error bars, the fitted values and standard errors are the API data', async () => {
     // The calibration example of docs/cli.md (examples/calibrate.json) without its
     // critical-speed observations and the span length only they determine: a critical-speed

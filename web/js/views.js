@@ -546,6 +546,56 @@ function timeSeries(plots, ts, nStands) {
   addPlot(plots, { id: 'time-tension', title: 'Strip tension in each span', x: 'time [s]', y: 'strip tension [MPa]', data: { datasets: tension } });
 }
 
+// The speed limit (docs/model.md §13): every checked limit on one speed axis, one lane each —
+// the speeds at which it is met as a bar, the binding ones thicker and named — the permitted
+// window on a lane of its own, the critical speed's uncertainty as a band on the chatter lane
+// (95 % lower bound to the mean), and the operating and advised speeds as dashed lines.
+const limitNames = { force: 'roll force', torque: 'torque', power: 'motor power', skid: 'skid (forward slip)', chatter: 'chatter', steady_state: 'steady state' };
+function speedLimitAxis(plots, response) {
+  const r = response.result;
+  const o = response.options || {};
+  const lo = o.speed_min_m_per_s;
+  const hi = o.speed_max_m_per_s;
+  const checked = (r.limits || []).filter((l) => l.limit !== 'steady_state');
+  const lanes = [...checked.map((l) => limitNames[l.limit] || l.limit), 'permitted window'];
+  const top = lanes.length;
+  const binding = (l) => l.limit === r.binding_limit || l.limit === r.binding_min;
+  const segment = (label, from, to, y, i, extra = {}) => ({
+    label, data: [{ x: from, y }, { x: to, y }], borderColor: color(i), backgroundColor: color(i), borderWidth: 8, pointRadius: 0, ...extra,
+  });
+  const datasets = [];
+  checked.forEach((l, k) => {
+    // A limit met nowhere in the range has neither end and is not met at the operating speed.
+    const from = l.lower_speed_m_per_s ?? lo;
+    const to = l.upper_speed_m_per_s ?? hi;
+    if (l.lower_speed_m_per_s == null && l.upper_speed_m_per_s == null && !l.met_at_operating) return;
+    const name = limitNames[l.limit] || l.limit;
+    datasets.push(segment(binding(l) ? `${name} permits (binding)` : `${name} permits`, from, to, k + 1, k,
+      binding(l) ? { borderWidth: 16, borderColor: '#d0021b', backgroundColor: '#d0021b' } : {}));
+  });
+  const u = r.uncertainty;
+  const chatterLane = checked.findIndex((l) => l.limit === 'chatter') + 1;
+  if (u && u.propagated && chatterLane > 0 && u.lower_bound_m_per_s != null) {
+    datasets.push({ ...segment(`critical speed: ${fmt(100 * u.confidence, 3)} % lower bound to the mean (σ ${fmt(u.standard_deviation_m_per_s, 3)} m/s)`,
+      u.lower_bound_m_per_s, u.critical_speed_m_per_s, chatterLane + 0.25, 5, { borderWidth: 10, borderColor: 'rgba(245,166,35,0.6)', backgroundColor: 'rgba(245,166,35,0.6)' }) });
+  }
+  if (r.status === 'ok') datasets.push(segment('permitted window', r.window_min_m_per_s, r.window_max_m_per_s, top, 3, { borderColor: '#2a7a2a', backgroundColor: '#2a7a2a' }));
+  datasets.push({ ...marker('operating speed', r.operating_speed_m_per_s, 0.5, top + 0.5, '#333'), pointStyle: 'line' });
+  if (r.advised_speed_m_per_s != null) datasets.push({ ...marker('advised speed', r.advised_speed_m_per_s, 0.5, top + 0.5, '#d0021b'), pointStyle: 'line' });
+  addPlot(plots, {
+    id: 'speed-limits', title: 'The limits on one speed axis', wide: true,
+    description: 'bars: the speeds at which each limit is met (thick red: the binding limit); orange band: the critical speed from its lower bound to its mean; dashed: the operating and advised speeds',
+    x: 'roll speed [m/s]', y: 'limit',
+    yScale: { min: 0.5, max: top + 0.5, afterBuildTicks: (axis) => { axis.ticks = lanes.map((_, i) => ({ value: i + 1 })); } },
+    yTicks: { autoSkip: false, callback: (v) => lanes[v - 1] || '' },
+    data: { datasets },
+  });
+  const figure = panel(plots, 'Each limit');
+  figure.append(numberTable('Each checked limit at the operating speed and its own speeds',
+    ['limit', 'unit', 'limit value', 'at the operating speed', 'utilisation', 'met', 'lowest speed', 'highest speed'],
+    (r.limits || []).map((l) => [limitNames[l.limit] || l.limit, l.unit === '1' ? '-' : l.unit, l.value, l.at_operating, l.utilisation, yesNo(l.met_at_operating), l.lower_speed_m_per_s, l.upper_speed_m_per_s])));
+}
+
 export const views = {
   roll_gap: {
     render(response, plots) {
@@ -755,6 +805,25 @@ export const views = {
         ['stands marked for', focus ? focus.what : '—', ''],
         row('regenerative margin ρ', s.regenerative_margin, '-'),
         row('mass flow per width', r.steady_state.mass_flow_m2_per_s, 'm²/s'),
+      ];
+    },
+  },
+  speed_limit: {
+    render(response, plots) {
+      const r = response.result;
+      speedLimitAxis(plots, response);
+      const u = r.uncertainty;
+      const changes = r.what_to_change && r.what_to_change.changes ? r.what_to_change.changes.filter((c) => c.speed_gain_m_per_s != null) : [];
+      return [
+        ['answer', r.summary, ''],
+        row('operating speed', r.operating_speed_m_per_s, 'm/s'), row('advised speed', r.advised_speed_m_per_s, 'm/s'),
+        ['binding limit', r.binding_limit ? limitNames[r.binding_limit] || r.binding_limit : '—', ''],
+        row('permitted from', r.window_min_m_per_s, 'm/s'),
+        ['the lower end set by', r.binding_min ? limitNames[r.binding_min] || r.binding_min : '—', ''],
+        row('critical speed', r.critical_speed && r.critical_speed.critical_speed_m_per_s, 'm/s'),
+        row('its standard deviation', u ? u.standard_deviation_m_per_s : null, 'm/s'),
+        row('its lower bound', u ? u.lower_bound_m_per_s : null, 'm/s'),
+        ...changes.slice(0, 3).map((c) => [`to run faster: ${c.direction} ${c.field} by ${fmt(c.step)}`, fmt(c.speed_gain_m_per_s), 'm/s']),
       ];
     },
   },
