@@ -489,6 +489,43 @@ try {
     for (const id of ['#f-options-max-roll-force-kN', '#f-options-max-power-kW', '#f-options-min-forward-slip', '#f-options-chatter-margin', '#f-options-posterior-parameters']) await page.fill(id, '');
   });
 
+  await test('batch: a batch job opened from the job list is a table of its coils, sorted by margin and by any column', async () => {
+    const coils = [16, 21, 18, 19.5, 14].map((speed, i) => ({ label: `C-${700 + i}`, scenario: { rolls: { speed_m_per_s: speed } } }));
+    coils.push({ label: 'C-bad', scenario: { strip: { reduction: 2 } } });
+    const options = { analysis: 'speed_limit', options: { max_roll_force_kN: 7000, speed_min_m_per_s: 10, speed_max_m_per_s: 30 }, items: coils };
+    const submitted = await post('/v1/batches', { options });
+    check(submitted.status === 202, `POST /v1/batches answered ${submitted.status}`);
+    let job;
+    for (let i = 0; i < 200; i++) {
+      job = await (await fetch(`${base}/v1/jobs/${submitted.body.id}`)).json();
+      if (job.state === 'succeeded') break;
+      await new Promise((resolve) => setTimeout(resolve, 100));
+    }
+    check(job.state === 'succeeded', `the batch ended ${job.state}`);
+    const rows = job.result.result.items;
+    await page.reload();
+    const open = page.locator('#job-list button', { hasText: /^batch · succeeded/ }).first();
+    await open.waitFor({ timeout: 30000 });
+    await open.click();
+    await page.waitForSelector('#batch-table tbody tr');
+    const shown = () => page.$$eval('#batch-table tbody tr', (trs) => trs.map((tr) => ({ index: Number(tr.dataset.index), cells: [...tr.cells].map((c) => c.dataset.value ?? c.textContent) })));
+    const margin = (r) => (r.headline ? r.headline.speed_margin_m_per_s : null);
+    const byMargin = [...rows].sort((a, b) => ((margin(a) === null) - (margin(b) === null)) || margin(a) - margin(b));
+    let table = await shown();
+    equalArrays(table.map((r) => r.index), byMargin.map((r) => r.index), 'rows by margin, the tightest first, the failed coil last');
+    equalArrays(table.filter((r) => r.index !== 5).map((r) => Number(r.cells[2])), byMargin.filter((r) => r.headline).map(margin), 'margins are the API\'s');
+    check(table[table.length - 1].cells[1] === 'failed' && table[table.length - 1].cells.at(-1).includes('0.7'), `the failed coil's problem: ${JSON.stringify(table.at(-1))}`);
+    await page.click('#batch-sort-speed-margin-m-per-s');
+    table = await shown();
+    equalArrays(table.slice(0, 5).map((r) => r.index), byMargin.slice(0, 5).reverse().map((r) => r.index), 'the margin descending');
+    await page.click('#batch-sort-label');
+    table = await shown();
+    equalArrays(table.map((r) => r.cells[0]), [...rows].map((r) => r.label).sort((a, b) => a.localeCompare(b)), 'by coil');
+    check((await page.textContent('#headline')).includes('with a problem'), 'the headline counts the coils with a problem');
+    await shot('batch');
+    await checkAxe();
+  });
+
   await test('calibration: observed vs fitted with error bars, the fitted values and standard errors are the API data', async () => {
     // The calibration example of docs/cli.md (examples/calibrate.json) without its
     // critical-speed observations and the span length only they determine: a critical-speed

@@ -220,6 +220,10 @@ async function listJobs(cursor) {
       try {
         const stored = await openJob(job.id);
         if (stored.state !== 'succeeded') { setStatus(`job ${stored.state}`); return; }
+        if (rowOf(stored.analysis).subject === 'items') {  // a batch: its rows, the editor untouched
+          render(stored.result, { job: job.id });
+          return;
+        }
         selectAnalysis(stored.analysis);
         if (stored.result.tandem) app.mill.applyFull(stored.result.tandem);
         else app.scenario.applyFull(stored.result.scenario || {});

@@ -596,6 +596,82 @@ function speedLimitAxis(plots, response) {
     (r.limits || []).map((l) => [limitNames[l.limit] || l.limit, l.unit === '1' ? '-' : l.unit, l.value, l.at_operating, l.utilisation, yesNo(l.met_at_operating), l.lower_speed_m_per_s, l.upper_speed_m_per_s])));
 }
 
+// A batch's rows (docs/http-api.md, "Batches") as a table of coils, sorted by any column by its
+// header's button (first by the speed margin, the tightest coil on top); a coil's problem in
+// its row. The numbers keep their exact values in data-value, as numberTable's.
+function batchTable(plots, result) {
+  const speedLimit = result.analysis === 'speed_limit';
+  const keys = speedLimit
+    ? [['speed_margin_m_per_s', 'margin [m/s]'], ['utilisation', 'utilisation [-]'], ['operating_speed_m_per_s', 'operating speed [m/s]'],
+      ['advised_speed_m_per_s', 'advised speed [m/s]'], ['binding_limit', 'binding limit'], ['critical_speed_m_per_s', 'critical speed [m/s]'],
+      ['critical_speed_sd_m_per_s', 'its σ [m/s]']]
+    : [...new Set(result.items.flatMap((r) => Object.keys(r.headline || {})))].slice(0, 8).map((k) => [k, k]);
+  const columns = [['label', 'coil'], ['status', 'status'], ...keys, ['problem', 'problem']];
+  const value = (item, key) => {
+    if (key === 'label' || key === 'status') return item[key];
+    if (key === 'problem') {  // the first violation where there is one: what to fix, and where
+      const p = item.problem;
+      const first = p && Array.isArray(p.errors) && p.errors[0];
+      return p ? (first ? `${first.pointer}: ${first.detail}` : p.detail || p.title) : null;
+    }
+    return item.headline ? item.headline[key] ?? null : null;
+  };
+  const figure = panel(plots, `The coils (${result.items.length})`);
+  const t = document.createElement('table');
+  t.id = 'batch-table';
+  const caption = document.createElement('caption');
+  caption.textContent = 'One row per coil; the buttons in the header sort by that column';
+  t.append(caption);
+  const head = t.createTHead().insertRow();
+  const body = t.createTBody();
+  let order = { key: speedLimit ? 'speed_margin_m_per_s' : 'label', ascending: true };
+  const fill = () => {
+    // Nulls (a failed coil, a figure not asked) last whichever way it sorts.
+    const rows = [...result.items].sort((a, b) => {
+      const x = value(a, order.key);
+      const y = value(b, order.key);
+      if (x === null || y === null) return (x === null) - (y === null);
+      const c = typeof x === 'number' && typeof y === 'number' ? x - y : String(x).localeCompare(String(y));
+      return order.ascending ? c : -c;
+    });
+    body.replaceChildren();
+    for (const item of rows) {
+      const tr = body.insertRow();
+      tr.dataset.index = String(item.index);
+      columns.forEach(([key], i) => {
+        const cell = document.createElement(i === 0 ? 'th' : 'td');
+        if (i === 0) cell.scope = 'row';
+        const v = value(item, key);
+        cell.textContent = typeof v === 'number' ? fmt(v) : v === true ? 'yes' : v === false ? 'no' : v ?? '—';
+        if (typeof v === 'number') cell.dataset.value = String(v);
+        tr.append(cell);
+      });
+    }
+    [...head.cells].forEach((th, i) => th.setAttribute('aria-sort', columns[i][0] === order.key ? (order.ascending ? 'ascending' : 'descending') : 'none'));
+  };
+  for (const [key, title] of columns) {
+    const th = document.createElement('th');
+    th.scope = 'col';
+    const button = document.createElement('button');
+    button.type = 'button';
+    button.className = 'sort';
+    button.id = `batch-sort-${key.replace(/[^A-Za-z0-9]+/g, '-')}`;
+    button.textContent = title;
+    button.addEventListener('click', () => { order = { key, ascending: order.key === key ? !order.ascending : true }; fill(); });
+    th.append(button);
+    head.append(th);
+  }
+  fill();
+  const scroll = document.createElement('div');
+  scroll.className = 'table-scroll';
+  // Focusable, so a keyboard can scroll it (axe: scrollable-region-focusable).
+  scroll.tabIndex = 0;
+  scroll.setAttribute('role', 'region');
+  scroll.setAttribute('aria-label', 'The coils');
+  scroll.append(t);
+  figure.append(scroll);
+}
+
 export const views = {
   roll_gap: {
     render(response, plots) {
@@ -824,6 +900,19 @@ export const views = {
         row('its standard deviation', u ? u.standard_deviation_m_per_s : null, 'm/s'),
         row('its lower bound', u ? u.lower_bound_m_per_s : null, 'm/s'),
         ...changes.slice(0, 3).map((c) => [`to run faster: ${c.direction} ${c.field} by ${fmt(c.step)}`, fmt(c.speed_gain_m_per_s), 'm/s']),
+      ];
+    },
+  },
+  batch: {
+    job: true,
+    render(response, plots) {
+      const r = response.result;
+      batchTable(plots, r);
+      const margins = r.items.map((i) => (i.headline ? i.headline.speed_margin_m_per_s : null)).filter((v) => typeof v === 'number');
+      return [
+        row('analysis of every coil', r.analysis), row('coils', r.items_total), row('answered', r.succeeded), row('with a problem', r.failed),
+        row('smallest speed margin', margins.length ? min(margins) : null, 'm/s'),
+        row('coils above their advised speed', margins.filter((m) => m < 0).length),
       ];
     },
   },
