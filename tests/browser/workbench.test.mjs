@@ -668,6 +668,44 @@ try {
     await scenarios.close();
   });
 
+  await test('a stored stand calibrated from a coil\'s measurements on the page: a new version with its posterior (If-Match)', async () => {
+    await page.reload();
+    await page.waitForSelector('body[data-ready="true"]');
+    check(await page.isHidden('#calibrate-stored'), 'no calibration form for the default scenario');
+    await page.selectOption('#base', 'stand-3');
+    await page.waitForSelector('#calibrate-stored:not([hidden])');
+    const before = await fetch(`${base}/v1/scenarios/stand-3`);
+    const version = Number(before.headers.get('etag').replace(/"/g, ''));
+    await page.click('#calibrate-stored summary');
+    const parameters = [{ field: '/strip/flow_stress_MPa' }];
+    const observations = [{ quantity: 'roll_force_kN', value: 9000, standard_uncertainty: 50 }];
+    await page.fill('#calibrate-stored-parameters', JSON.stringify(parameters));
+    await page.fill('#calibrate-stored-observations', JSON.stringify(observations));
+    const sent = [];
+    const listen = (request) => { if (request.method() === 'POST' && request.url().endsWith('/v1/scenarios/stand-3/calibrate')) sent.push({ headers: request.headers(), body: request.postDataJSON() }); };
+    page.on('request', listen);
+    await page.click('#calibrate-stored-run');
+    await page.waitForFunction(() => /stored as version/.test(document.getElementById('calibrate-stored-status').textContent), null, { timeout: 60000 });
+    page.off('request', listen);
+    check(sent.length === 1 && sent[0].headers['if-match'] === `"${version}"`, `the page sent If-Match ${sent.length && sent[0].headers['if-match']}, the stored version is ${version}`);
+    check(JSON.stringify(sent[0].body.options.observations) === JSON.stringify(observations), 'the measurements as typed');
+    const after = await fetch(`${base}/v1/scenarios/stand-3`);
+    check(Number(after.headers.get('etag').replace(/"/g, '')) === version + 1, `stored as version ${after.headers.get('etag')}`);
+    const posterior = (await (await fetch(`${base}/v1/scenarios/stand-3/calibrate`)).json()).posterior;
+    const fitted = posterior.parameters[0];
+    check(fitted.field === '/strip/flow_stress_MPa' && fitted.standard_error > 0, `stored posterior: ${JSON.stringify(posterior)}`);
+    check((await after.json()).strip.flow_stress_MPa === fitted.value, 'the stored stand is the posterior mean');
+    // The page shows the fit and now starts from the new version.
+    const cells = await page.$$eval('#plots table:first-of-type tbody tr', (rows) => rows.map((tr) => [...tr.cells].map((c) => c.dataset.value ?? c.textContent)));
+    check(cells[0][0] === fitted.field && Number(cells[0][3]) === fitted.value && Number(cells[0][4]) === fitted.standard_error, `the fitted row: ${JSON.stringify(cells[0])}`);
+    check(new RegExp(`version ${version + 1}`).test(await page.textContent('#base-version')), `base version: ${await page.textContent('#base-version')}`);
+    check(Number(await page.inputValue('#f-scenario-strip-flow-stress-MPa')) === fitted.value, 'the editor shows the calibrated stand');
+    await shot('calibrate-stored');
+    await checkAxe();
+    await page.selectOption('#base', '');
+    await page.waitForSelector('#calibrate-stored[hidden]', { state: 'attached' });
+  });
+
   await test('an analysis the document offers without a view of the page still runs (its headline numbers)', async () => {
     const rows = await documentAnalyses();
     const hidden = rows.find((r) => !r.on_page);

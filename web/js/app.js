@@ -263,15 +263,46 @@ async function chooseBase(name, patch = {}) {
   if (name) {
     const { scenario, version } = await storedScenario(name);
     app.scenario.setBase(scenario);
+    app.baseVersion = version;
     $('base-version').textContent = version ? `version ${version.replace(/"/g, '')}` : '';
   } else {
     app.scenario.setBase(app.defaults);
+    app.baseVersion = '';
     $('base-version').textContent = '';
   }
+  // A stored stand can be calibrated from a coil's measurements; the default cannot.
+  $('calibrate-stored').hidden = !name;
+  $('calibrate-stored-status').textContent = '';
   app.baseName = name;
   $('base').value = name;
   app.scenario.apply(patch);
   showDiff();
+}
+
+// POST /v1/scenarios/{name}/calibrate on the stored stand the editor starts from, with the
+// version it shows as If-Match: the fit is shown as a calibration, the stand reloaded at its
+// new version (the editor keeps its own changes on top).
+async function calibrateStored() {
+  const status = $('calibrate-stored-status');
+  const read = (id) => { try { return JSON.parse($(id).value || '[]'); } catch { return $(id).value; } };
+  const name = app.baseName;
+  status.textContent = 'calibrating…';
+  $('problem').hidden = true;
+  try {
+    const options = { parameters: read('calibrate-stored-parameters'), observations: read('calibrate-stored-observations') };
+    const { body } = await call('POST', `/v1/scenarios/${encodeURIComponent(name)}/calibrate`, { options }, { 'If-Match': app.baseVersion });
+    const patch = app.scenario.patch();
+    render(body, { stored: body.stored });
+    if (body.stored) {
+      await chooseBase(name, patch);
+      status.textContent = `stored as version ${body.stored.version} (${body.result.status})`;
+    } else {
+      status.textContent = `not stored: the fit ended ${body.result.status}`;
+    }
+  } catch (error) {
+    status.textContent = error instanceof ProblemError ? `refused (${error.status})` : 'failed';
+    showProblem(error instanceof ProblemError ? error.problem : { detail: String(error) });
+  }
 }
 
 async function offerStoredScenarios(wanted) {
@@ -395,6 +426,7 @@ async function start() {
 
   $('scenario-form').addEventListener('input', showDiff);
   $('scenario-form').addEventListener('change', showDiff);
+  $('calibrate-stored-run').addEventListener('click', calibrateStored);
   $('reset').addEventListener('click', () => { app.scenario.apply({}); showDiff(); clearFieldErrors(document.body); });
   // The mill's rows are rebuilt when the number of stands changes: the diff follows every input.
   $('mill-form').addEventListener('input', showMillDiff);
