@@ -3,7 +3,8 @@
 // carried to each coil's chatter limit: nine critical-speed searches a coil), each coil at its
 // own speed (16-20.9 m/s) and back tension (15-21 MPa), through the facade as a job's chunks
 // run them, on a pool of 2 threads. The same coils without the posterior (one search a coil),
-// and 100 of them with what_to_change (the sensitivities a batch leaves out unless asked).
+// and 100 of them with what_to_change (the sensitivities a batch leaves out unless asked); and
+// before batches, 100 of the calibrated coils one request at a time.
 // CPU time beside the wall time: on a shared machine the wall time measures the neighbours too.
 //
 // Output, one figure per line on stdout (as bench_model):
@@ -91,6 +92,38 @@ int main(int argc, char** argv) {
     json plain = batch;
     plain["options"]["options"].erase("posterior");
     ok = run_case("without_posterior", plain, threads) && ok;
+
+    // Before batches: the same coils one request at a time, each with both threads for its own
+    // inner parallelism (the differences of its propagation, its scan speeds), as a client
+    // looping over POST /v1/speed-limit gets them. A tenth of the coils.
+    {
+        const int n = std::max(1, count / 10);
+        const auto pool =
+            rollgap::service::local_pool(static_cast<std::size_t>(std::max(1, threads)));
+        rollgap::core::Control control;
+        control.executor = pool.get();
+        const std::clock_t cpu_start = std::clock();
+        const auto start = std::chrono::steady_clock::now();
+        int failed = 0;
+        for (const json& item : coils(n)) {
+            json request = {{"analysis", "speed_limit"},
+                            {"scenario", example["scenario"]},
+                            {"options", example["options"]}};
+            request["scenario"].merge_patch(item["scenario"]);
+            request["options"]["what_to_change"] = false;
+            failed += rollgap::service::evaluate(request, control).ok() ? 0 : 1;
+        }
+        const double seconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        const double cpu = static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC;
+        std::printf("batch.one_by_one.coils: %d\n", n);
+        std::printf("batch.one_by_one.threads: %d\n", threads);
+        std::printf("batch.one_by_one.wall: %.3f s\n", seconds);
+        std::printf("batch.one_by_one.per_coil: %.2f ms\n", 1e3 * seconds / n);
+        std::printf("batch.one_by_one.cpu: %.3f s\n", cpu);
+        std::printf("batch.one_by_one.failed: %d coils\n", failed);
+        ok = ok && failed == 0;
+    }
 
     json asked = batch;
     asked["options"]["items"] = coils(std::max(1, count / 10));
