@@ -69,11 +69,15 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     }
     if (outcome.ok()) {
         require(outcome.http_status == 200, "a result is 200");
-        // a stand's analysis echoes its scenario, a mill's (tandem) its mill, never both
-        require(outcome.body.contains("result") &&
-                    (outcome.body.contains("scenario") != outcome.body.contains("tandem")) &&
-                    outcome.body.contains("options") && outcome.body.contains("analysis"),
-                "a result echoes analysis, its scenario or mill, and options");
+        // a stand's analysis echoes its scenario, a mill's (tandem) its mill, never both; a
+        // batch neither (its items are in its options)
+        const bool batch = outcome.body.value("analysis", "") == "batch";
+        require(
+            outcome.body.contains("result") &&
+                (batch ? !outcome.body.contains("scenario") && !outcome.body.contains("tandem")
+                       : outcome.body.contains("scenario") != outcome.body.contains("tandem")) &&
+                outcome.body.contains("options") && outcome.body.contains("analysis"),
+            "a result echoes analysis, its scenario or mill (a batch neither), and options");
         return 0;
     }
     require(*outcome.problem != api::ProblemCode::internal,
