@@ -5,6 +5,7 @@
 #include <string>
 #include <variant>
 
+#include "api/batch_json.h"
 #include "api/json_text.h"
 #include "api/request_json.h"
 #include "api/text.h"
@@ -147,7 +148,10 @@ std::optional<Outcome> resolve_batch(json& request, ServiceState& state) {
     json& options = request["options"];
     if (!options.is_object()) return std::nullopt;  // the facade reports it
     const auto items = options.find("items");
-    if (items == options.end() || !items->is_array()) return std::nullopt;
+    // Not a batch's items (the facade says why, 10,001 items included): no store is read for
+    // them, so an oversized list cannot hold this thread over thousands of reads.
+    if (items == options.end() || !items->is_array() || items->size() > api::max_batch_items)
+        return std::nullopt;
     const json shared_base = options.value("base", json());
     const auto inner_name = options.find("analysis");
     const Analysis* inner =

@@ -163,6 +163,15 @@ TEST_CASE(
     REQUIRE(shapeless);
     CHECK(shapeless->status == 422);
     CHECK(json::parse(shapeless->body)["errors"][0]["pointer"] == "/options/items");
+    // More items than a batch takes: refused for its count, no base of its items looked up.
+    json many = {{"analysis", "speed_limit"}, {"items", coils(10001)}};
+    for (json& item : many["items"]) item["base"] = "no-such-stand";
+    const auto oversized = post_batch(client, many);
+    REQUIRE(oversized);
+    CHECK(oversized->status == 422);
+    const json count_problem = json::parse(oversized->body);
+    CHECK(count_problem["errors"].size() == 1);
+    CHECK(count_problem["errors"][0]["pointer"] == "/options/items");
     // The route names its analysis.
     const auto named =
         post_json(client, "/v1/batches", {{"analysis", "batch"}, {"options", options}});
