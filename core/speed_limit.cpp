@@ -56,14 +56,6 @@ namespace {
 
 using Interval = std::pair<double, double>;
 
-// One checked limit: its margin at a steady state (>= 0 where it permits the speed), NaN where
-// the bite has no steady state (that speed is the steady_state limit's to refuse).
-struct Check {
-    SpeedLimitKind kind;
-    double limit;
-    std::function<double(const SteadyFigures&)> margin;
-};
-
 // The speeds a predicate permits over the grid, each change of its answer between two grid
 // speeds located by bisection to `tolerance` relative.
 std::vector<Interval> permitted_intervals(const std::vector<double>& grid,
@@ -117,10 +109,45 @@ const Interval* nearest(const std::vector<Interval>& intervals, double v) {
 
 }  // namespace
 
-SpeedLimitResult speed_limit(const Scenario& s, const PlantLimits& limits,
-                             const CriticalSpeedOptions& options, const Control& control) {
+namespace speed_window_detail {
+
+// A check's figure in SteadyFigures, and its margin there (>= 0 where it permits the speed).
+double figure(const SteadyFigures& f, SpeedLimitKind kind) {
+    switch (kind) {
+        case SpeedLimitKind::force: return f.force;
+        case SpeedLimitKind::torque: return f.torque;
+        case SpeedLimitKind::power: return f.power;
+        default: return f.forward_slip;
+    }
+}
+
+double margin(const SteadyFigures& f, const SpeedCheck& check) {
+    return check.kind == SpeedLimitKind::skid ? f.forward_slip - check.limit
+                                              : check.limit - figure(f, check.kind);
+}
+
+bool all_ok(const std::vector<SteadyFigures>& figures) {
+    return !figures.empty() &&
+           std::all_of(figures.begin(), figures.end(), [](const SteadyFigures& f) { return f.ok; });
+}
+
+// Whether the figures permit the speed under `check`: the steady_state check where every stand
+// has a steady state, any other where its stand's margin is >= 0 or the speed has no steady
+// state (that speed is the steady_state limit's to refuse).
+bool permits(const std::vector<SteadyFigures>& figures, const SpeedCheck& check) {
+    if (check.kind == SpeedLimitKind::steady_state) return all_ok(figures);
+    if (!all_ok(figures)) return true;
+    return margin(figures[static_cast<std::size_t>(check.stand)], check) >= 0.0;
+}
+
+}  // namespace speed_window_detail
+
+SpeedLimitResult speed_window(const std::vector<SpeedCheck>& given, const SteadyAtSpeed& at,
+                              double operating_speed, const std::optional<ChatterLimit>& chatter,
+                              const CriticalSpeedOptions& options, const Control& control) {
+    using namespace speed_window_detail;
     SpeedLimitResult out;
-    out.operating_speed = s.rolls.speed;
+    out.operating_speed = operating_speed;
     constexpr double tolerance = 1e-9;
 
     // the grid of the critical-speed search, its last point the range's end
@@ -131,66 +158,34 @@ SpeedLimitResult speed_limit(const Scenario& s, const PlantLimits& limits,
         grid.push_back(v);
     }
     grid.push_back(options.speed_max);
-    std::vector<SteadyFigures> figures(grid.size());
+    std::vector<std::vector<SteadyFigures>> figures(grid.size());
     parallel_for(static_cast<int>(grid.size()), control, [&](int k) {
-        figures[static_cast<std::size_t>(k)] = steady_figures(s, grid[static_cast<std::size_t>(k)]);
+        figures[static_cast<std::size_t>(k)] = at(grid[static_cast<std::size_t>(k)]);
     });
     if (control.should_stop()) {
         out.status = SpeedLimitStatus::cancelled;
         return out;
     }
-    const SteadyFigures operating = steady_figures(s, out.operating_speed);
+    const std::vector<SteadyFigures> operating = at(operating_speed);
+    const bool operating_ok = all_ok(operating);
 
-    std::vector<Check> checks;
-    checks.push_back({SpeedLimitKind::steady_state, 0.0,
-                      [](const SteadyFigures& f) { return f.ok ? 1.0 : -1.0; }});
-    if (limits.max_force)
-        checks.push_back({SpeedLimitKind::force, *limits.max_force,
-                          [l = *limits.max_force](const SteadyFigures& f) { return l - f.force; }});
-    if (limits.max_torque)
-        checks.push_back(
-            {SpeedLimitKind::torque, *limits.max_torque,
-             [l = *limits.max_torque](const SteadyFigures& f) { return l - f.torque; }});
-    if (limits.max_power)
-        checks.push_back({SpeedLimitKind::power, *limits.max_power,
-                          [l = *limits.max_power](const SteadyFigures& f) { return l - f.power; }});
-    if (limits.min_forward_slip)
-        checks.push_back({SpeedLimitKind::skid, *limits.min_forward_slip,
-                          [l = *limits.min_forward_slip](const SteadyFigures& f) {
-                              return f.forward_slip - l;
-                          }});
+    std::vector<SpeedCheck> checks;
+    checks.push_back({SpeedLimitKind::steady_state, -1, 0.0});
+    checks.insert(checks.end(), given.begin(), given.end());
 
-    // each limit's permitted speeds: where its margin is >= 0, or the bite has no steady state
+    // each limit's permitted speeds
     std::vector<std::vector<Interval>> permitted;
-    for (const Check& check : checks) {
-        const auto permits_figures = [&check](const SteadyFigures& f) {
-            if (check.kind == SpeedLimitKind::steady_state) return f.ok;
-            return !f.ok || check.margin(f) >= 0.0;
-        };
+    for (const SpeedCheck& check : checks) {
         std::vector<bool> on_grid(grid.size());
-        for (std::size_t k = 0; k < grid.size(); ++k) on_grid[k] = permits_figures(figures[k]);
+        for (std::size_t k = 0; k < grid.size(); ++k) on_grid[k] = permits(figures[k], check);
         permitted.push_back(permitted_intervals(
-            grid, on_grid, [&](double v) { return permits_figures(steady_figures(s, v)); },
-            tolerance));
+            grid, on_grid, [&](double v) { return permits(at(v), check); }, tolerance));
     }
-    // the chatter limit: every speed up to V_c (1 - margin)
-    if (limits.chatter) {
-        CriticalSpeedOptions search = options;
-        search.stop_at_crossing = true;
-        out.chatter = critical_speed(s, search, control);
-        if (out.chatter.status == CriticalSpeedStatus::cancelled) {
-            out.status = SpeedLimitStatus::cancelled;
-            return out;
-        }
-        double limit = options.speed_max;  // stable in the range (or no steady state anywhere)
-        if (out.chatter.status == CriticalSpeedStatus::found)
-            limit = (out.chatter.critical_speed -
-                     normal_quantile(limits.confidence) * limits.chatter_sigma) *
-                    (1.0 - limits.chatter_margin);
-        else if (out.chatter.status == CriticalSpeedStatus::unstable_at_lower_bound) limit = -1.0;
-        checks.push_back({SpeedLimitKind::chatter, limit, {}});
-        permitted.push_back(limit >= options.speed_min
-                                ? std::vector<Interval>{{options.speed_min, limit}}
+    // the chatter limit: every speed up to its speed
+    if (chatter) {
+        checks.push_back({SpeedLimitKind::chatter, chatter->stand, chatter->speed});
+        permitted.push_back(chatter->speed >= options.speed_min
+                                ? std::vector<Interval>{{options.speed_min, chatter->speed}}
                                 : std::vector<Interval>{});
     }
 
@@ -210,9 +205,10 @@ SpeedLimitResult speed_limit(const Scenario& s, const PlantLimits& limits,
     const double reference =
         window != nullptr ? 0.5 * (window->first + window->second) : out.operating_speed;
     for (std::size_t k = 0; k < checks.size(); ++k) {
-        const Check& check = checks[k];
+        const SpeedCheck& check = checks[k];
         LimitAnswer answer;
         answer.kind = check.kind;
+        answer.stand = check.stand;
         answer.limit = check.limit;
         if (check.kind == SpeedLimitKind::chatter) {
             answer.at_operating = out.operating_speed;
@@ -220,34 +216,72 @@ SpeedLimitResult speed_limit(const Scenario& s, const PlantLimits& limits,
                                                    : std::numeric_limits<double>::infinity();
             answer.met_at_operating = out.operating_speed <= check.limit;
         } else if (check.kind == SpeedLimitKind::steady_state) {
-            answer.at_operating = operating.ok ? 1.0 : 0.0;
+            answer.at_operating = operating_ok ? 1.0 : 0.0;
             answer.utilisation = std::nan("");
-            answer.met_at_operating = operating.ok;
+            answer.met_at_operating = operating_ok;
+        } else if (!operating_ok) {
+            answer.utilisation = std::nan("");
         } else {
-            answer.met_at_operating = operating.ok && check.margin(operating) >= 0.0;
-            switch (check.kind) {
-                case SpeedLimitKind::force: answer.at_operating = operating.force; break;
-                case SpeedLimitKind::torque: answer.at_operating = operating.torque; break;
-                case SpeedLimitKind::power: answer.at_operating = operating.power; break;
-                default: answer.at_operating = operating.forward_slip; break;
-            }
+            const SteadyFigures& f = operating[static_cast<std::size_t>(check.stand)];
+            answer.met_at_operating = margin(f, check) >= 0.0;
+            answer.at_operating = figure(f, check.kind);
             answer.utilisation = check.kind == SpeedLimitKind::skid
                                      ? check.limit / answer.at_operating
                                      : answer.at_operating / check.limit;
-            if (!operating.ok) answer.utilisation = std::nan("");
         }
         if (const Interval* own = nearest(permitted[k], reference)) {
             if (own->first > options.speed_min) answer.lower_speed = own->first;
             if (own->second < options.speed_max) answer.upper_speed = own->second;
         }
         if (window != nullptr) {
-            if (answer.lower_speed && *answer.lower_speed == out.window_min && !out.binding_min)
+            if (answer.lower_speed && *answer.lower_speed == out.window_min && !out.binding_min) {
                 out.binding_min = check.kind;
-            if (answer.upper_speed && *answer.upper_speed == out.window_max && !out.binding_max)
+                out.binding_min_stand = check.stand;
+            }
+            if (answer.upper_speed && *answer.upper_speed == out.window_max && !out.binding_max) {
                 out.binding_max = check.kind;
+                out.binding_max_stand = check.stand;
+            }
         }
         out.limits.push_back(answer);
     }
+    return out;
+}
+
+SpeedLimitResult speed_limit(const Scenario& s, const PlantLimits& limits,
+                             const CriticalSpeedOptions& options, const Control& control) {
+    std::vector<SpeedCheck> checks;
+    if (limits.max_force) checks.push_back({SpeedLimitKind::force, 0, *limits.max_force});
+    if (limits.max_torque) checks.push_back({SpeedLimitKind::torque, 0, *limits.max_torque});
+    if (limits.max_power) checks.push_back({SpeedLimitKind::power, 0, *limits.max_power});
+    if (limits.min_forward_slip)
+        checks.push_back({SpeedLimitKind::skid, 0, *limits.min_forward_slip});
+
+    // the chatter limit: every speed up to (V_c - z sigma)(1 - margin)
+    CriticalSpeedResult critical;
+    std::optional<ChatterLimit> chatter;
+    if (limits.chatter) {
+        CriticalSpeedOptions search = options;
+        search.stop_at_crossing = true;
+        critical = critical_speed(s, search, control);
+        if (critical.status == CriticalSpeedStatus::cancelled) {
+            SpeedLimitResult out;
+            out.operating_speed = s.rolls.speed;
+            out.status = SpeedLimitStatus::cancelled;
+            return out;
+        }
+        double limit = options.speed_max;  // stable in the range (or no steady state anywhere)
+        if (critical.status == CriticalSpeedStatus::found)
+            limit = (critical.critical_speed -
+                     normal_quantile(limits.confidence) * limits.chatter_sigma) *
+                    (1.0 - limits.chatter_margin);
+        else if (critical.status == CriticalSpeedStatus::unstable_at_lower_bound) limit = -1.0;
+        chatter = ChatterLimit{limit, 0};
+    }
+    SpeedLimitResult out = speed_window(
+        checks, [&s](double v) { return std::vector<SteadyFigures>{steady_figures(s, v)}; },
+        s.rolls.speed, chatter, options, control);
+    out.chatter = std::move(critical);
     return out;
 }
 

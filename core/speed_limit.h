@@ -6,6 +6,7 @@
 // their intersection is the permitted set, and the answer is its interval around the operating
 // speed (DECISIONS A: the force falls with speed, so a force limit is usually a lower bound),
 // each end named by the limit that binds there. A limit not given is not checked.
+#include <functional>
 #include <optional>
 #include <vector>
 
@@ -48,6 +49,9 @@ SteadyFigures steady_figures(const Scenario& s, double speed);
 // at the operating speed.
 struct LimitAnswer {
     SpeedLimitKind kind = SpeedLimitKind::force;
+    // The stand it belongs to, 0-based (a single stand: 0); -1 for a limit of the whole mill
+    // (its steady state) and for a chatter limit without a moving stand.
+    int stand = 0;
     double limit = 0.0;         // the plant's value in SI (chatter: the limit speed, m/s)
     double at_operating = 0.0;  // the figure at the operating speed (chatter: the speed)
     double utilisation = 0.0;   // at_operating / limit (skid: limit / at_operating)
@@ -71,11 +75,34 @@ struct SpeedLimitResult {
     double window_min = 0.0, window_max = 0.0;  // m/s
     // What binds at each end; none where the end is the range's own
     std::optional<SpeedLimitKind> binding_min, binding_max;
+    int binding_min_stand = -1, binding_max_stand = -1;  // their LimitAnswer::stand
     bool operating_permitted = false;
     double advised_speed = 0.0;       // m/s: window_max, the fastest permitted speed
     std::vector<LimitAnswer> limits;  // every checked limit, steady_state always among them
     CriticalSpeedResult chatter;      // when the chatter limit is checked
 };
+
+// The engine behind speed_limit and mill_speed_limit (core/mill/mill_speed_limit.h): limits of
+// figures that are functions of one speed (a stand's roll speed, a mill's speed).
+struct SpeedCheck {
+    SpeedLimitKind kind = SpeedLimitKind::force;  // force, torque, power or skid
+    int stand = 0;                                // which of the figures it reads
+    double limit = 0.0;                           // SI
+};
+// The steady figures of every stand at one speed (a single stand: one). The speed has a steady
+// state iff every one is ok.
+using SteadyAtSpeed = std::function<std::vector<SteadyFigures>(double speed)>;
+struct ChatterLimit {
+    double speed = 0.0;  // m/s: every speed up to it is permitted; below speed_min: none is
+    int stand = -1;      // the stand that moves (LimitAnswer::stand)
+};
+// The steady figures on options' speed grid (speed_min by speed_step to speed_max, in parallel
+// on the control's threads), each change of a limit's verdict between two grid speeds bisected
+// to 1e-9 relative; the steady_state limit first, the checks in order, the chatter limit last.
+// The result's `chatter` is left for the caller.
+SpeedLimitResult speed_window(const std::vector<SpeedCheck>& checks, const SteadyAtSpeed& at,
+                              double operating_speed, const std::optional<ChatterLimit>& chatter,
+                              const CriticalSpeedOptions& options, const Control& control = {});
 
 // The limits over options' speed range: the steady figures on its grid (speed_step, in parallel
 // on the control's threads), each sign change of a limit refined by Brent to 1e-9 m/s relative;

@@ -1,0 +1,45 @@
+#pragma once
+// The speeds a tandem mill may run at under a plant's limits (docs/model.md §13.6): the single
+// stand's engine (core/speed_limit.h, speed_window) over the mill speed V (the last stand's roll
+// speed), its figures the pass schedule's at each V (mill_steady_state: every stand's roll
+// force, torque, power and forward slip), each stand with its own limits, and the chatter limit
+// the mill's headline critical speed (mill_critical_speeds) less the safety margin. A limit not
+// given is not checked; a mill limit names its stand.
+
+#include <optional>
+#include <vector>
+
+#include "core/control.h"
+#include "core/mill/mill.h"
+#include "core/mill/mill_critical_speed.h"
+#include "core/speed_limit.h"
+
+namespace rollgap::core {
+
+struct MillPlantLimits {
+    // One per stand: max_force, max_torque, max_power, min_forward_slip (its chatter members are
+    // not read: the mill's chatter limit is the mill's, below).
+    std::vector<PlantLimits> stands;
+    bool chatter = true;
+    double chatter_margin = 0.0;  // [0, 1): the chatter limit is V_c (1 - margin)
+};
+
+// Every stand's steady figures at mill speed V (the schedule, or the speeds mode's roll speeds
+// scaled to V): none ok when the mill has no steady state there.
+std::vector<SteadyFigures> mill_steady_figures(const Mill& mill, double speed);
+
+struct MillSpeedLimitResult {
+    SpeedLimitResult window;  // its `chatter` unused
+    // the mill's critical speeds when the chatter limit is checked; the chatter limit is the
+    // headline's speed, the range's highest speed when no crossing inside the model's range is
+    // found (outside_range_below then says which were found outside it)
+    std::optional<MillCriticalSpeeds> critical;
+};
+
+// V over options' range: the window, the binding limits with their stands. The chatter limit's
+// stand is the headline crossing's moving stand. Cancelled: window.status says so.
+MillSpeedLimitResult mill_speed_limit(const Mill& mill, const MillPlantLimits& limits,
+                                      const CriticalSpeedOptions& options = {},
+                                      const Control& control = {});
+
+}  // namespace rollgap::core
