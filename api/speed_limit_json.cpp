@@ -130,63 +130,71 @@ nlohmann::json kind_schema(bool nullable) {
     return enum_schema({"chatter", "force", "torque", "power", "skid", "steady_state"}, nullable);
 }
 
+}  // namespace
+
+std::vector<Member<core::LimitAnswer>> speed_limit_check_members() {
+    return {
+        {"limit", "Which limit: chatter, force, torque, power, skid or steady_state.",
+         kind_schema(false),
+         [](const core::LimitAnswer& a) { return nlohmann::json(core::to_string(a.kind)); }},
+        {"unit",
+         "The unit of value and at_operating: kN (force), kN.m (torque per work roll), kW "
+         "(power), 1 (forward slip), m/s (chatter: the limit speed and the operating speed).",
+         string_schema(),
+         [](const core::LimitAnswer& a) { return nlohmann::json(limit_unit(a.kind).code); }},
+        {"value",
+         "The limit: the plant's value; for chatter the limit speed (V_c - z sigma)(1 - "
+         "margin); null for steady_state, and for chatter when the stand chatters at the "
+         "lowest speed of the range.",
+         number_schema(units::one),
+         [](const core::LimitAnswer& a) {
+             if (a.kind == core::SpeedLimitKind::steady_state || a.limit < 0.0)
+                 return nlohmann::json(nullptr);
+             return nlohmann::json(from_si(a.limit, limit_unit(a.kind)));
+         }},
+        {"at_operating",
+         "The figure at the operating speed (the roll force, torque, power, forward slip; "
+         "chatter: the operating speed); null without a steady state there.",
+         number_schema(units::one),
+         [](const core::LimitAnswer& a) {
+             if (a.kind == core::SpeedLimitKind::steady_state) return nlohmann::json(nullptr);
+             if (a.kind != core::SpeedLimitKind::chatter && !std::isfinite(a.utilisation))
+                 return nlohmann::json(nullptr);
+             return nlohmann::json(from_si(a.at_operating, limit_unit(a.kind)));
+         }},
+        {"utilisation",
+         "How much of the limit the operating speed uses: at_operating / value (skid: value / "
+         "at_operating, null where the forward slip is not positive); 0.62 reads \"running at "
+         "62 % of the limit\", above 1 the limit is exceeded.",
+         number_schema(units::one),
+         [](const core::LimitAnswer& a) {
+             if (a.kind == core::SpeedLimitKind::skid && !(a.at_operating > 0.0))
+                 return nlohmann::json(nullptr);
+             return finite_or_null(a.utilisation);
+         }},
+        {"met_at_operating", "Whether the operating speed meets this limit.", boolean_schema(),
+         [](const core::LimitAnswer& a) { return nlohmann::json(a.met_at_operating); }},
+        {"lower_speed_m_per_s",
+         "Below this speed the limit is violated; null if it holds down to the range's "
+         "lowest speed.",
+         number_schema(units::metre_per_second),
+         [](const core::LimitAnswer& a) { return optional_speed(a.lower_speed); }},
+        {"upper_speed_m_per_s",
+         "Above this speed the limit is violated; null if it holds up to the range's "
+         "highest speed.",
+         number_schema(units::metre_per_second),
+         [](const core::LimitAnswer& a) { return optional_speed(a.upper_speed); }},
+    };
+}
+
+namespace {
+
 const ResultTable<core::LimitAnswer>& limit_table() {
     static const ResultTable<core::LimitAnswer> table{
         "SpeedLimitCheck",
         "One checked limit: the plant's value, the figure at the operating speed and the speeds "
         "where the limit binds, in `unit`.",
-        {
-            {"limit", "Which limit: chatter, force, torque, power, skid or steady_state.",
-             kind_schema(false),
-             [](const core::LimitAnswer& a) { return nlohmann::json(core::to_string(a.kind)); }},
-            {"unit",
-             "The unit of value and at_operating: kN (force), kN.m (torque per work roll), kW "
-             "(power), 1 (forward slip), m/s (chatter: the limit speed and the operating speed).",
-             string_schema(),
-             [](const core::LimitAnswer& a) { return nlohmann::json(limit_unit(a.kind).code); }},
-            {"value",
-             "The limit: the plant's value; for chatter the limit speed (V_c - z sigma)(1 - "
-             "margin); null for steady_state, and for chatter when the stand chatters at the "
-             "lowest speed of the range.",
-             number_schema(units::one),
-             [](const core::LimitAnswer& a) {
-                 if (a.kind == core::SpeedLimitKind::steady_state || a.limit < 0.0)
-                     return nlohmann::json(nullptr);
-                 return nlohmann::json(from_si(a.limit, limit_unit(a.kind)));
-             }},
-            {"at_operating",
-             "The figure at the operating speed (the roll force, torque, power, forward slip; "
-             "chatter: the operating speed); null without a steady state there.",
-             number_schema(units::one),
-             [](const core::LimitAnswer& a) {
-                 if (a.kind == core::SpeedLimitKind::steady_state) return nlohmann::json(nullptr);
-                 if (a.kind != core::SpeedLimitKind::chatter && !std::isfinite(a.utilisation))
-                     return nlohmann::json(nullptr);
-                 return nlohmann::json(from_si(a.at_operating, limit_unit(a.kind)));
-             }},
-            {"utilisation",
-             "How much of the limit the operating speed uses: at_operating / value (skid: value / "
-             "at_operating, null where the forward slip is not positive); 0.62 reads \"running at "
-             "62 % of the limit\", above 1 the limit is exceeded.",
-             number_schema(units::one),
-             [](const core::LimitAnswer& a) {
-                 if (a.kind == core::SpeedLimitKind::skid && !(a.at_operating > 0.0))
-                     return nlohmann::json(nullptr);
-                 return finite_or_null(a.utilisation);
-             }},
-            {"met_at_operating", "Whether the operating speed meets this limit.", boolean_schema(),
-             [](const core::LimitAnswer& a) { return nlohmann::json(a.met_at_operating); }},
-            {"lower_speed_m_per_s",
-             "Below this speed the limit is violated; null if it holds down to the range's "
-             "lowest speed.",
-             number_schema(units::metre_per_second),
-             [](const core::LimitAnswer& a) { return optional_speed(a.lower_speed); }},
-            {"upper_speed_m_per_s",
-             "Above this speed the limit is violated; null if it holds up to the range's "
-             "highest speed.",
-             number_schema(units::metre_per_second),
-             [](const core::LimitAnswer& a) { return optional_speed(a.upper_speed); }},
-        }};
+        speed_limit_check_members()};
     return table;
 }
 

@@ -97,6 +97,9 @@ nlohmann::json speed_limit_result_json(const SpeedLimitReport& report);
 std::vector<ResultSchema> speed_limit_result_schemas();
 // The members of a checked limit (the CSV columns).
 std::vector<std::string> speed_limit_check_columns();
+// The members of a checked limit's row (component SpeedLimitCheck), for the mill's rows that
+// add the stand (api/tandem_speed_limit_json.h).
+std::vector<Member<core::LimitAnswer>> speed_limit_check_members();
 
 // One sentence for people: "runs at 15 m/s, 83 % of its 18.09 m/s chatter limit; ...".
 std::string speed_limit_summary(const SpeedLimitReport& report);

@@ -839,6 +839,10 @@ std::vector<ResultSchema> tandem_result_schemas() {
 
 std::span<const CsvTable> tandem_csv_tables() { return csv_tables; }
 
+nlohmann::json tandem_critical_speeds_json(const core::MillCriticalSpeeds& speeds) {
+    return critical_table().write(speeds);
+}
+
 nlohmann::json stand_number(int index) {
     return index < 0 ? nlohmann::json(nullptr) : nlohmann::json(index + 1);
 }

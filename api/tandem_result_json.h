@@ -36,6 +36,10 @@ nlohmann::json tandem_result_json(const TandemReport& report);
 std::vector<ResultSchema> tandem_result_schemas();
 std::span<const CsvTable> tandem_csv_tables();
 
+// The three critical speeds and the headline (component TandemCriticalSpeeds), for other mill
+// results that carry them (the mill's speed limit).
+nlohmann::json tandem_critical_speeds_json(const core::MillCriticalSpeeds& speeds);
+
 // A stand number as mill results give it (1-based, as a plant numbers its stands), null for
 // "none" (index -1), and its schema.
 nlohmann::json stand_number(int index);

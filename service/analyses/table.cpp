@@ -18,6 +18,7 @@
 #include "api/sweep_json.h"
 #include "api/tandem_result_json.h"
 #include "api/tandem_map_json.h"
+#include "api/tandem_speed_limit_json.h"
 #include "api/tandem_sweep_json.h"
 #include "api/tension_cycle_json.h"
 #include "api/name_suggestion.h"
@@ -34,6 +35,7 @@
 #include "service/analyses/sweep.h"
 #include "service/analyses/tandem.h"
 #include "service/analyses/tandem_map.h"
+#include "service/analyses/tandem_speed_limit.h"
 #include "service/analyses/tandem_sweep.h"
 #include "service/analyses/tension_cycle.h"
 
@@ -67,6 +69,8 @@ constexpr std::array<OptionsDefaults, 1> tandem_map_defaults{{
     {"TandemMapOptions", R"({"parameters": [{"parameter": "/spans/length_m/0", "values": [5]},
                                {"parameter": "/spans/tension_MPa/0", "values": [60]}]})"},
 }};
+constexpr std::array<OptionsDefaults, 1> tandem_speed_limit_defaults{
+    {{"TandemSpeedLimitOptions", "{}"}}};
 constexpr std::array<OptionsDefaults, 1> evaluation_defaults{{{"EvaluateOptions", "{}"}}};
 constexpr std::array<OptionsDefaults, 1> calibration_defaults{{
     {"CalibrateOptions",
@@ -182,6 +186,23 @@ const std::array table{
              nullptr, "/v1/tandem/maps", "TandemMapResponse", "TandemMapOptions", "TandemMapResult",
              &api::tandem_map_result_schemas, tandem_map_defaults, tandem_map_request_options,
              &api::tandem_map_csv_tables, tandem_map_points, false, &prepare_tandem_map},
+    Analysis{"tandem_speed_limit",
+             "Mill speed limit",
+             "the mill speeds a tandem mill may run at under the plant's limits per stand "
+             "(force, torque, power, skid) and its chatter limit, the binding limit with its "
+             "stand and the margins (docs/model.md §13.6)",
+             nullptr,
+             "/v1/tandem/speed-limit",
+             "TandemSpeedLimitResponse",
+             "TandemSpeedLimitOptions",
+             "TandemSpeedLimitResult",
+             &api::tandem_speed_limit_result_schemas,
+             tandem_speed_limit_defaults,
+             no_names,
+             &api::tandem_speed_limit_csv_tables,
+             {},
+             true,
+             &prepare_tandem_speed_limit},
     // Last: its items may be any row above that runs whole.
     Analysis{"batch",
              "Batch",

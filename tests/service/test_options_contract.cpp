@@ -83,7 +83,23 @@ struct Walk {
                     component(target, request, pointer, own_entries);
                 continue;
             }
-            const std::string type = property.value("type", "");
+            // A list of objects of a component (a mill's per-stand limits): its first item
+            // walked, the list of one item otherwise as the request leaves it.
+            if (const auto items = property.find("items");
+                items != property.end() && items->contains("allOf")) {
+                const std::string target =
+                    items->at("allOf").at(0).at("$ref").get<std::string>().substr(
+                        ref_prefix.size());
+                component(target, request, pointer / "0", own_entries);
+                continue;
+            }
+            std::string type;
+            if (property.contains("type") && property.at("type").is_array()) {
+                for (const json& t : property.at("type"))
+                    if (t != "null") type = t.get<std::string>();
+            } else {
+                type = property.value("type", "");
+            }
             if (type == "boolean") {
                 json bad = request;
                 bad["options"][pointer] = 1;
