@@ -19,7 +19,8 @@ json at(const json& object, const char* pointer) {
 }
 
 // speed_limit's key figures (docs/model.md §13): what a level-2 system takes from each coil.
-json speed_limit_headline(const json& result) {
+// `mill`: tandem_speed_limit's, whose rows name stands and whose chatter limit is the mill's.
+json speed_limit_headline(const json& result, bool mill) {
     json row = json::object();
     for (const char* member :
          {"status", "operating_speed_m_per_s", "advised_speed_m_per_s", "binding_limit",
@@ -35,6 +36,21 @@ json speed_limit_headline(const json& result) {
         both ? json(advised.get<double>() - operating.get<double>()) : json(nullptr);
     row["utilisation"] =
         both ? json(operating.get<double>() / advised.get<double>()) : json(nullptr);
+    if (mill) {
+        // a mill's: the stands that bind and the headline crossing (docs/model.md §13.6)
+        row["binding_stand"] = result.value("binding_stand", json(nullptr));
+        row["binding_min_stand"] = result.value("binding_min_stand", json(nullptr));
+        row["chatter_basis"] = result.value("chatter_basis", json(nullptr));
+        row["critical_speed_m_per_s"] = at(result, "/critical_speeds/critical_speed_m_per_s");
+        const json headline = at(result, "/critical_speeds/headline");
+        row["chatter_type"] =
+            headline.is_string()
+                ? at(result,
+                     ("/critical_speeds/" + headline.get<std::string>() + "/chatter_type").c_str())
+                : json(nullptr);
+        row["summary"] = result.value("summary", json(nullptr));
+        return row;
+    }
     row["critical_speed_m_per_s"] = at(result, "/critical_speed/critical_speed_m_per_s");
     row["chatter_type"] = at(result, "/critical_speed/unstable_mode_chatter_type");
     row["critical_speed_sd_m_per_s"] = at(result, "/uncertainty/standard_deviation_m_per_s");
@@ -82,7 +98,9 @@ json row_schema() {
          "binding_min, operating_permitted, speed_margin_m_per_s (advised − operating), "
          "utilisation (operating / advised), critical_speed_m_per_s, chatter_type, "
          "critical_speed_sd_m_per_s and critical_speed_lower_bound_m_per_s (with a posterior), "
-         "best_change_field and best_change_gain_m_per_s (with what_to_change), summary. Any "
+         "best_change_field and best_change_gain_m_per_s (with what_to_change), summary. "
+         "tandem_speed_limit: the same to utilisation, then binding_stand, binding_min_stand, "
+         "chatter_basis, critical_speed_m_per_s (the mill's headline), chatter_type, summary. Any "
          "other analysis: its result's scalars to two levels, a nested one named by its path "
          "without the leading slash (critical_speed/critical_speed_m_per_s). Null when the item "
          "failed."},
@@ -154,7 +172,9 @@ json item_rows(const json& result) {
 }  // namespace
 
 json batch_headline(std::string_view analysis, const json& result) {
-    return analysis == "speed_limit" ? speed_limit_headline(result) : scalars_of(result);
+    if (analysis == "speed_limit") return speed_limit_headline(result, false);
+    if (analysis == "tandem_speed_limit") return speed_limit_headline(result, true);
+    return scalars_of(result);
 }
 
 json batch_row(std::size_t index, std::string_view label, bool failed, const json& answer) {
