@@ -37,7 +37,7 @@ json speed_limit_headline(const json& result, bool mill) {
     row["utilisation"] =
         both ? json(operating.get<double>() / advised.get<double>()) : json(nullptr);
     if (mill) {
-        // a mill's: the stands that bind and the headline crossing (docs/model.md §13.6)
+        // a mill's: the stands that bind and the headline crossing (docs/model.md §13.5)
         row["binding_stand"] = result.value("binding_stand", json(nullptr));
         row["binding_min_stand"] = result.value("binding_min_stand", json(nullptr));
         row["chatter_basis"] = result.value("chatter_basis", json(nullptr));

@@ -1,5 +1,5 @@
 // Reading the mill speed limit's options (the plant's limits, mill-wide and per stand) and
-// writing its result (api/tandem_speed_limit_json.h; docs/model.md §13.6).
+// writing its result (api/tandem_speed_limit_json.h; docs/model.md §13.5).
 #include "api/tandem_speed_limit_json.h"
 
 #include <algorithm>
@@ -138,7 +138,7 @@ const ResultTable<TandemSpeedLimitReport>& result_table() {
     static const ResultTable<R> table{
         "TandemSpeedLimitResult",
         "The mill speeds the tandem mill may run at under the plant's limits (docs/model.md "
-        "§13.6): the permitted window around the mill speed, the limit and stand binding at "
+        "§13.5): the permitted window around the mill speed, the limit and stand binding at "
         "each end, every checked limit and the advised mill speed.",
         {
             {"status",

@@ -1,5 +1,5 @@
 #pragma once
-// Options and result of the analysis "tandem_speed_limit" (docs/model.md §13.6): the speeds a
+// Options and result of the analysis "tandem_speed_limit" (docs/model.md §13.5): the speeds a
 // tandem mill may run at under a plant's limits, the limit that binds and its stand, the margins
 // at the mill speed. Stands are numbered from 1 in results, as in every mill result.
 //

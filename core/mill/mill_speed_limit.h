@@ -1,5 +1,5 @@
 #pragma once
-// The speeds a tandem mill may run at under a plant's limits (docs/model.md §13.6): the single
+// The speeds a tandem mill may run at under a plant's limits (docs/model.md §13.5): the single
 // stand's engine (core/speed_limit.h, speed_window) over the mill speed V (the last stand's roll
 // speed), its figures the pass schedule's at each V (mill_steady_state: every stand's roll
 // force, torque, power and forward slip), each stand with its own limits, and the chatter limit

@@ -190,7 +190,7 @@ const std::array table{
              "Mill speed limit",
              "the mill speeds a tandem mill may run at under the plant's limits per stand "
              "(force, torque, power, skid) and its chatter limit, the binding limit with its "
-             "stand and the margins (docs/model.md §13.6)",
+             "stand and the margins (docs/model.md §13.5)",
              nullptr,
              "/v1/tandem/speed-limit",
              "TandemSpeedLimitResponse",

@@ -1,4 +1,4 @@
-// The speed limit of a tandem mill (core/mill/mill_speed_limit.h, docs/model.md §13.6):
+// The speed limit of a tandem mill (core/mill/mill_speed_limit.h, docs/model.md §13.5):
 // synthetic truths recovered — a stand's limit set to the figure that stand has at a chosen mill
 // speed binds at that speed, named with its stand; a mill of one stand is the single stand; the
 // chatter limit is the mill's headline critical speed less the margin, its stand the crossing's

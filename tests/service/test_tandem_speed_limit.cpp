@@ -1,5 +1,5 @@
 // The mill's speed limit through the one facade (analysis tandem_speed_limit, docs/model.md
-// §13.6): a stand's own limit binds at the mill speed where the mill's pass schedule (the
+// §13.5): a stand's own limit binds at the mill speed where the mill's pass schedule (the
 // `tandem` analysis, a different path through the code) gives that stand the limit's figure,
 // and the answer names the stand; mill-wide limits apply to every stand and the echo lists them
 // resolved, an echo that gives the same answer again; the chatter limit is the answer's own
