@@ -86,6 +86,8 @@ constexpr std::array map_request_options{"parameters"sv};
 constexpr std::array tandem_sweep_request_options{"parameter"sv, "values"sv, "range"sv};
 constexpr std::array tandem_map_request_options{"parameters"sv};
 constexpr std::array calibration_request_options{"parameters"sv, "observations"sv};
+// one entry per stand of the request's mill
+constexpr std::array tandem_speed_limit_request_options{"stands"sv};
 
 // The result components a point of a pointwise analysis can be (api/sweep_json.h, map_json.h).
 constexpr std::array sweep_points{"SweepCriticalSpeedPoint"sv, "SweepAmplitudePoint"sv};
@@ -198,7 +200,7 @@ const std::array table{
              "TandemSpeedLimitResult",
              &api::tandem_speed_limit_result_schemas,
              tandem_speed_limit_defaults,
-             no_names,
+             tandem_speed_limit_request_options,
              &api::tandem_speed_limit_csv_tables,
              {},
              true,

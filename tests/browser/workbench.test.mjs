@@ -992,6 +992,45 @@ try {
     await page.fill('#f-tandem-speed-m-per-s', '15');
   });
 
+  await test("mill speed limit: each stand's limits and the mill's chatter limit on the mill-speed axis, the binding stand marked, are the API's", async () => {
+    const row = (await documentAnalyses()).find((r) => r.name === 'tandem_speed_limit');
+    check(row && row.on_page && row.subject === 'tandem', `the tandem_speed_limit row: ${JSON.stringify(row)}`);
+    await page.click('#tab-tandem_speed_limit');
+    check(await page.isVisible('#mill-editor'), 'a mill analysis: the mill editor');
+    await page.fill('#f-options-max-roll-force-kN', '11500');
+    await page.fill('#f-options-max-power-kW', '5000');
+    await page.fill('#f-options-chatter-margin', '0.05');
+    const sent = await postedDuring(row.path, () => runAndWait('speed-limits'));
+    check(sent.length === 1 && canon(sent[0].tandem) === canon(twoStands) && sent[0].options.max_roll_force_kN === 11500 && sent[0].options.max_power_kW === 5000, `the page sent: ${JSON.stringify(sent)}`);
+    const api = (await post(row.path, sent[0])).body.result;
+    check(api.status === 'ok' && api.binding_limit && api.binding_stand, `the API's answer: ${api.status}, binding ${api.binding_limit} of stand ${api.binding_stand}`);
+    const chart = await chartData('speed-limits');
+    const names = { force: 'roll force', power: 'motor power', chatter: 'chatter' };
+    // One bar per limit and stand, spanning the speeds its own answer gives; the binding ones named.
+    const limits = api.limits.filter((x) => x.limit !== 'steady_state');
+    check(limits.filter((l) => l.limit === 'force').length === 2 && limits.filter((l) => l.limit === 'power').length === 2, 'a force and a power limit per stand');
+    for (const l of limits) {
+      const binding = (l.limit === api.binding_limit && l.stand === api.binding_stand) || (l.limit === api.binding_min && l.stand === api.binding_min_stand);
+      const label = `${names[l.limit]} · stand ${l.stand} permits${binding ? ' (binding)' : ''}`;
+      if (l.lower_speed_m_per_s === null && l.upper_speed_m_per_s === null && !l.met_at_operating) continue;
+      const bar = dataset(chart, label);
+      check(bar.length === 2, `a bar "${label}"`);
+      if (l.lower_speed_m_per_s !== null) check(bar[0].x === l.lower_speed_m_per_s, `${label} from ${bar[0].x}, the API ${l.lower_speed_m_per_s}`);
+      if (l.upper_speed_m_per_s !== null) check(bar[1].x === l.upper_speed_m_per_s, `${label} to ${bar[1].x}, the API ${l.upper_speed_m_per_s}`);
+    }
+    const window = dataset(chart, 'permitted window');
+    check(window[0].x === api.window_min_m_per_s && window[1].x === api.window_max_m_per_s, `window ${JSON.stringify(window)}`);
+    check(dataset(chart, 'advised speed')[0].x === api.advised_speed_m_per_s, 'the advised speed line');
+    const headline = await headlineTable();
+    check(headline.answer === api.summary, `the answer: ${headline.answer}`);
+    check(headline['binding limit'] === `${names[api.binding_limit]} of stand ${api.binding_stand}`, `binding: ${headline['binding limit']}`);
+    near(Number(headline['advised mill speed']), api.advised_speed_m_per_s, 'advised mill speed [m/s]');
+    await shot('tandem-speed-limit');
+    await checkAxe();
+    for (const id of ['#f-options-max-roll-force-kN', '#f-options-max-power-kW', '#f-options-chatter-margin']) await page.fill(id, '');
+    await page.click('#tab-tandem');
+  });
+
   await test('mill view: a 422 is shown at the mill input its pointer names', async () => {
     await page.fill('#f-tandem-exit-thickness-mm-1', '1.9');  // thicker than what stand 1 delivers
     expected422 = 1;

@@ -551,15 +551,19 @@ function timeSeries(plots, ts, nStands) {
 // window on a lane of its own, the critical speed's uncertainty as a band on the chatter lane
 // (95 % lower bound to the mean), and the operating and advised speeds as dashed lines.
 const limitNames = { force: 'roll force', torque: 'torque', power: 'motor power', skid: 'skid (forward slip)', chatter: 'chatter', steady_state: 'steady state' };
-function speedLimitAxis(plots, response) {
+// A mill's (tandem_speed_limit) names each limit with its stand and speaks of the mill speed.
+const limitLane = (l, mill) => `${limitNames[l.limit] || l.limit}${mill && l.stand != null ? ` · stand ${l.stand}` : ''}`;
+function speedLimitAxis(plots, response, mill = false) {
   const r = response.result;
   const o = response.options || {};
   const lo = o.speed_min_m_per_s;
   const hi = o.speed_max_m_per_s;
   const checked = (r.limits || []).filter((l) => l.limit !== 'steady_state');
-  const lanes = [...checked.map((l) => limitNames[l.limit] || l.limit), 'permitted window'];
+  const lanes = [...checked.map((l) => limitLane(l, mill)), 'permitted window'];
   const top = lanes.length;
-  const binding = (l) => l.limit === r.binding_limit || l.limit === r.binding_min;
+  const binding = (l) => (mill
+    ? (l.limit === r.binding_limit && l.stand === r.binding_stand) || (l.limit === r.binding_min && l.stand === r.binding_min_stand)
+    : l.limit === r.binding_limit || l.limit === r.binding_min);
   const segment = (label, from, to, y, i, extra = {}) => ({
     label, data: [{ x: from, y }, { x: to, y }], borderColor: color(i), backgroundColor: color(i), borderWidth: 8, pointRadius: 0, ...extra,
   });
@@ -569,7 +573,7 @@ function speedLimitAxis(plots, response) {
     const from = l.lower_speed_m_per_s ?? lo;
     const to = l.upper_speed_m_per_s ?? hi;
     if (l.lower_speed_m_per_s == null && l.upper_speed_m_per_s == null && !l.met_at_operating) return;
-    const name = limitNames[l.limit] || l.limit;
+    const name = limitLane(l, mill);
     datasets.push(segment(binding(l) ? `${name} permits (binding)` : `${name} permits`, from, to, k + 1, k,
       binding(l) ? { borderWidth: 16, borderColor: '#d0021b', backgroundColor: '#d0021b' } : {}));
   });
@@ -585,15 +589,15 @@ function speedLimitAxis(plots, response) {
   addPlot(plots, {
     id: 'speed-limits', title: 'The limits on one speed axis', wide: true,
     description: 'bars: the speeds at which each limit is met (thick red: the binding limit); orange band: the critical speed from its lower bound to its mean; dashed: the operating and advised speeds',
-    x: 'roll speed [m/s]', y: 'limit',
+    x: mill ? "mill speed (the last stand's roll speed) [m/s]" : 'roll speed [m/s]', y: 'limit',
     yScale: { min: 0.5, max: top + 0.5, afterBuildTicks: (axis) => { axis.ticks = lanes.map((_, i) => ({ value: i + 1 })); } },
     yTicks: { autoSkip: false, callback: (v) => lanes[v - 1] || '' },
     data: { datasets },
   });
   const figure = panel(plots, 'Each limit');
-  figure.append(numberTable('Each checked limit at the operating speed and its own speeds',
-    ['limit', 'unit', 'limit value', 'at the operating speed', 'utilisation', 'met', 'lowest speed', 'highest speed'],
-    (r.limits || []).map((l) => [limitNames[l.limit] || l.limit, l.unit === '1' ? '-' : l.unit, l.value, l.at_operating, l.utilisation, yesNo(l.met_at_operating), l.lower_speed_m_per_s, l.upper_speed_m_per_s])));
+  figure.append(numberTable(`Each checked limit at the ${mill ? 'mill' : 'operating'} speed and its own speeds`,
+    ['limit', 'unit', 'limit value', `at the ${mill ? 'mill' : 'operating'} speed`, 'utilisation', 'met', 'lowest speed', 'highest speed'],
+    (r.limits || []).map((l) => [limitLane(l, mill), l.unit === '1' ? '-' : l.unit, l.value, l.at_operating, l.utilisation, yesNo(l.met_at_operating), l.lower_speed_m_per_s, l.upper_speed_m_per_s])));
 }
 
 // A batch's rows (docs/http-api.md, "Batches") as a table of coils, sorted by any column by its
@@ -900,6 +904,25 @@ export const views = {
         row('its standard deviation', u ? u.standard_deviation_m_per_s : null, 'm/s'),
         row('its lower bound', u ? u.lower_bound_m_per_s : null, 'm/s'),
         ...changes.slice(0, 3).map((c) => [`to run faster: ${c.direction} ${c.field} by ${fmt(c.step)}`, fmt(c.speed_gain_m_per_s), 'm/s']),
+      ];
+    },
+  },
+  tandem_speed_limit: {
+    render(response, plots) {
+      const r = response.result;
+      speedLimitAxis(plots, response, true);
+      const c = r.critical_speeds;
+      const named = (kind, stand) => (kind ? `${limitNames[kind] || kind}${stand != null ? ` of stand ${stand}` : ''}` : '—');
+      const basis = { headline: "the mill's headline critical speed", none_in_range: 'no crossing in the range', outside_model_range: "crossings only outside the model's range", unstable_at_lowest_speed: 'unstable at the lowest speed', not_checked: 'not checked' };
+      return [
+        ['answer', r.summary, ''],
+        row("mill speed (the last stand's roll speed)", r.operating_speed_m_per_s, 'm/s'), row('advised mill speed', r.advised_speed_m_per_s, 'm/s'),
+        ['binding limit', named(r.binding_limit, r.binding_stand), ''],
+        row('permitted from', r.window_min_m_per_s, 'm/s'),
+        ['the lower end set by', named(r.binding_min, r.binding_min_stand), ''],
+        ['chatter limit from', basis[r.chatter_basis] || r.chatter_basis, ''],
+        row('headline critical speed', c ? c.critical_speed_m_per_s : null, 'm/s'),
+        ['headline crossing', c && c.headline ? crossingNames[c.headline] : '—', ''],
       ];
     },
   },
