@@ -184,6 +184,17 @@ std::vector<Member<core::LimitAnswer>> speed_limit_check_members() {
          "highest speed.",
          number_schema(units::metre_per_second),
          [](const core::LimitAnswer& a) { return optional_speed(a.upper_speed); }},
+        {"lower_speed_sd_m_per_s",
+         "The standard deviation of lower_speed_m_per_s from the scenario's calibration "
+         "posterior (linear, docs/model.md §13.2); the window takes the end at lower + z sd. "
+         "Null without a posterior or a lower end.",
+         number_schema(units::metre_per_second),
+         [](const core::LimitAnswer& a) { return optional_speed(a.lower_speed_sd); }},
+        {"upper_speed_sd_m_per_s",
+         "The same for upper_speed_m_per_s; the window takes the end at upper − z sd (the "
+         "chatter limit's is in `uncertainty` and in its value already).",
+         number_schema(units::metre_per_second),
+         [](const core::LimitAnswer& a) { return optional_speed(a.upper_speed_sd); }},
     };
 }
 
@@ -467,7 +478,8 @@ const ResultTable<SpeedLimitReport>& result_table() {
              [](const SpeedLimitReport& r) { return nlohmann::json(r.result.operating_speed); }},
             {"advised_speed_m_per_s",
              "The highest permitted speed: the window's upper end, the chatter limit taken at "
-             "its lower bound (V_c - z sigma)(1 - margin); null without a window.",
+             "its lower bound (V_c - z sigma)(1 - margin) and, with a posterior, every plant "
+             "limit's upper end at its own (upper − z sd); null without a window.",
              number_schema(units::metre_per_second),
              [](const SpeedLimitReport& r) {
                  return r.result.status == core::SpeedLimitStatus::ok

@@ -49,7 +49,12 @@ BindingSensitivity binding_sensitivity(const Scenario& s, const PlantLimits& lim
         out.speed = result.chatter.critical_speed;
         scale = 1.0 - limits.chatter_margin;
     } else {
+        // where the margin crosses zero: the limit's own end, which is the window's unless the
+        // window takes that end at its bound under a posterior (bound_window)
         out.speed = result.window_max;
+        for (const LimitAnswer& a : result.limits)
+            if (a.kind == kind && a.stand == result.binding_max_stand && a.upper_speed)
+                out.speed = *a.upper_speed;
     }
     // Central differences: in V over 1e-4 of the speed, in x over the number's step; both are
     // 2 evaluations, all of them side by side.

@@ -6,6 +6,7 @@
 #include <limits>
 #include <utility>
 
+#include "core/brent.h"
 #include "core/parallel_for.h"
 #include "core/propagation.h"
 #include "core/roll_bite.h"
@@ -283,6 +284,54 @@ SpeedLimitResult speed_limit(const Scenario& s, const PlantLimits& limits,
         s.rolls.speed, chatter, options, control);
     out.chatter = std::move(critical);
     return out;
+}
+
+std::optional<double> limit_crossing(const Scenario& s, SpeedLimitKind kind, double limit,
+                                     double near, double half_width) {
+    using namespace speed_window_detail;
+    const SpeedCheck check{kind, 0, limit};
+    const auto g = [&](double v) {
+        const SteadyFigures f = steady_figures(s, v);
+        return f.ok ? margin(f, check) : std::nan("");
+    };
+    const double a = std::max(near - half_width, 1e-3), b = near + half_width;
+    const double ga = g(a), gb = g(b);
+    if (!std::isfinite(ga) || !std::isfinite(gb) || (ga > 0.0) == (gb > 0.0)) return std::nullopt;
+    const RootResult root = brent_root(g, a, b, ga, gb, 1e-9 * near);
+    if (!root.converged) return std::nullopt;
+    return root.x;
+}
+
+void bound_window(SpeedLimitResult& r, double z) {
+    if (r.status != SpeedLimitStatus::ok) return;
+    double high = r.window_max, low = r.window_min;
+    for (const LimitAnswer& a : r.limits) {
+        if (a.upper_speed && *a.upper_speed >= r.window_max) {
+            const double v = *a.upper_speed - z * a.upper_speed_sd.value_or(0.0);
+            if (v < high || (v == high && *a.upper_speed == r.window_max)) {
+                high = v;
+                r.binding_max = a.kind;
+                r.binding_max_stand = a.stand;
+            }
+        }
+        if (a.lower_speed && *a.lower_speed <= r.window_min) {
+            const double v = *a.lower_speed + z * a.lower_speed_sd.value_or(0.0);
+            if (v > low || (v == low && *a.lower_speed == r.window_min)) {
+                low = v;
+                r.binding_min = a.kind;
+                r.binding_min_stand = a.stand;
+            }
+        }
+    }
+    if (low > high) {
+        r.status = SpeedLimitStatus::no_window;
+        r.operating_permitted = false;
+        return;
+    }
+    r.window_min = low;
+    r.window_max = high;
+    r.advised_speed = high;
+    r.operating_permitted = r.operating_speed >= low && r.operating_speed <= high;
 }
 
 }  // namespace rollgap::core

@@ -58,6 +58,8 @@ struct LimitAnswer {
     bool met_at_operating = false;
     std::optional<double> lower_speed;  // m/s: below it this limit is violated
     std::optional<double> upper_speed;  // m/s: above it this limit is violated
+    // Their standard deviations from a calibration posterior (§13.2), m/s, when propagated
+    std::optional<double> lower_speed_sd, upper_speed_sd;
 };
 
 enum class SpeedLimitStatus {
@@ -109,5 +111,18 @@ SpeedLimitResult speed_window(const std::vector<SpeedCheck>& checks, const Stead
 // the chatter limit from critical_speed() with the same options.
 SpeedLimitResult speed_limit(const Scenario& s, const PlantLimits& limits,
                              const CriticalSpeedOptions& options = {}, const Control& control = {});
+
+// The speed within `half_width` of `near` where the stand's figure of `kind` (force, torque,
+// power or skid) meets `limit`: Brent on its margin to 1e-9 of the speed; nullopt without a
+// steady state at either end of the bracket or without a sign change in it. What a posterior's
+// differences move (§13.2): the end a limit has at the posterior mean, found again at a nearby x.
+std::optional<double> limit_crossing(const Scenario& s, SpeedLimitKind kind, double limit,
+                                     double near, double half_width);
+
+// The window with each plant limit's ends at their one-sided bounds (docs/model.md §13.2): an
+// upper end u with standard deviation sd at u - z sd, a lower end l at l + z sd (an end without
+// a standard deviation as it is; the chatter limit is bounded already). Of the limits whose end
+// bounds the window on that side, the tightest bound binds; a window left empty is no_window.
+void bound_window(SpeedLimitResult& result, double z);
 
 }  // namespace rollgap::core

@@ -1,19 +1,54 @@
 #include "service/analyses/speed_limit.h"
 
+#include <algorithm>
 #include <memory>
 #include <optional>
 #include <utility>
 #include <vector>
-#include <vector>
 
 #include "api/speed_limit_json.h"
-#include "core/limit_sensitivity.h"
 #include "core/limit_sensitivity.h"
 #include "core/propagation.h"
 #include "core/speed_limit.h"
 #include "core/stability.h"
 
 namespace rollgap::service {
+namespace speed_limit_detail {
+
+// docs/model.md §13.2: each plant limit's ends (force, torque, power, skid) carry the posterior
+// as the critical speed does — the end found again near itself (core::limit_crossing) at the
+// posterior's difference points, its sigma linear — and the window takes every end at its
+// one-sided bound.
+void bound_plant_limits(const core::Scenario& scenario, const api::SpeedLimitOptions& options,
+                        core::SpeedLimitResult& result, const core::Control& control) {
+    const api::Posterior& posterior = *options.posterior;
+    const Eigen::MatrixXd covariance = posterior.covariance();
+    for (core::LimitAnswer& a : result.limits) {
+        if (a.kind == core::SpeedLimitKind::chatter || a.kind == core::SpeedLimitKind::steady_state)
+            continue;
+        for (const bool upper : {false, true}) {
+            const std::optional<double>& end = upper ? a.upper_speed : a.lower_speed;
+            if (!end) continue;
+            const double at = *end;
+            // wide enough for the end's move over one standard deviation, narrow enough to
+            // hold this crossing alone
+            const double half_width = std::max(2.0 * options.search.speed_step, 0.05 * at);
+            const core::Figure crossing = [&](const Eigen::VectorXd& x) {
+                return core::limit_crossing(posterior.at(scenario, x), a.kind, a.limit, at,
+                                            half_width);
+            };
+            const core::Propagated p =
+                core::propagate_linear(crossing, posterior.mean, covariance, control);
+            if (control.should_stop()) return;
+            if (p.ok) (upper ? a.upper_speed_sd : a.lower_speed_sd) = p.standard_deviation;
+        }
+    }
+    core::bound_window(result, core::normal_quantile(options.limits.confidence));
+}
+
+}  // namespace speed_limit_detail
+
+using speed_limit_detail::bound_plant_limits;
 
 PreparedAnalysis prepare_speed_limit(const core::Scenario& scenario, const nlohmann::json& options,
                                      const std::string& options_pointer, api::FieldErrors& errors) {
@@ -61,6 +96,10 @@ PreparedAnalysis prepare_speed_limit(const core::Scenario& scenario, const nlohm
             if (report.result.status == core::SpeedLimitStatus::cancelled)
                 throw AnalysisCancelled{};
             throw_if_cancelled(control);
+            if (parsed->posterior) {
+                bound_plant_limits(scenario, *parsed, report.result, control);
+                throw_if_cancelled(control);
+            }
             if (parsed->what_to_change) {
                 // docs/model.md §13.4: the margin differenced over a tenth of each typical step
                 api::WhatToChange& what = report.what_to_change.emplace();
