@@ -258,7 +258,7 @@ const std::array<CsvTable, 1> csv_tables{{
 
 namespace detail = tandem_speed_limit_detail;
 
-TandemSpeedLimitOptions tandem_speed_limit_options_from_json(const json& options,
+TandemSpeedLimitOptions tandem_speed_limit_options_from_json(const nlohmann::json& options,
                                                              const std::string& pointer, int stands,
                                                              FieldErrors& errors) {
     TandemSpeedLimitOptions out;
@@ -268,7 +268,7 @@ TandemSpeedLimitOptions tandem_speed_limit_options_from_json(const json& options
     reader.read(OptionId::chatter_limit, out.limits.chatter);
     reader.read(OptionId::chatter_margin, out.limits.chatter_margin);
     out.limits.stands.assign(static_cast<std::size_t>(std::max(stands, 0)), out.mill_wide);
-    const json* list = reader.find(detail::stands_name);
+    const nlohmann::json* list = reader.find(detail::stands_name);
     if (list == nullptr || list->is_null()) return out;
     const std::string at = reader.at(detail::stands_name);
     if (!list->is_array() || list->size() > static_cast<std::size_t>(core::max_mill_stands) ||
@@ -292,14 +292,14 @@ TandemSpeedLimitOptions tandem_speed_limit_options_from_json(const json& options
     return out;
 }
 
-json tandem_speed_limit_options_json(const TandemSpeedLimitOptions& options) {
-    json document = critical_speed_options_json(options.search);
+nlohmann::json tandem_speed_limit_options_json(const TandemSpeedLimitOptions& options) {
+    nlohmann::json document = critical_speed_options_json(options.search);
     for (const OptionId id : detail::limit_ids)
         if (const std::optional<double>& value = detail::limit_of(options.mill_wide, id))
             put_option(document, id, *value);
     put_option(document, OptionId::chatter_limit, options.limits.chatter);
     put_option(document, OptionId::chatter_margin, options.limits.chatter_margin);
-    json stands = json::array();
+    nlohmann::json stands = nlohmann::json::array();
     for (const core::PlantLimits& stand : options.limits.stands)
         stands.push_back(detail::limits_json(stand));
     document[std::string(detail::stands_name)] = std::move(stands);
@@ -333,7 +333,7 @@ std::string tandem_speed_limit_summary(const TandemSpeedLimitReport& report) {
                   detail::speed_text(r.window_max), ", the upper end set by the ", binding, ".");
 }
 
-json tandem_speed_limit_result_json(const TandemSpeedLimitReport& report) {
+nlohmann::json tandem_speed_limit_result_json(const TandemSpeedLimitReport& report) {
     return detail::result_table().write(report);
 }
 
