@@ -223,8 +223,14 @@ std::span<const CsvTable> map_csv_tables() {
 
 std::string csv_field(const json& value) {
     if (value.is_null()) return {};
-    const std::string text = value.is_string() ? value.get<std::string>() : value.dump();
-    if (text.find_first_of(",\"\r\n") == std::string::npos) return text;
+    std::string text = value.is_string() ? value.get<std::string>() : value.dump();
+    // A text cell a spreadsheet would read as a formula (= + - @, or a tab or CR first: a coil
+    // label "=HYPERLINK(...)" from a client) is written with a leading apostrophe, quoted, so it
+    // opens as the text it is (OWASP, "CSV injection"). Numbers are numbers and stay as they are.
+    const bool formula = value.is_string() && !text.empty() &&
+                         std::string_view("=+-@\t\r").find(text.front()) != std::string_view::npos;
+    if (formula) text.insert(text.begin(), '\'');
+    if (!formula && text.find_first_of(",\"\r\n") == std::string::npos) return text;
     std::string quoted = "\"";
     for (const char c : text) {
         if (c == '"') quoted += '"';

@@ -284,3 +284,17 @@ TEST_CASE("batch: the CSV sheet has one row per item, the headline's figures and
     CHECK(lines[3].starts_with("2,C-103,failed,,,"));
     CHECK(lines[3].find("Scenario is invalid") != std::string::npos);
 }
+
+TEST_CASE(
+    "batch: a label a spreadsheet would take for a formula is text in the CSV, as given in JSON") {
+    json request = four_coils();
+    request["options"]["items"] = {{{"label", "=HYPERLINK(\"http://x\",\"C-1\")"}},
+                                   {{"label", "-7"}}};
+    const json batch = answer(request);
+    CHECK(batch["result"]["items"][0]["label"] == "=HYPERLINK(\"http://x\",\"C-1\")");
+    const service::CsvAnswer csv = service::csv_answer(batch, "");
+    REQUIRE(csv.status == 200);
+    CHECK(csv.body.find("\r\n0,\"'=HYPERLINK(\"\"http://x\"\",\"\"C-1\"\")\",ok,") !=
+          std::string::npos);
+    CHECK(csv.body.find("\r\n1,\"'-7\",ok,") != std::string::npos);
+}

@@ -122,6 +122,15 @@ TEST_CASE("csv: RFC 4180 fields and records") {
     CHECK(api::csv_field("a,b") == "\"a,b\"");
     CHECK(api::csv_field("say \"hi\"") == "\"say \"\"hi\"\"\"");
     CHECK(api::csv_field("two\nlines") == "\"two\nlines\"");
+    // a text cell a spreadsheet would take for a formula opens as text; numbers stay numbers
+    CHECK(api::csv_field("=HYPERLINK(\"http://x\")") == "\"'=HYPERLINK(\"\"http://x\"\")\"");
+    CHECK(api::csv_field("+1") == "\"'+1\"");
+    CHECK(api::csv_field("-5 kN") == "\"'-5 kN\"");
+    CHECK(api::csv_field("@SUM(A1)") == "\"'@SUM(A1)\"");
+    CHECK(api::csv_field("\tcmd") == "\"'\tcmd\"");
+    CHECK(api::csv_field(-5) == "-5");
+    CHECK(api::csv_field(-0.25) == "-0.25");
+    CHECK(api::csv_field("coil-7") == "coil-7");
     const std::string record = api::csv_record({"x,y", 2, nullptr, "q\""});
     CHECK(record == "\"x,y\",2,,\"q\"\"\"\r\n");
     const Rows parsed = parse_csv(record);
