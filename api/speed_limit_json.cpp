@@ -327,8 +327,6 @@ const ResultTable<SpeedLimitUncertainty>& uncertainty_table() {
     return table;
 }
 
-std::string speed_text(double speed);
-
 struct ChangeRow {
     const ScenarioField* field;
     double value, step;                // SI
@@ -412,11 +410,11 @@ std::string change_note(const WhatToChange& w, double margin) {
     if (!b.ok) return "The binding limit's margin could not be differentiated there.";
     if (*b.kind == core::SpeedLimitKind::chatter)
         return concat("The chatter limit binds: a change moves the critical speed (",
-                      speed_text(b.speed), " here), and the advised speed by ",
+                      summary_speed_text(b.speed), " here), and the advised speed by ",
                       format_number(1.0 - margin),
                       " of that (the margin held). First order: "
                       "a step large enough for another limit to bind gains less.");
-    return concat("The ", core::to_string(*b.kind), " limit binds at ", speed_text(b.speed),
+    return concat("The ", core::to_string(*b.kind), " limit binds at ", summary_speed_text(b.speed),
                   ". First order: a step large enough for another limit to bind gains less.");
 }
 
@@ -559,19 +557,19 @@ const ResultTable<SpeedLimitReport>& result_table() {
     return table;
 }
 
-std::string percent(double fraction) {
+}  // namespace
+
+std::string summary_percent_text(double fraction) {
     char text[32];
     std::snprintf(text, sizeof text, "%.0f %%", 100.0 * fraction);
     return text;
 }
 
-std::string speed_text(double speed) {
+std::string summary_speed_text(double speed) {
     char text[32];
     std::snprintf(text, sizeof text, "%.2f m/s", speed);
     return text;
 }
-
-}  // namespace
 
 std::vector<ChangeField> default_change_fields() {
     // What a plant sets between coils, with a step it would take (in the fields' units).
@@ -648,9 +646,9 @@ nlohmann::json speed_limit_options_json(const SpeedLimitOptions& options) {
 
 std::string speed_limit_summary(const SpeedLimitReport& report) {
     const core::SpeedLimitResult& r = report.result;
-    const std::string at = concat("runs at ", speed_text(r.operating_speed));
+    const std::string at = concat("runs at ", summary_speed_text(r.operating_speed));
     if (r.status == core::SpeedLimitStatus::no_operating)
-        return concat("The stand has no steady state at ", speed_text(r.operating_speed),
+        return concat("The stand has no steady state at ", summary_speed_text(r.operating_speed),
                       " and nowhere else to start from: no speed is permitted.");
     if (r.status == core::SpeedLimitStatus::no_window)
         return concat("The stand ", at,
@@ -660,15 +658,15 @@ std::string speed_limit_summary(const SpeedLimitReport& report) {
     for (const core::LimitAnswer& a : r.limits) {
         if (r.binding_max && a.kind == *r.binding_max && std::isfinite(a.utilisation) &&
             a.kind == core::SpeedLimitKind::chatter) {
-            binding = concat("its ", speed_text(a.limit), " chatter limit");
-            return concat("The stand ", at, ", ", percent(a.utilisation), " of ", binding,
-                          "; it may run at ", speed_text(r.window_min), " to ",
-                          speed_text(r.window_max), ".");
+            binding = concat("its ", summary_speed_text(a.limit), " chatter limit");
+            return concat("The stand ", at, ", ", summary_percent_text(a.utilisation), " of ",
+                          binding, "; it may run at ", summary_speed_text(r.window_min), " to ",
+                          summary_speed_text(r.window_max), ".");
         }
     }
     return concat("The stand ", at, (r.operating_permitted ? " (permitted)" : " (not permitted)"),
-                  "; it may run at ", speed_text(r.window_min), " to ", speed_text(r.window_max),
-                  ", the upper end set by ", binding, ".");
+                  "; it may run at ", summary_speed_text(r.window_min), " to ",
+                  summary_speed_text(r.window_max), ", the upper end set by ", binding, ".");
 }
 
 nlohmann::json speed_limit_result_json(const SpeedLimitReport& report) {

@@ -101,6 +101,10 @@ std::vector<std::string> speed_limit_check_columns();
 // add the stand (api/tandem_speed_limit_json.h).
 std::vector<Member<core::LimitAnswer>> speed_limit_check_members();
 
+// The figures of the summaries, for people: "62 %", "24.00 m/s" (the mill's too).
+std::string summary_percent_text(double fraction);
+std::string summary_speed_text(double speed);
+
 // One sentence for people: "runs at 15 m/s, 83 % of its 18.09 m/s chatter limit; ...".
 std::string speed_limit_summary(const SpeedLimitReport& report);
 

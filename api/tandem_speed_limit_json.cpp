@@ -119,18 +119,6 @@ std::string chatter_basis(const TandemSpeedLimitReport& r) {
     return c.outside_range_below.empty() ? "none_in_range" : "outside_model_range";
 }
 
-std::string percent(double fraction) {
-    char text[32];
-    std::snprintf(text, sizeof text, "%.0f %%", 100.0 * fraction);
-    return text;
-}
-
-std::string speed_text(double speed) {
-    char text[32];
-    std::snprintf(text, sizeof text, "%.2f m/s", speed);
-    return text;
-}
-
 std::string stand_text(int index) { return concat("stand ", std::to_string(index + 1)); }
 
 const ResultTable<TandemSpeedLimitReport>& result_table() {
@@ -308,7 +296,7 @@ nlohmann::json tandem_speed_limit_options_json(const TandemSpeedLimitOptions& op
 
 std::string tandem_speed_limit_summary(const TandemSpeedLimitReport& report) {
     const core::SpeedLimitResult& r = report.result.window;
-    const std::string at = concat("The mill runs at ", detail::speed_text(r.operating_speed));
+    const std::string at = concat("The mill runs at ", summary_speed_text(r.operating_speed));
     if (r.status != core::SpeedLimitStatus::ok)
         return concat(at, "; no mill speed in the range meets every checked limit (see limits).");
     std::string binding = "range's highest speed";
@@ -322,15 +310,15 @@ std::string tandem_speed_limit_summary(const TandemSpeedLimitReport& report) {
             a.kind == core::SpeedLimitKind::chatter && std::isfinite(a.utilisation)) {
             const std::string moving =
                 a.stand >= 0 ? concat(" (", detail::stand_text(a.stand), " moves)") : std::string();
-            return concat(at, ", ", detail::percent(a.utilisation), " of its ",
-                          detail::speed_text(a.limit), " chatter limit", moving, "; it may run at ",
-                          detail::speed_text(r.window_min), " to ",
-                          detail::speed_text(r.window_max), ".");
+            return concat(at, ", ", summary_percent_text(a.utilisation), " of its ",
+                          summary_speed_text(a.limit), " chatter limit", moving, "; it may run at ",
+                          summary_speed_text(r.window_min), " to ",
+                          summary_speed_text(r.window_max), ".");
         }
     }
     return concat(at, (r.operating_permitted ? " (permitted)" : " (not permitted)"),
-                  "; it may run at ", detail::speed_text(r.window_min), " to ",
-                  detail::speed_text(r.window_max), ", the upper end set by the ", binding, ".");
+                  "; it may run at ", summary_speed_text(r.window_min), " to ",
+                  summary_speed_text(r.window_max), ", the upper end set by the ", binding, ".");
 }
 
 nlohmann::json tandem_speed_limit_result_json(const TandemSpeedLimitReport& report) {
