@@ -20,18 +20,62 @@ std::optional<double> margin(const Scenario& s, const PlantLimits& limits, Speed
             return std::nullopt;
         return -st.max_real_part;  // stable: the largest real part is negative
     }
-    const SteadyFigures f = steady_figures(s, v);
+    return plant_limit_margin(steady_figures(s, v), limits, kind);
+}
+
+}  // namespace
+
+std::optional<double> plant_limit_margin(const SteadyFigures& f, const PlantLimits& limits,
+                                         SpeedLimitKind kind) {
     if (!f.ok) return std::nullopt;
+    const auto below = [](const std::optional<double>& limit, double figure) {
+        return limit ? std::optional<double>(*limit - figure) : std::nullopt;
+    };
     switch (kind) {
-        case SpeedLimitKind::force: return *limits.max_force - f.force;
-        case SpeedLimitKind::torque: return *limits.max_torque - f.torque;
-        case SpeedLimitKind::power: return *limits.max_power - f.power;
-        case SpeedLimitKind::skid: return f.forward_slip - *limits.min_forward_slip;
+        case SpeedLimitKind::force: return below(limits.max_force, f.force);
+        case SpeedLimitKind::torque: return below(limits.max_torque, f.torque);
+        case SpeedLimitKind::power: return below(limits.max_power, f.power);
+        case SpeedLimitKind::skid:
+            if (!limits.min_forward_slip) return std::nullopt;
+            return f.forward_slip - *limits.min_forward_slip;
         default: return std::nullopt;
     }
 }
 
-}  // namespace
+ImplicitDerivatives implicit_speed_derivatives(const CrossingMargin& margin,
+                                               const std::vector<double>& steps, double speed,
+                                               const Control& control) {
+    ImplicitDerivatives out;
+    const int n = static_cast<int>(steps.size());
+    out.derivatives.assign(steps.size(), std::nullopt);
+    const double h = 1e-4 * speed;
+    // [0, 1]: V ± h; [2 + 2j, 3 + 2j]: number j ± its step; 2n + 2: the margin itself
+    std::vector<std::optional<double>> values(static_cast<std::size_t>(2 * n + 3));
+    parallel_for(2 * n + 3, control, [&](int k) {
+        std::optional<double>& value = values[static_cast<std::size_t>(k)];
+        if (k == 2 * n + 2) value = margin(-1, 0, speed);
+        else if (k < 2) value = margin(-1, 0, speed + (k == 0 ? h : -h));
+        else value = margin((k - 2) / 2, k % 2 == 0 ? 1 : -1, speed);
+    });
+    if (control.should_stop() || !values[0] || !values[1]) return out;
+    out.margin_slope = (*values[0] - *values[1]) / (2.0 * h);
+    if (!(std::abs(out.margin_slope) > 0.0)) return out;
+    out.ok = true;
+    const std::optional<double>& here = values[static_cast<std::size_t>(2 * n + 2)];
+    for (int j = 0; j < n; ++j) {
+        const auto& plus = values[static_cast<std::size_t>(2 + 2 * j)];
+        const auto& minus = values[static_cast<std::size_t>(3 + 2 * j)];
+        const double step = steps[static_cast<std::size_t>(j)];
+        // central; one-sided where one side has no answer (a tension at its bound of 0)
+        double dg_dx = 0.0;
+        if (plus && minus) dg_dx = (*plus - *minus) / (2.0 * step);
+        else if (plus && here) dg_dx = (*plus - *here) / step;
+        else if (minus && here) dg_dx = (*here - *minus) / step;
+        else continue;
+        out.derivatives[static_cast<std::size_t>(j)] = -dg_dx / out.margin_slope;
+    }
+    return out;
+}
 
 BindingSensitivity binding_sensitivity(const Scenario& s, const PlantLimits& limits,
                                        const SpeedLimitResult& result,
@@ -56,44 +100,22 @@ BindingSensitivity binding_sensitivity(const Scenario& s, const PlantLimits& lim
             if (a.kind == kind && a.stand == result.binding_max_stand && a.upper_speed)
                 out.speed = *a.upper_speed;
     }
-    // Central differences: in V over 1e-4 of the speed, in x over the number's step; both are
-    // 2 evaluations, all of them side by side.
-    const double h = 1e-4 * out.speed;
-    const int n = static_cast<int>(numbers.size());
-    std::vector<std::optional<double>> values(static_cast<std::size_t>(2 * n + 3));
-    parallel_for(2 * n + 3, control, [&](int k) {
-        if (k == 2 * n + 2) {  // the margin itself, for a one-sided difference
-            values[static_cast<std::size_t>(k)] = margin(s, limits, kind, out.speed);
-            return;
-        }
-        if (k < 2) {
-            values[static_cast<std::size_t>(k)] =
-                margin(s, limits, kind, out.speed + (k == 0 ? h : -h));
-            return;
-        }
-        const int j = (k - 2) / 2;
-        Scenario x = s;
-        const ScenarioNumber& number = numbers[static_cast<std::size_t>(j)];
-        number.number(x) += (k % 2 == 0 ? number.step : -number.step);
-        values[static_cast<std::size_t>(k)] = margin(x, limits, kind, out.speed);
-    });
-    if (control.should_stop() || !values[0] || !values[1]) return out;
-    out.margin_slope = (*values[0] - *values[1]) / (2.0 * h);
-    if (!(std::abs(out.margin_slope) > 0.0)) return out;
-    out.ok = true;
-    for (int j = 0; j < n; ++j) {
-        const auto& plus = values[static_cast<std::size_t>(2 + 2 * j)];
-        const auto& minus = values[static_cast<std::size_t>(3 + 2 * j)];
-        const auto& here = values[static_cast<std::size_t>(2 * n + 2)];
-        const double step = numbers[static_cast<std::size_t>(j)].step;
-        // central; one-sided where one side has no answer (a tension at its bound of 0)
-        double dg_dx = 0.0;
-        if (plus && minus) dg_dx = (*plus - *minus) / (2.0 * step);
-        else if (plus && here) dg_dx = (*plus - *here) / step;
-        else if (minus && here) dg_dx = (*here - *minus) / step;
-        else continue;
-        out.derivatives[static_cast<std::size_t>(j)] = -scale * dg_dx / out.margin_slope;
-    }
+    std::vector<double> steps;
+    for (const ScenarioNumber& number : numbers) steps.push_back(number.step);
+    const ImplicitDerivatives d = implicit_speed_derivatives(
+        [&](int j, int sign, double v) -> std::optional<double> {
+            if (j < 0) return margin(s, limits, kind, v);
+            Scenario x = s;
+            numbers[static_cast<std::size_t>(j)].number(x) +=
+                sign * steps[static_cast<std::size_t>(j)];
+            return margin(x, limits, kind, v);
+        },
+        steps, out.speed, control);
+    out.ok = d.ok;
+    out.margin_slope = d.margin_slope;
+    if (!d.ok) return out;
+    for (std::size_t j = 0; j < numbers.size(); ++j)
+        if (d.derivatives[j]) out.derivatives[j] = scale * *d.derivatives[j];
     return out;
 }
 

@@ -35,6 +35,27 @@ struct BindingSensitivity {
     std::vector<std::optional<double>> derivatives;
 };
 
+// A plant limit's margin on steady figures (>= 0 where they are permitted): limit − figure for
+// the force, torque and power, slip − minimum for the skid margin; nullopt for chatter and the
+// steady state, a limit not given, or figures that are not ok.
+std::optional<double> plant_limit_margin(const SteadyFigures& figures, const PlantLimits& limits,
+                                         SpeedLimitKind kind);
+
+// The implicit derivatives dV*/dx_j = −(∂g/∂x_j) / (∂g/∂V) of a crossing g(V*, x) = 0 at `speed`,
+// for any model (a stand, a mill): margin(j, sign, v) is g at speed v with number j moved by
+// sign · steps[j] (sign ±1), or unmoved (j = -1, sign 0). ∂g/∂V is a central difference over
+// 1e-4 of the speed, ∂g/∂x_j one over steps[j] (one-sided where one side has no answer, nullopt
+// where neither has): 2n + 3 evaluations side by side on the control's threads.
+struct ImplicitDerivatives {
+    bool ok = false;  // ∂g/∂V found and nonzero
+    double margin_slope = 0.0;
+    std::vector<std::optional<double>> derivatives;  // m/s per SI unit
+};
+using CrossingMargin = std::function<std::optional<double>(int number, int sign, double speed)>;
+ImplicitDerivatives implicit_speed_derivatives(const CrossingMargin& margin,
+                                               const std::vector<double>& steps, double speed,
+                                               const Control& control = {});
+
 // `result` is speed_limit(s, limits, ...)'s answer (its binding end and critical speed).
 BindingSensitivity binding_sensitivity(const Scenario& s, const PlantLimits& limits,
                                        const SpeedLimitResult& result,

@@ -62,6 +62,20 @@ CrossingValidity crossing_validity(const Mill& mill, const MillSteadyState& stea
     return out;
 }
 
+MillTransfer mill_transfer(const Mill& mill, std::vector<double> gains) {
+    MillTransfer out;
+    out.steady = mill_steady_state(mill);
+    if (out.steady.status != MillSteadyStatus::ok) return out;
+    MillModel model(mill, out.steady);
+    if (model.status() != BiteStatus::ok) return out;
+    model.set_bite_gains(std::move(gains));
+    const MillLinearisation lin = model.linearise(model.equilibrium());
+    if (lin.status != DynamicsStatus::ok) return out;
+    out.transfer = transport_transfer(lin);
+    out.ok = out.transfer.ok;
+    return out;
+}
+
 const char* to_string(MillCrossingKind kind) {
     switch (kind) {
         case MillCrossingKind::frozen: return "frozen";
@@ -79,24 +93,10 @@ Mill at_speed(const Mill& mill, double speed) {
     return m;
 }
 
-struct Linearised {
-    bool ok = false;
-    MillSteadyState steady;
-    TransportTransfer transfer;
-};
+using Linearised = MillTransfer;
 
 Linearised linearised(const Mill& mill, std::vector<double> gains = {}) {
-    Linearised out;
-    out.steady = mill_steady_state(mill);
-    if (out.steady.status != MillSteadyStatus::ok) return out;
-    MillModel model(mill, out.steady);
-    if (model.status() != BiteStatus::ok) return out;
-    model.set_bite_gains(std::move(gains));
-    const MillLinearisation lin = model.linearise(model.equilibrium());
-    if (lin.status != DynamicsStatus::ok) return out;
-    out.transfer = transport_transfer(lin);
-    out.ok = out.transfer.ok;
-    return out;
+    return mill_transfer(mill, std::move(gains));
 }
 
 // Frequency, moving and feeding stands, band and validity of a crossing at its speed, from a

@@ -17,6 +17,16 @@
 
 namespace rollgap::core {
 
+// The mill linearised at its own speed (docs/model.md §12.4-12.5): its schedule, A0 and the
+// transport transfer M(s); ok false without a steady state or a linearisation. gains: each
+// stand's J_b scaled by gains[i] (empty: all 1).
+struct MillTransfer {
+    bool ok = false;
+    MillSteadyState steady;
+    TransportTransfer transfer;
+};
+MillTransfer mill_transfer(const Mill& mill, std::vector<double> gains = {});
+
 // Per-stand shares of a mill state vector's motion, mass-weighted over the six masses of each
 // stand (sum_k m_k |q_k|^2, normalised to sum 1): the stand that moves is the largest.
 std::vector<double> mill_participation(const Mill& mill, const Eigen::VectorXcd& z);
