@@ -123,14 +123,20 @@ nlohmann::json optional_speed(const std::optional<double>& speed) {
 }
 
 nlohmann::json kind_or_null(const std::optional<core::SpeedLimitKind>& kind) {
+    return speed_limit_kind_json(kind);
+}
+
+nlohmann::json kind_schema(bool nullable) { return speed_limit_kind_schema(nullable); }
+
+}  // namespace
+
+nlohmann::json speed_limit_kind_json(const std::optional<core::SpeedLimitKind>& kind) {
     return kind ? nlohmann::json(core::to_string(*kind)) : nlohmann::json(nullptr);
 }
 
-nlohmann::json kind_schema(bool nullable) {
+nlohmann::json speed_limit_kind_schema(bool nullable) {
     return enum_schema({"chatter", "force", "torque", "power", "skid", "steady_state"}, nullable);
 }
-
-}  // namespace
 
 std::vector<Member<core::LimitAnswer>> speed_limit_check_members() {
     return {

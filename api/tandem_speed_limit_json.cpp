@@ -24,6 +24,7 @@ using nlohmann::json;
 using std::string_view_literals::operator""sv;
 
 constexpr std::string_view stands_name = "stands";
+constexpr std::string_view changes_name = "changes";
 constexpr std::array<OptionId, 4> limit_ids{OptionId::max_roll_force, OptionId::max_torque,
                                             OptionId::max_power, OptionId::min_forward_slip};
 
@@ -34,7 +35,9 @@ const std::vector<std::string_view>& option_members() {
         for (const OptionId id : limit_ids) out.push_back(option_name(id));
         out.push_back(option_name(OptionId::chatter_limit));
         out.push_back(option_name(OptionId::chatter_margin));
+        out.push_back(option_name(OptionId::what_to_change));
         out.push_back(stands_name);
+        out.push_back(changes_name);
         return out;
     }();
     return members;
@@ -79,12 +82,10 @@ json limits_json(const core::PlantLimits& limits) {
 // --- the result ---------------------------------------------------------------------------
 
 json kind_or_null(const std::optional<core::SpeedLimitKind>& kind) {
-    return kind ? json(core::to_string(*kind)) : json(nullptr);
+    return speed_limit_kind_json(kind);
 }
 
-json kind_schema(bool nullable) {
-    return enum_schema({"chatter", "force", "torque", "power", "skid", "steady_state"}, nullable);
-}
+json kind_schema(bool nullable) { return speed_limit_kind_schema(nullable); }
 
 const ResultTable<core::LimitAnswer>& check_table() {
     static const ResultTable<core::LimitAnswer> table = [] {
@@ -221,6 +222,14 @@ const ResultTable<TandemSpeedLimitReport>& result_table() {
                      rows.push_back(check_table().write(a));
                  return rows;
              }},
+            {"what_to_change",
+             "What to change to run the mill faster (null when options.what_to_change is "
+             "false).",
+             ref_schema("TandemWhatToChange", true),
+             [](const R& r) {
+                 return r.what_to_change ? mill_what_to_change_json(*r.what_to_change)
+                                         : json(nullptr);
+             }},
             {"critical_speeds",
              "The mill's critical speeds behind the chatter limit (null when chatter is not "
              "checked).",
@@ -256,6 +265,10 @@ TandemSpeedLimitOptions tandem_speed_limit_options_from_json(const nlohmann::jso
     reader.read(OptionId::chatter_limit, out.limits.chatter);
     reader.read(OptionId::chatter_margin, out.limits.chatter_margin);
     out.limits.stands.assign(static_cast<std::size_t>(std::max(stands, 0)), out.mill_wide);
+    reader.read(OptionId::what_to_change, out.what_to_change);
+    if (const nlohmann::json* changes = reader.find(detail::changes_name))
+        read_mill_changes(*changes, reader.at(detail::changes_name), stands, out.changes, errors);
+    else out.changes = default_mill_change_fields(stands);
     const nlohmann::json* list = reader.find(detail::stands_name);
     if (list == nullptr || list->is_null()) return out;
     const std::string at = reader.at(detail::stands_name);
@@ -291,6 +304,8 @@ nlohmann::json tandem_speed_limit_options_json(const TandemSpeedLimitOptions& op
     for (const core::PlantLimits& stand : options.limits.stands)
         stands.push_back(detail::limits_json(stand));
     document[std::string(detail::stands_name)] = std::move(stands);
+    put_option(document, OptionId::what_to_change, options.what_to_change);
+    document[std::string(detail::changes_name)] = mill_changes_json(options.changes);
     return document;
 }
 
@@ -326,7 +341,10 @@ nlohmann::json tandem_speed_limit_result_json(const TandemSpeedLimitReport& repo
 }
 
 std::vector<ResultSchema> tandem_speed_limit_result_schemas() {
-    return {result_schema(detail::check_table()), result_schema(detail::result_table())};
+    std::vector<ResultSchema> out{result_schema(detail::check_table()),
+                                  result_schema(detail::result_table())};
+    for (ResultSchema& schema : mill_what_to_change_schemas()) out.push_back(std::move(schema));
+    return out;
 }
 
 std::span<const CsvTable> tandem_speed_limit_csv_tables() { return detail::csv_tables; }

@@ -11,6 +11,9 @@
 //   chatter, chatter_margin: the chatter limit is the mill's headline critical speed x (1 -
 //                       margin)
 //   speed_min_m_per_s … relative_tolerance: the mill-speed range and the critical-speed search
+//   what_to_change      true  the advised mill speed's derivatives at the binding limit
+//   changes             [{field, step}]: tandem-document pointers and their typical steps
+//                       (api/tandem_change_json.h; default: default_mill_change_fields)
 
 #include <optional>
 #include <span>
@@ -22,6 +25,7 @@
 #include "api/csv.h"
 #include "api/field_errors.h"
 #include "api/result_table.h"
+#include "api/tandem_change_json.h"
 #include "core/mill/mill_speed_limit.h"
 #include "core/stability.h"
 
@@ -31,6 +35,8 @@ struct TandemSpeedLimitOptions {
     core::PlantLimits mill_wide;        // the values for every stand (chatter members unused)
     core::MillPlantLimits limits;       // resolved: one per stand, chatter and margin
     core::CriticalSpeedOptions search;  // the mill-speed range and the critical-speed search
+    bool what_to_change = true;
+    std::vector<MillChangeField> changes;  // the request's, or the defaults for its stand count
 };
 
 // `stands`: the mill's stand count (0 when the mill is invalid: the per-stand list's length is
@@ -44,6 +50,7 @@ nlohmann::json tandem_speed_limit_options_json(const TandemSpeedLimitOptions& op
 struct TandemSpeedLimitReport {
     core::MillPlantLimits limits;
     core::MillSpeedLimitResult result;
+    std::optional<MillWhatToChange> what_to_change;
 };
 
 nlohmann::json tandem_speed_limit_result_json(const TandemSpeedLimitReport& report);

@@ -1,8 +1,10 @@
 #include "service/analyses/tandem_speed_limit.h"
 
 #include <memory>
+#include <vector>
 
 #include "api/tandem_speed_limit_json.h"
+#include "core/mill/mill_limit_sensitivity.h"
 #include "core/mill/mill_speed_limit.h"
 
 namespace rollgap::service {
@@ -23,6 +25,20 @@ PreparedAnalysis prepare_tandem_speed_limit(const core::Mill& mill, const nlohma
             if (report.result.window.status == core::SpeedLimitStatus::cancelled)
                 throw AnalysisCancelled{};
             throw_if_cancelled(control);
+            if (parsed->what_to_change) {
+                // docs/model.md §13.6: the margin differenced over a hundredth of each typical
+                // step (a nominal-delay root's margin is curved over a tenth)
+                api::MillWhatToChange& what = report.what_to_change.emplace();
+                what.changes = parsed->changes;
+                what.mill = mill;
+                what.chatter_margin = parsed->limits.chatter_margin;
+                std::vector<core::MillNumber> numbers;
+                for (const api::MillChangeField& c : parsed->changes)
+                    numbers.push_back({c.shift, 0.01 * c.step});
+                what.sensitivity = core::mill_binding_sensitivity(mill, parsed->limits,
+                                                                  report.result, numbers, control);
+                throw_if_cancelled(control);
+            }
             return api::tandem_speed_limit_result_json(report);
         },
     };
