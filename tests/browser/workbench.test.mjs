@@ -1025,6 +1025,14 @@ try {
     check(headline.answer === api.summary, `the answer: ${headline.answer}`);
     check(headline['binding limit'] === `${names[api.binding_limit]} of stand ${api.binding_stand}`, `binding: ${headline['binding limit']}`);
     near(Number(headline['advised mill speed']), api.advised_speed_m_per_s, 'advised mill speed [m/s]');
+    // what to change: the API's three largest gains, fields of the tandem document
+    const gains = api.what_to_change.changes.filter((x) => x.speed_gain_m_per_s !== null).slice(0, 3);
+    const shown = Object.keys(headline).filter((k) => k.startsWith('to run faster: '));
+    check(gains.length > 0 && shown.length === gains.length, `what to change: ${JSON.stringify(shown)} for ${gains.length} gains`);
+    gains.forEach((x, i) => {
+      check(shown[i].startsWith(`to run faster: ${x.direction} ${x.field} by `), `row ${i}: ${shown[i]}, the API ${x.direction} ${x.field}`);
+      near(Number(headline[shown[i]]), x.speed_gain_m_per_s, `${x.field}'s gain [m/s]`);
+    });
     await shot('tandem-speed-limit');
     await checkAxe();
     for (const id of ['#f-options-max-roll-force-kN', '#f-options-max-power-kW', '#f-options-chatter-margin']) await page.fill(id, '');

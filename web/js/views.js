@@ -913,6 +913,8 @@ export const views = {
       speedLimitAxis(plots, response, true);
       const c = r.critical_speeds;
       const named = (kind, stand) => (kind ? `${limitNames[kind] || kind}${stand != null ? ` of stand ${stand}` : ''}` : '—');
+      // what to change (docs/model.md §13.6): fields of the tandem document, the largest gain first
+      const changes = r.what_to_change && r.what_to_change.changes ? r.what_to_change.changes.filter((x) => x.speed_gain_m_per_s != null) : [];
       const basis = { headline: "the mill's headline critical speed", none_in_range: 'no crossing in the range', outside_model_range: "crossings only outside the model's range", unstable_at_lowest_speed: 'unstable at the lowest speed', not_checked: 'not checked' };
       return [
         ['answer', r.summary, ''],
@@ -923,6 +925,7 @@ export const views = {
         ['chatter limit from', basis[r.chatter_basis] || r.chatter_basis, ''],
         row('headline critical speed', c ? c.critical_speed_m_per_s : null, 'm/s'),
         ['headline crossing', c && c.headline ? crossingNames[c.headline] : '—', ''],
+        ...changes.slice(0, 3).map((x) => [`to run faster: ${x.direction} ${x.field} by ${fmt(x.step)}`, fmt(x.speed_gain_m_per_s), 'm/s']),
       ];
     },
   },
