@@ -265,7 +265,8 @@ const std::vector<OptionComponent>& components() {
           samples, seed, what_to_change}},
         {"TandemSpeedLimitOptions",
          {search_speed_min, search_speed_max, search_speed_step, search_tolerance, max_roll_force,
-          max_torque, max_power, min_forward_slip, chatter_limit, chatter_margin, what_to_change}},
+          max_torque, max_power, min_forward_slip, chatter_limit, chatter_margin, confidence,
+          what_to_change}},
         {"StandLimits", {max_roll_force, max_torque, max_power, min_forward_slip}},
     };
     return table;

@@ -49,17 +49,8 @@ const ScenarioField* stand_scenario_number(std::string_view path, int stand, int
                      " is not a continuous number field of a stand's scenario");
         return nullptr;
     }
-    for (const MillOwnedField& owned : mill_owned_stand_fields()) {
-        if (path == owned.stand_path ||
-            (path.starts_with(owned.stand_path) && path[owned.stand_path.size()] == '/')) {
-            const std::string mill_pointer =
-                stand >= 0 && stands > 0 ? tandem_pointer_of_stand_field(path, stand, stands)
-                                         : std::string(owned.given_by);
-            why = concat(quoted_for_message(path), " is given to a stand by the mill: change ",
-                         mill_pointer.empty() ? std::string(owned.given_by) : mill_pointer);
-            return nullptr;
-        }
-    }
+    why = mill_given_field_message(path, stand, stands);
+    if (!why.empty()) return nullptr;
     return field;
 }
 
@@ -323,6 +314,20 @@ const ResultTable<MillWhatToChange>& what_table() {
 }  // namespace tandem_change_detail
 
 namespace change_detail = tandem_change_detail;
+
+std::string mill_given_field_message(std::string_view path, int stand, int stands) {
+    for (const MillOwnedField& owned : mill_owned_stand_fields()) {
+        if (path == owned.stand_path ||
+            (path.starts_with(owned.stand_path) && path[owned.stand_path.size()] == '/')) {
+            const std::string mill_pointer =
+                stand >= 0 && stands > 0 ? tandem_pointer_of_stand_field(path, stand, stands)
+                                         : std::string(owned.given_by);
+            return concat(quoted_for_message(path), " is given to a stand by the mill: change ",
+                          mill_pointer.empty() ? std::string(owned.given_by) : mill_pointer);
+        }
+    }
+    return "";
+}
 
 std::optional<MillChangeField> find_mill_change_field(std::string_view path, int stands,
                                                       std::string& why, std::string& expected) {

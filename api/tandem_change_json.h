@@ -49,6 +49,12 @@ struct MillChangeField {
 std::optional<MillChangeField> find_mill_change_field(std::string_view path, int stands,
                                                       std::string& why, std::string& expected);
 
+// Why a stand's scenario field is not the stand's own to change or fit in a mill: the mill gives
+// it (its thicknesses, tensions, width, E, roll speed), with the mill's pointer that sets it
+// ("/exit_thickness_mm/2" for stand 2's reduction when stand and stands are known); "" when the
+// stand owns it.
+std::string mill_given_field_message(std::string_view stand_path, int stand, int stands);
+
 // What a plant sets between coils, with a step it would take: every tension (5 MPa), each
 // intermediate thickness (0.02 mm; the product's is not a change), each stand's viscosity
 // (0.1 mPa.s), work-roll roughness (0.1 um) and roll radius (10 mm).

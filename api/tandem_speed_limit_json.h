@@ -11,6 +11,10 @@
 //   chatter, chatter_margin: the chatter limit is the mill's headline critical speed x (1 -
 //                       margin)
 //   speed_min_m_per_s … relative_tolerance: the mill-speed range and the critical-speed search
+//   posteriors          [posterior | null, ...]: one per stand, as calibrate returns it for that
+//                       stand (its fields the stand's own scenario fields, its values the
+//                       stand's); the stands independent (docs/model.md §13.7)
+//   confidence          0.95  of the one-sided bounds the limits are taken at under posteriors
 //   what_to_change      true  the advised mill speed's derivatives at the binding limit
 //   changes             [{field, step}]: tandem-document pointers and their typical steps
 //                       (api/tandem_change_json.h; default: default_mill_change_fields)
@@ -24,6 +28,7 @@
 
 #include "api/csv.h"
 #include "api/field_errors.h"
+#include "api/posterior_json.h"
 #include "api/result_table.h"
 #include "api/tandem_change_json.h"
 #include "core/mill/mill_speed_limit.h"
@@ -37,18 +42,22 @@ struct TandemSpeedLimitOptions {
     core::CriticalSpeedOptions search;  // the mill-speed range and the critical-speed search
     bool what_to_change = true;
     std::vector<MillChangeField> changes;  // the request's, or the defaults for its stand count
+    // one per stand when given (limits.posterior assembled from them), else empty
+    std::vector<std::optional<Posterior>> posteriors;
 };
 
-// `stands`: the mill's stand count (0 when the mill is invalid: the per-stand list's length is
-// then not checked).
+// `valid_mill`: the request's mill if it was read without violations, else nullptr (the lists'
+// lengths and the posteriors' values are then not checked against it).
 TandemSpeedLimitOptions tandem_speed_limit_options_from_json(const nlohmann::json& options,
-                                                             const std::string& pointer, int stands,
+                                                             const std::string& pointer,
+                                                             const core::Mill* valid_mill,
                                                              FieldErrors& errors);
 // The options as applied: the mill-wide values as given, `stands` resolved (every stand's own).
 nlohmann::json tandem_speed_limit_options_json(const TandemSpeedLimitOptions& options);
 
 struct TandemSpeedLimitReport {
     core::MillPlantLimits limits;
+    std::vector<std::optional<Posterior>> posteriors;  // the options', for the uncertainty's rows
     core::MillSpeedLimitResult result;
     std::optional<MillWhatToChange> what_to_change;
 };

@@ -5,6 +5,7 @@
 // stand code is the single stand's (core/roll_bite.h, core/stand_block.h), never a fork of it.
 // This header: the mill's description and its steady state (the pass schedule, §12.3).
 
+#include <functional>
 #include <vector>
 
 #include "core/roll_bite.h"
@@ -57,6 +58,13 @@ struct Mill {
     int span_segments = 10;  // n per span under `segments` (every span: entry, interstand, exit)
 
     int size() const { return static_cast<int>(stands.size()); }
+};
+
+// A number of the mill (one member, or several moved together) and the step to difference it
+// with (SI): shift(mill, delta) adds delta to it (docs/model.md §13.6-13.7).
+struct MillNumber {
+    std::function<void(Mill&, double)> shift;
+    double step = 0.0;
 };
 
 // docs/model.md §12.3: 5 stands, 2.80 -> 2.25 -> 1.88 -> 1.60 -> 1.36 -> 1.20 mm (stand 4 is the

@@ -1,11 +1,13 @@
 #include "core/mill/mill_limit_sensitivity.h"
 
+#include <algorithm>
 #include <cmath>
 #include <complex>
 #include <numbers>
 
 #include "core/mill/mill_delay.h"
 #include "core/mill/mill_regenerative.h"
+#include "core/propagation.h"
 
 namespace rollgap::core {
 namespace mill_limit_sensitivity_detail {
@@ -47,6 +49,32 @@ std::optional<double> crossing_margin(const Mill& m, MillCrossingKind kind,
     return std::nullopt;
 }
 
+// The posterior's numbers, each differenced over a hundredth of its standard error.
+std::vector<MillNumber> posterior_numbers(const MillPosterior& p) {
+    std::vector<MillNumber> numbers = p.numbers;
+    for (std::size_t j = 0; j < numbers.size(); ++j) {
+        const auto at = static_cast<Eigen::Index>(j);
+        numbers[j].step = 0.01 * std::sqrt(std::max(p.covariance(at, at), 0.0));
+    }
+    return numbers;
+}
+
+// sqrt(g Σ gᵀ) from the derivatives; nullopt when one is missing for a number that carries
+// uncertainty (one known exactly, sigma 0, carries nothing).
+std::optional<double> linear_sigma(const ImplicitDerivatives& d, const Eigen::MatrixXd& covariance,
+                                   Eigen::VectorXd* gradient = nullptr) {
+    if (!d.ok) return std::nullopt;
+    Eigen::VectorXd g = Eigen::VectorXd::Zero(covariance.rows());
+    for (Eigen::Index j = 0; j < g.size(); ++j) {
+        if (!(covariance(j, j) > 0.0)) continue;
+        const std::optional<double>& dj = d.derivatives[static_cast<std::size_t>(j)];
+        if (!dj) return std::nullopt;
+        g(j) = *dj;
+    }
+    if (gradient != nullptr) *gradient = g;
+    return std::sqrt(std::max(g.dot(covariance * g), 0.0));
+}
+
 }  // namespace mill_limit_sensitivity_detail
 
 namespace detail_mls = mill_limit_sensitivity_detail;
@@ -75,6 +103,54 @@ ImplicitDerivatives mill_crossing_derivatives(const Mill& mill, const MillCrossi
                                                crossing.kind, root);
         },
         steps, crossing.speed, control);
+}
+
+MillSpeedUncertainty mill_crossing_uncertainty(const Mill& mill, const MillCrossing& crossing,
+                                               const MillPosterior& posterior, double confidence,
+                                               const Control& control) {
+    MillSpeedUncertainty out;
+    out.critical_speed = crossing.speed;
+    const ImplicitDerivatives d = mill_crossing_derivatives(
+        mill, crossing, detail_mls::posterior_numbers(posterior), control);
+    const std::optional<double> sigma =
+        detail_mls::linear_sigma(d, posterior.covariance, &out.gradient);
+    if (!sigma) return out;
+    out.ok = true;
+    out.standard_deviation = *sigma;
+    out.lower_bound = crossing.speed - normal_quantile(confidence) * *sigma;
+    return out;
+}
+
+void bound_mill_plant_limits(const Mill& mill, const MillPlantLimits& limits,
+                             SpeedLimitResult& window, const Control& control) {
+    if (!limits.posterior) return;
+    const MillPosterior& posterior = *limits.posterior;
+    const std::vector<MillNumber> numbers = detail_mls::posterior_numbers(posterior);
+    std::vector<double> steps;
+    for (const MillNumber& n : numbers) steps.push_back(n.step);
+    for (LimitAnswer& a : window.limits) {
+        if (a.kind == SpeedLimitKind::chatter || a.kind == SpeedLimitKind::steady_state ||
+            a.stand < 0 || a.stand >= static_cast<int>(limits.stands.size()))
+            continue;
+        const auto stand = static_cast<std::size_t>(a.stand);
+        for (const bool upper : {false, true}) {
+            const std::optional<double> end = upper ? a.upper_speed : a.lower_speed;
+            if (!end) continue;
+            const ImplicitDerivatives d = implicit_speed_derivatives(
+                [&](int j, int sign, double v) -> std::optional<double> {
+                    const Mill m = detail_mls::moved(mill, numbers, j, sign, v);
+                    const std::vector<SteadyFigures> f = mill_steady_figures(m, v);
+                    if (stand >= f.size()) return std::nullopt;
+                    return plant_limit_margin(f[stand], limits.stands[stand], a.kind);
+                },
+                steps, *end, control);
+            if (control.should_stop()) return;
+            if (const std::optional<double> sigma =
+                    detail_mls::linear_sigma(d, posterior.covariance))
+                (upper ? a.upper_speed_sd : a.lower_speed_sd) = *sigma;
+        }
+    }
+    bound_window(window, normal_quantile(limits.confidence));
 }
 
 MillBindingSensitivity mill_binding_sensitivity(const Mill& mill, const MillPlantLimits& limits,

@@ -22,13 +22,6 @@
 
 namespace rollgap::core {
 
-// A number of the mill (one or several members moved together) and the step to difference it
-// with (SI): shift(mill, delta) adds delta to it.
-struct MillNumber {
-    std::function<void(Mill&, double)> shift;
-    double step = 0.0;
-};
-
 // A found crossing's speed V_c as a function of the mill's numbers: dV_c/dx per number (m/s per
 // SI unit), its margin's slope in V, by implicit_speed_derivatives at V_c. ok false when the
 // crossing is not found or its margin has no slope there.
@@ -44,6 +37,19 @@ struct MillBindingSensitivity {
     int stand = -1;  // the binding limit's stand (0-based; chatter: the crossing's moving stand)
     std::optional<MillCrossingKind> crossing;  // chatter: the critical speed that binds
 };
+
+// The headline crossing's uncertainty under the mill's posterior (docs/model.md §13.7): its
+// gradient by mill_crossing_derivatives (each number differenced over a hundredth of its standard
+// error), sigma = sqrt(g Σ gᵀ), the bound V_c − z sigma. ok false without a gradient.
+MillSpeedUncertainty mill_crossing_uncertainty(const Mill& mill, const MillCrossing& crossing,
+                                               const MillPosterior& posterior, double confidence,
+                                               const Control& control = {});
+
+// Every stand's plant-limit end under limits.posterior: its sigma (LimitAnswer lower_speed_sd /
+// upper_speed_sd) from the implicit gradient of its stand's margin at the end, then the window
+// at the ends' one-sided bounds (bound_window). Nothing without a posterior.
+void bound_mill_plant_limits(const Mill& mill, const MillPlantLimits& limits,
+                             SpeedLimitResult& window, const Control& control = {});
 
 // `result` is mill_speed_limit(mill, limits, ...)'s answer.
 MillBindingSensitivity mill_binding_sensitivity(const Mill& mill, const MillPlantLimits& limits,

@@ -1,5 +1,7 @@
 #include "core/mill/mill_speed_limit.h"
 
+#include "core/mill/mill_limit_sensitivity.h"
+
 #include <cmath>
 #include <utility>
 
@@ -51,7 +53,14 @@ MillSpeedLimitResult mill_speed_limit(const Mill& mill, const MillPlantLimits& l
         ChatterLimit limit{options.speed_max, -1};
         if (critical.headline >= 0) {
             const MillCrossing& c = *crossings[critical.headline];
-            limit = {c.speed * (1.0 - limits.chatter_margin), c.moving_stand};
+            double speed = c.speed;
+            if (limits.posterior) {
+                // docs/model.md §13.7: the limit at the headline's one-sided lower bound
+                const MillSpeedUncertainty& u = out.uncertainty.emplace(mill_crossing_uncertainty(
+                    mill, c, *limits.posterior, limits.confidence, control));
+                if (u.ok) speed = u.lower_bound;
+            }
+            limit = {speed * (1.0 - limits.chatter_margin), c.moving_stand};
         } else {
             // Unstable at the range's lowest speed by any of the three: no speed is permitted.
             for (const MillCrossing* c : crossings)
@@ -62,6 +71,8 @@ MillSpeedLimitResult mill_speed_limit(const Mill& mill, const MillPlantLimits& l
     out.window = speed_window(
         checks, [&mill](double v) { return mill_steady_figures(mill, v); }, mill.speed, chatter,
         options, control);
+    if (limits.posterior && !control.should_stop())
+        bound_mill_plant_limits(mill, limits, out.window, control);
     return out;
 }
 

@@ -4,10 +4,13 @@
 // speed), its figures the pass schedule's at each V (mill_steady_state: every stand's roll
 // force, torque, power and forward slip), each stand with its own limits, and the chatter limit
 // the mill's headline critical speed (mill_critical_speeds) less the safety margin. A limit not
-// given is not checked; a mill limit names its stand.
+// given is not checked; a mill limit names its stand. Under a posterior (§13.7) the chatter limit
+// is taken at V_c's one-sided lower bound and every plant end at its own.
 
 #include <optional>
 #include <vector>
+
+#include <Eigen/Dense>
 
 #include "core/control.h"
 #include "core/mill/mill.h"
@@ -16,12 +19,33 @@
 
 namespace rollgap::core {
 
+// A mill's calibration posterior (docs/model.md §13.7): its stands' fitted numbers and their
+// covariance, block-diagonal (each stand calibrated on its own; the stands independent). The
+// numbers' steps are not read: the gradient is differenced over a hundredth of each standard
+// error.
+struct MillPosterior {
+    std::vector<MillNumber> numbers;
+    Eigen::MatrixXd covariance;
+};
+
 struct MillPlantLimits {
     // One per stand: max_force, max_torque, max_power, min_forward_slip (its chatter members are
     // not read: the mill's chatter limit is the mill's, below).
     std::vector<PlantLimits> stands;
     bool chatter = true;
-    double chatter_margin = 0.0;  // [0, 1): the chatter limit is V_c (1 - margin)
+    // [0, 1): the chatter limit is V_c (1 - margin), with a posterior (V_c - z sigma)(1 - margin)
+    double chatter_margin = 0.0;
+    std::optional<MillPosterior> posterior;
+    double confidence = 0.95;  // of the one-sided bounds under the posterior (z its quantile)
+};
+
+// The headline critical speed's uncertainty (docs/model.md §13.7).
+struct MillSpeedUncertainty {
+    bool ok = false;              // the gradient was found (the crossing's margin at every point)
+    double critical_speed = 0.0;  // the headline's, at the posterior mean, m/s
+    double standard_deviation = 0.0;  // sqrt(g Σ gᵀ), m/s
+    double lower_bound = 0.0;         // V_c − z sigma, m/s
+    Eigen::VectorXd gradient;         // dV_c/dx_j, m/s per SI unit
 };
 
 // Every stand's steady figures at mill speed V (the schedule, or the speeds mode's roll speeds
@@ -34,6 +58,8 @@ struct MillSpeedLimitResult {
     // headline's speed, the range's highest speed when no crossing inside the model's range is
     // found (outside_range_below then says which were found outside it)
     std::optional<MillCriticalSpeeds> critical;
+    // with a posterior and a headline crossing: the chatter limit is taken at its lower bound
+    std::optional<MillSpeedUncertainty> uncertainty;
 };
 
 // V over options' range: the window, the binding limits with their stands. The chatter limit's

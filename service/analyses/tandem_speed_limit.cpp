@@ -12,15 +12,16 @@ namespace rollgap::service {
 PreparedAnalysis prepare_tandem_speed_limit(const core::Mill& mill, const nlohmann::json& options,
                                             const std::string& options_pointer,
                                             api::FieldErrors& errors) {
-    // the per-stand list's length is checked against a mill that was read without violations
-    const int stands = errors.empty() ? mill.size() : 0;
+    // the per-stand lists are checked against a mill that was read without violations
+    const core::Mill* valid = errors.empty() ? &mill : nullptr;
     auto parsed = std::make_shared<const api::TandemSpeedLimitOptions>(
-        api::tandem_speed_limit_options_from_json(options, options_pointer, stands, errors));
+        api::tandem_speed_limit_options_from_json(options, options_pointer, valid, errors));
     return {
         api::tandem_speed_limit_options_json(*parsed),
         [mill, parsed](const core::Control& control) {
             api::TandemSpeedLimitReport report;
             report.limits = parsed->limits;
+            report.posteriors = parsed->posteriors;
             report.result = core::mill_speed_limit(mill, parsed->limits, parsed->search, control);
             if (report.result.window.status == core::SpeedLimitStatus::cancelled)
                 throw AnalysisCancelled{};
