@@ -25,10 +25,26 @@ constexpr std::array<std::string_view, 9> posterior_parameter_members{
     "field"sv, "value"sv,    "standard_error"sv,           "unit"sv, "start"sv, "min"sv,
     "max"sv,   "at_bound"sv, "prior_normalised_residual"sv};
 
+// Whose field a posterior's value disagrees with, and what to send instead: the scenario's, or
+// (`stand_pointer` given, e.g. "/stands/1") one stand's of a tandem document, whose values are
+// /stand_defaults with that stand's patch merged over them.
+std::string posterior_centre_text(std::string_view stand_pointer, std::string_view path) {
+    if (stand_pointer.empty()) return concat("the scenario's ", path);
+    return concat("the stand's ", path, " (", stand_pointer, " over /stand_defaults)");
+}
+
+std::string posterior_remedy_text(std::string_view stand_pointer) {
+    if (stand_pointer.empty())
+        return ": send calibrate's calibrated_scenario as the scenario with its posterior";
+    return concat(": merge calibrate's calibrated_scenario for this stand into ", stand_pointer,
+                  " and send its posterior with it");
+}
+
 // The posterior's parameters: each a scenario number field with a value at the scenario's and a
 // standard error > 0, no field twice.
 void read_parameters(const nlohmann::json& list, const std::string& pointer,
-                     const core::Scenario* scenario, Posterior& out, FieldErrors& errors) {
+                     const core::Scenario* scenario, std::string_view stand_pointer, Posterior& out,
+                     FieldErrors& errors) {
     if (!list.is_array() || list.empty() ||
         list.size() > static_cast<std::size_t>(max_posterior_parameters)) {
         errors.add({pointer,
@@ -93,10 +109,9 @@ void read_parameters(const nlohmann::json& list, const std::string& pointer,
                         {reader.at("value"),
                          concat("the posterior is centred at ",
                                 format_number(from_si(value, field->unit)), " ", field->unit.code,
-                                " but the scenario's ", field->path, " is ",
+                                " but ", posterior_centre_text(stand_pointer, field->path), " is ",
                                 format_number(from_si(current, field->unit)),
-                                ": send calibrate's calibrated_scenario as the scenario with its "
-                                "posterior"),
+                                posterior_remedy_text(stand_pointer)),
                          std::nullopt, std::string(field->unit.code)});
                 }
             }
@@ -164,7 +179,8 @@ void read_correlation(const nlohmann::json* value, const std::string& pointer, s
 }  // namespace
 
 std::optional<Posterior> read_posterior(const nlohmann::json& value, const std::string& pointer,
-                                        const core::Scenario* scenario, FieldErrors& errors) {
+                                        const core::Scenario* scenario, FieldErrors& errors,
+                                        std::string_view stand_pointer) {
     if (value.is_null()) return std::nullopt;
     const OptionsReader reader(value, pointer, posterior_members, errors);
     if (!reader.is_object()) return std::nullopt;
@@ -177,7 +193,8 @@ std::optional<Posterior> read_posterior(const nlohmann::json& value, const std::
         return std::nullopt;
     }
     Posterior posterior;
-    read_parameters(*parameters, reader.at("parameters"), scenario, posterior, errors);
+    read_parameters(*parameters, reader.at("parameters"), scenario, stand_pointer, posterior,
+                    errors);
     if (errors.has_error_at_or_below(reader.at("parameters"))) return std::nullopt;
     read_correlation(reader.find("correlation"), reader.at("correlation"), posterior.fields.size(),
                      posterior, errors);

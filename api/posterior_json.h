@@ -6,6 +6,7 @@
 
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <Eigen/Dense>
@@ -37,8 +38,11 @@ struct Posterior {
 // none twice, standard errors > 0, the unit if given the field's, the correlation n × n,
 // symmetric, unit diagonal, in [-1, 1], positive semidefinite (absent or null: uncorrelated).
 // `centre`: the values must be this scenario's (to 1e-9), else nullptr. null: nullopt, no error.
+// `stand_pointer`: the centre is a tandem document's stand there ("/stands/1"), so a value
+// elsewhere is answered in the document's terms.
 std::optional<Posterior> read_posterior(const nlohmann::json& value, const std::string& pointer,
-                                        const core::Scenario* centre, FieldErrors& errors);
+                                        const core::Scenario* centre, FieldErrors& errors,
+                                        std::string_view stand_pointer = {});
 nlohmann::json posterior_json(const Posterior& posterior);
 
 }  // namespace rollgap::api

@@ -14,6 +14,7 @@
 #include "api/speed_limit_json.h"
 #include "api/stability_json.h"
 #include "api/tandem_result_json.h"
+#include "api/tandem_uncertainty_json.h"
 #include "api/text.h"
 
 namespace rollgap::api {
@@ -82,62 +83,6 @@ json limits_json(const core::PlantLimits& limits) {
     return document;
 }
 
-// options.posteriors (docs/model.md §13.7): one entry per stand, null or that stand's posterior
-// (read_posterior, its values the stand's own), none of its fields one the mill gives the stand;
-// the mill's posterior assembled from them, block-diagonal.
-void read_posteriors(const OptionsReader& reader, const core::Mill* mill,
-                     TandemSpeedLimitOptions& out, FieldErrors& errors) {
-    const nlohmann::json* list = reader.find(posteriors_name);
-    if (list == nullptr || list->is_null()) return;
-    const std::string at = reader.at(posteriors_name);
-    const int stands = mill != nullptr ? mill->size() : 0;
-    if (!list->is_array() || list->size() > static_cast<std::size_t>(core::max_mill_stands) ||
-        (stands > 0 && list->size() != static_cast<std::size_t>(stands))) {
-        const std::string count = stands > 0 ? std::to_string(stands) : std::string("N");
-        errors.add({at,
-                    concat("must be an array of one entry per stand (", count,
-                           " here): that stand's calibration posterior as calibrate returns it "
-                           "({parameters, correlation}), or null for a stand known exactly"),
-                    concat(count, " items"), std::nullopt});
-        if (!list->is_array()) return;
-    }
-    const std::size_t read = std::min(list->size(), std::size_t{core::max_mill_stands});
-    std::vector<std::optional<Posterior>> posteriors(read);
-    for (std::size_t i = 0; i < read; ++i) {
-        const std::string item = concat(at, "/", std::to_string(i));
-        const bool known = mill != nullptr && i < mill->stands.size();
-        posteriors[i] =
-            read_posterior(list->at(i), item, known ? &mill->stands[i] : nullptr, errors);
-        if (!posteriors[i]) continue;
-        for (std::size_t k = 0; k < posteriors[i]->fields.size(); ++k) {
-            const std::string why = mill_given_field_message(posteriors[i]->fields[k]->path,
-                                                             static_cast<int>(i), stands);
-            if (!why.empty())
-                errors.add({concat(item, "/parameters/", std::to_string(k), "/field"), why,
-                            std::nullopt, std::nullopt});
-        }
-    }
-    if (stands == 0 || posteriors.size() != static_cast<std::size_t>(stands)) return;
-    core::MillPosterior& mill_posterior = out.limits.posterior.emplace();
-    Eigen::Index size = 0;
-    for (const std::optional<Posterior>& p : posteriors)
-        if (p) size += static_cast<Eigen::Index>(p->fields.size());
-    mill_posterior.covariance = Eigen::MatrixXd::Zero(size, size);
-    Eigen::Index offset = 0;
-    for (std::size_t i = 0; i < posteriors.size(); ++i) {
-        if (!posteriors[i]) continue;
-        const Posterior& p = *posteriors[i];
-        for (const ScenarioField* field : p.fields)
-            mill_posterior.numbers.push_back(
-                {[field, i](core::Mill& m, double delta) { field->number(m.stands[i]) += delta; },
-                 0.0});
-        const auto n = static_cast<Eigen::Index>(p.fields.size());
-        mill_posterior.covariance.block(offset, offset, n, n) = p.covariance();
-        offset += n;
-    }
-    out.posteriors = std::move(posteriors);
-}
-
 // --- the result ---------------------------------------------------------------------------
 
 json kind_or_null(const std::optional<core::SpeedLimitKind>& kind) {
@@ -177,108 +122,6 @@ std::string chatter_basis(const TandemSpeedLimitReport& r) {
         if (a.kind == core::SpeedLimitKind::chatter && a.limit < 0.0)
             return "unstable_at_lowest_speed";
     return c.outside_range_below.empty() ? "none_in_range" : "outside_model_range";
-}
-
-struct UncertaintyRow {
-    int stand;
-    const ScenarioField* field;
-    double value, standard_error, derivative;  // SI; derivative dV_c/dx, m/s per SI unit
-};
-
-const ResultTable<UncertaintyRow>& uncertainty_row_table() {
-    static const ResultTable<UncertaintyRow> table{
-        "TandemPropagatedParameter",
-        "One stand's posterior parameter and what it contributes to the headline critical speed's "
-        "uncertainty.",
-        {
-            {"stand", "The stand, from 1.", stand_number_schema(false),
-             [](const UncertaintyRow& r) { return stand_number(r.stand); }},
-            {"field", "The stand's scenario field, its JSON pointer.", string_schema(),
-             [](const UncertaintyRow& r) { return json(r.field->path); }},
-            {"unit", "The field's unit (UCUM code): of value and standard_error.", string_schema(),
-             [](const UncertaintyRow& r) { return json(r.field->unit.code); }},
-            {"value", "The posterior mean, in the field's unit.", number_schema(units::one, false),
-             [](const UncertaintyRow& r) { return json(from_si(r.value, r.field->unit)); }},
-            {"standard_error", "The posterior standard deviation, in the field's unit.",
-             number_schema(units::one, false),
-             [](const UncertaintyRow& r) {
-                 return json(from_si(r.standard_error, r.field->unit));
-             }},
-            {"critical_speed_change_m_per_s",
-             "dV_c/dx times the standard error: the headline critical speed's change for one "
-             "standard error of this field, to first order.",
-             number_schema(units::metre_per_second),
-             [](const UncertaintyRow& r) {
-                 const double change = r.derivative * r.standard_error;
-                 return std::isfinite(change) ? json(change) : json(nullptr);
-             }},
-        }};
-    return table;
-}
-
-const ResultTable<TandemSpeedLimitReport>& uncertainty_table() {
-    using R = TandemSpeedLimitReport;
-    static const ResultTable<R> table{
-        "TandemCriticalSpeedUncertainty",
-        "The headline critical speed's uncertainty from the stands' calibration posteriors "
-        "(docs/model.md §13.7): linear, sigma² = g Σ gᵀ with the gradient by the implicit "
-        "function theorem at the crossing, and the one-sided lower bound the chatter limit is "
-        "taken at.",
-        {
-            {"propagated",
-             "Whether the crossing's margin had an answer at every difference point (else sigma "
-             "is not known and the chatter limit is V_c itself).",
-             boolean_schema(), [](const R& r) { return json(r.result.uncertainty->ok); }},
-            {"crossing", "The headline crossing the uncertainty is of.",
-             enum_schema({"frozen", "delay_independent", "nominal_delay"}),
-             [](const R& r) {
-                 const int k = r.result.critical->headline;
-                 return json(k == 0 ? "frozen" : k == 1 ? "delay_independent" : "nominal_delay");
-             }},
-            {"critical_speed_m_per_s", "The headline critical speed at the posterior mean.",
-             number_schema(units::metre_per_second, false),
-             [](const R& r) { return json(r.result.uncertainty->critical_speed); }},
-            {"standard_deviation_m_per_s", "sigma = sqrt(g Σ gᵀ); null when not propagated.",
-             number_schema(units::metre_per_second),
-             [](const R& r) {
-                 const core::MillSpeedUncertainty& u = *r.result.uncertainty;
-                 return u.ok ? json(u.standard_deviation) : json(nullptr);
-             }},
-            {"confidence", "Of the one-sided lower bound.", number_schema(units::one, false),
-             [](const R& r) { return json(r.limits.confidence); }},
-            {"z", "The standard normal quantile at the confidence.",
-             number_schema(units::one, false),
-             [](const R& r) { return json(core::normal_quantile(r.limits.confidence)); }},
-            {"lower_bound_m_per_s",
-             "V_c - z sigma: the headline critical speed is above it with the confidence; null "
-             "when not propagated.",
-             number_schema(units::metre_per_second),
-             [](const R& r) {
-                 const core::MillSpeedUncertainty& u = *r.result.uncertainty;
-                 return u.ok ? json(u.lower_bound) : json(nullptr);
-             }},
-            {"parameters",
-             "Each stand's posterior parameters, from the entry, in each posterior's order.",
-             array_schema(ref_schema("TandemPropagatedParameter")),
-             [](const R& r) {
-                 const core::MillSpeedUncertainty& u = *r.result.uncertainty;
-                 json rows = json::array();
-                 Eigen::Index j = 0;
-                 for (std::size_t i = 0; i < r.posteriors.size(); ++i) {
-                     if (!r.posteriors[i]) continue;
-                     const Posterior& p = *r.posteriors[i];
-                     for (std::size_t k = 0; k < p.fields.size(); ++k, ++j) {
-                         const auto at = static_cast<Eigen::Index>(k);
-                         const double g = u.ok ? u.gradient(j) : std::nan("");
-                         rows.push_back(
-                             uncertainty_row_table().write({static_cast<int>(i), p.fields[k],
-                                                            p.mean(at), p.standard_errors(at), g}));
-                     }
-                 }
-                 return rows;
-             }},
-        }};
-    return table;
 }
 
 std::string stand_text(int index) { return concat("stand ", std::to_string(index + 1)); }
@@ -388,7 +231,9 @@ const ResultTable<TandemSpeedLimitReport>& result_table() {
              "them or without a headline crossing.",
              ref_schema("TandemCriticalSpeedUncertainty", true),
              [](const R& r) {
-                 return r.result.uncertainty ? uncertainty_table().write(r) : json(nullptr);
+                 if (!r.result.uncertainty || !r.result.critical) return json(nullptr);
+                 return mill_uncertainty_json(*r.result.critical, *r.result.uncertainty,
+                                              r.limits.confidence, r.posteriors);
              }},
             {"what_to_change",
              "What to change to run the mill faster (null when options.what_to_change is "
@@ -436,7 +281,14 @@ TandemSpeedLimitOptions tandem_speed_limit_options_from_json(const nlohmann::jso
     reader.read(OptionId::chatter_margin, out.limits.chatter_margin);
     out.limits.stands.assign(static_cast<std::size_t>(std::max(stands, 0)), out.mill_wide);
     reader.read(OptionId::confidence, out.limits.confidence);
-    detail::read_posteriors(reader, valid_mill, out, errors);
+    if (const nlohmann::json* list = reader.find(detail::posteriors_name);
+        list != nullptr && !list->is_null()) {
+        if (std::optional<MillPosteriors> read = read_mill_posteriors(
+                *list, reader.at(detail::posteriors_name), valid_mill, errors)) {
+            out.posteriors = std::move(read->stands);
+            out.limits.posterior = std::move(read->mill);
+        }
+    }
     reader.read(OptionId::what_to_change, out.what_to_change);
     if (const nlohmann::json* changes = reader.find(detail::changes_name))
         read_mill_changes(*changes, reader.at(detail::changes_name), stands, out.changes, errors);
@@ -444,16 +296,11 @@ TandemSpeedLimitOptions tandem_speed_limit_options_from_json(const nlohmann::jso
     const nlohmann::json* list = reader.find(detail::stands_name);
     if (list == nullptr || list->is_null()) return out;
     const std::string at = reader.at(detail::stands_name);
-    if (!list->is_array() || list->size() > static_cast<std::size_t>(core::max_mill_stands) ||
-        (stands > 0 && list->size() != static_cast<std::size_t>(stands))) {
-        const std::string count = stands > 0 ? std::to_string(stands) : std::string("N");
-        errors.add({at,
-                    concat("must be an array of one object per stand (", count,
-                           " here), each with the limits that differ from the mill-wide ones, "
-                           "e.g. [{}, {\"max_roll_force_kN\": 12000}]"),
-                    concat(count, " items"), std::nullopt});
-        if (!list->is_array()) return out;
-    }
+    if (!check_per_stand_list(*list, at, stands, "object",
+                              ", each with the limits that differ from the mill-wide ones, e.g. "
+                              "[{}, {\"max_roll_force_kN\": 12000}]",
+                              errors))
+        return out;
     // each stand's limits read even when the count is wrong (every violation at once), at most
     // a mill's most stands
     const std::size_t read = std::min(list->size(), std::size_t{core::max_mill_stands});
@@ -521,9 +368,9 @@ nlohmann::json tandem_speed_limit_result_json(const TandemSpeedLimitReport& repo
 }
 
 std::vector<ResultSchema> tandem_speed_limit_result_schemas() {
-    std::vector<ResultSchema> out{
-        result_schema(detail::check_table()), result_schema(detail::uncertainty_row_table()),
-        result_schema(detail::uncertainty_table()), result_schema(detail::result_table())};
+    std::vector<ResultSchema> out{result_schema(detail::check_table()),
+                                  result_schema(detail::result_table())};
+    for (ResultSchema& schema : mill_uncertainty_schemas()) out.push_back(std::move(schema));
     for (ResultSchema& schema : mill_what_to_change_schemas()) out.push_back(std::move(schema));
     return out;
 }

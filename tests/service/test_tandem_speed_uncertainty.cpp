@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "support/mill_requests.h"
+#include "support/approx.h"
 
 using nlohmann::json;
 using namespace rollgap;
@@ -49,6 +50,12 @@ bool has_error_at(const json& problem, const std::string& pointer) {
     return false;
 }
 
+std::string message_at(const json& problem, const std::string& pointer) {
+    for (const json& e : problem["errors"])
+        if (e["pointer"] == pointer) return e["detail"].get<std::string>();
+    return {};
+}
+
 }  // namespace tandem_speed_uncertainty_test
 
 namespace tsu = tandem_speed_uncertainty_test;
@@ -69,12 +76,13 @@ TEST_CASE(
     const double vc = u["critical_speed_m_per_s"].get<double>();
     const double sigma = u["standard_deviation_m_per_s"].get<double>();
     const double z = u["z"].get<double>();
-    CHECK(z == doctest::Approx(1.6448536269514722));
-    CHECK(vc == doctest::Approx(result["critical_speeds"]["critical_speed_m_per_s"].get<double>()));
-    CHECK(u["lower_bound_m_per_s"].get<double>() == doctest::Approx(vc - z * sigma));
+    CHECK(z == rollgap::test::approx(1.6448536269514722));
+    CHECK(vc ==
+          rollgap::test::approx(result["critical_speeds"]["critical_speed_m_per_s"].get<double>()));
+    CHECK(u["lower_bound_m_per_s"].get<double>() == rollgap::test::approx(vc - z * sigma));
     REQUIRE(result["binding_limit"] == "chatter");
     CHECK(result["advised_speed_m_per_s"].get<double>() ==
-          doctest::Approx(0.95 * (vc - z * sigma)).epsilon(1e-12).scale(0.0));
+          rollgap::test::approx(0.95 * (vc - z * sigma)).epsilon(1e-12));
     // sigma² = c ρ cᵀ over the rows' changes per standard error, the stands independent
     const json& rows = u["parameters"];
     REQUIRE(rows.size() == 3);
@@ -86,7 +94,7 @@ TEST_CASE(
     const double variance = c[0] * c[0] + c[1] * c[1] + c[2] * c[2] - 2.0 * 0.5 * c[1] * c[2];
     MESSAGE("headline " << vc << " m/s: sigma " << sigma << " m/s, rows " << c[0] << ", " << c[1]
                         << ", " << c[2]);
-    CHECK(sigma == doctest::Approx(std::sqrt(variance)).epsilon(1e-9).scale(0.0));
+    CHECK(sigma == rollgap::test::approx(std::sqrt(variance)).epsilon(1e-9));
     // each stand-2 row's derivative is what_to_change's for that field, less the margin
     for (const json& row : result["what_to_change"]["changes"]) {
         const std::string field = row["field"].get<std::string>();
@@ -95,7 +103,7 @@ TEST_CASE(
                                 mine["standard_error"].get<double>();
         CAPTURE(field);
         CHECK(row["advised_speed_change_m_per_s_per_unit"].get<double>() ==
-              doctest::Approx(0.95 * per_unit).epsilon(2e-3).scale(0.0));
+              rollgap::test::approx(0.95 * per_unit).epsilon(2e-3));
     }
     // the echo lists the posteriors and answers the same
     const json again = test::answer_of({{"analysis", "tandem_speed_limit"},
@@ -121,7 +129,7 @@ TEST_CASE("tandem speed uncertainty: a plant end is taken at its one-sided bound
         MESSAGE("stand 2's power end " << end << " m/s, sigma " << sd << " m/s");
         CHECK(sd > 0.0);
         CHECK(result["advised_speed_m_per_s"].get<double>() ==
-              doctest::Approx(end - 1.6448536269514722 * sd).epsilon(1e-12).scale(0.0));
+              rollgap::test::approx(end - 1.6448536269514722 * sd).epsilon(1e-12));
     }
 }
 
@@ -131,7 +139,11 @@ TEST_CASE("tandem speed uncertainty: every violation of the posteriors is report
     wrong[1]["parameters"][1]["field"] = "/strip/reduction";  // the mill gives it
     wrong[1]["parameters"][1]["value"] = 0.15;
     const json problem = test::refusal_of(tsu::request({{"posteriors", wrong}}));
-    CHECK(tsu::has_error_at(problem, "/options/posteriors/0/parameters/0/value"));
+    // the value elsewhere answered in the tandem document's terms: the stand's patch to merge into
+    const std::string elsewhere =
+        tsu::message_at(problem, "/options/posteriors/0/parameters/0/value");
+    CHECK(elsewhere.find("/stands/0 over /stand_defaults") != std::string::npos);
+    CHECK(elsewhere.find("calibrated_scenario for this stand into /stands/0") != std::string::npos);
     CHECK(tsu::has_error_at(problem, "/options/posteriors/1/parameters/1/field"));
     CHECK(problem.dump().find("/exit_thickness_mm/1") != std::string::npos);
     const json short_list = test::refusal_of(tsu::request({{"posteriors", {nullptr}}}));
