@@ -15,6 +15,7 @@
 #include "api/scenario_json.h"
 #include "api/scenario_schema.h"
 #include "api/units.h"
+#include "support/approx.h"
 
 using nlohmann::json;
 using namespace rollgap;
@@ -81,7 +82,7 @@ TEST_CASE("the default scenario document is core::Scenario{} converted, field by
         switch (field.kind) {
             case FieldKind::number:
                 CHECK(to_si(value.get<double>(), field.unit) ==
-                      doctest::Approx(field.number(reference)).epsilon(1e-15));
+                      rollgap::test::approx(field.number(reference)).epsilon(1e-15));
                 break;
             case FieldKind::integer: CHECK(value.get<int>() == field.integer(reference)); break;
             case FieldKind::boolean: CHECK(value.get<bool>() == field.flag(reference)); break;
@@ -151,21 +152,21 @@ TEST_CASE("engineering units are converted to SI") {
           {"damping_MN_s_per_m", {{"c1", 2}}}}},
     };
     const core::Scenario s = read_without_errors(document);
-    CHECK(s.strip.entry_thickness == doctest::Approx(2.5e-3));
-    CHECK(s.strip.flow_stress == doctest::Approx(400e6));
-    CHECK(s.strip.width == doctest::Approx(1.2));
-    CHECK(s.strip.youngs_modulus == doctest::Approx(200e9));
-    CHECK(s.rolls.radius == doctest::Approx(0.28));
-    CHECK(s.rolls.speed == doctest::Approx(12.5));
-    CHECK(s.lubricant.viscosity == doctest::Approx(0.03));
-    CHECK(s.lubricant.pressure_viscosity == doctest::Approx(0.02e-6));
-    CHECK(s.roughness.roll_rq == doctest::Approx(1.2e-6));
-    CHECK(s.roughness.strip_rq == doctest::Approx(6e-6));
-    CHECK(s.tensions.back.stress == doctest::Approx(40e6));
-    CHECK(s.tensions.back.amplitude == doctest::Approx(5e6));
-    CHECK(s.structure.mass[2] == doctest::Approx(11e3));
-    CHECK(s.structure.k1 == doctest::Approx(25e9));
-    CHECK(s.structure.c1 == doctest::Approx(2e6));
+    CHECK(s.strip.entry_thickness == rollgap::test::approx(2.5e-3));
+    CHECK(s.strip.flow_stress == rollgap::test::approx(400e6));
+    CHECK(s.strip.width == rollgap::test::approx(1.2));
+    CHECK(s.strip.youngs_modulus == rollgap::test::approx(200e9));
+    CHECK(s.rolls.radius == rollgap::test::approx(0.28));
+    CHECK(s.rolls.speed == rollgap::test::approx(12.5));
+    CHECK(s.lubricant.viscosity == rollgap::test::approx(0.03));
+    CHECK(s.lubricant.pressure_viscosity == rollgap::test::approx(0.02e-6));
+    CHECK(s.roughness.roll_rq == rollgap::test::approx(1.2e-6));
+    CHECK(s.roughness.strip_rq == rollgap::test::approx(6e-6));
+    CHECK(s.tensions.back.stress == rollgap::test::approx(40e6));
+    CHECK(s.tensions.back.amplitude == rollgap::test::approx(5e6));
+    CHECK(s.structure.mass[2] == rollgap::test::approx(11e3));
+    CHECK(s.structure.k1 == rollgap::test::approx(25e9));
+    CHECK(s.structure.c1 == rollgap::test::approx(2e6));
 }
 
 TEST_CASE("choices map to core's enums") {

@@ -19,6 +19,7 @@
 #include "service/analyses/speed_limit.h"
 #include "service/evaluate.h"
 #include "support/refused_options.h"
+#include "support/approx.h"
 
 using nlohmann::json;
 using namespace rollgap;
@@ -193,13 +194,14 @@ TEST_CASE("speed_limit: each binding speed is where the steady figure meets the 
     const json* force = find_limit(result, "force");
     REQUIRE(force != nullptr);
     CHECK((*force)["unit"] == "kN");
-    CHECK((*force)["at_operating"].get<double>() == doctest::Approx(at.force / 1e3).epsilon(1e-9));
-    CHECK((*force)["utilisation"].get<double>() == doctest::Approx(1.0 / 1.02).epsilon(1e-9));
+    CHECK((*force)["at_operating"].get<double>() ==
+          rollgap::test::approx(at.force / 1e3).epsilon(1e-9));
+    CHECK((*force)["utilisation"].get<double>() == rollgap::test::approx(1.0 / 1.02).epsilon(1e-9));
     REQUIRE((*force)["lower_speed_m_per_s"].is_number());
     const double force_speed = (*force)["lower_speed_m_per_s"].get<double>();
     CHECK(force_speed < v);
     CHECK(core::steady_figures(s, force_speed).force / 1e3 ==
-          doctest::Approx(force_kN).epsilon(1e-6));
+          rollgap::test::approx(force_kN).epsilon(1e-6));
 
     const json* power = find_limit(result, "power");
     REQUIRE(power != nullptr);
@@ -207,7 +209,7 @@ TEST_CASE("speed_limit: each binding speed is where the steady figure meets the 
     const double power_speed = (*power)["upper_speed_m_per_s"].get<double>();
     CHECK(power_speed > v);
     CHECK(core::steady_figures(s, power_speed).power / 1e3 ==
-          doctest::Approx(power_kW).epsilon(1e-6));
+          rollgap::test::approx(power_kW).epsilon(1e-6));
 
     // The chatter limit is the critical speed less the margin, and the utilisation the
     // operating speed's share of it ("running at 62 % of the chatter limit").
@@ -215,15 +217,16 @@ TEST_CASE("speed_limit: each binding speed is where the steady figure meets the 
     REQUIRE(chatter != nullptr);
     REQUIRE(result["critical_speed"]["status"] == "found");
     const double critical = result["critical_speed"]["critical_speed_m_per_s"].get<double>();
-    CHECK((*chatter)["value"].get<double>() == doctest::Approx(0.9 * critical).epsilon(1e-12));
+    CHECK((*chatter)["value"].get<double>() ==
+          rollgap::test::approx(0.9 * critical).epsilon(1e-12));
     CHECK((*chatter)["utilisation"].get<double>() ==
-          doctest::Approx(v / (0.9 * critical)).epsilon(1e-12));
+          rollgap::test::approx(v / (0.9 * critical)).epsilon(1e-12));
 
     // The window is the tightest of them, its ends named by the limits that set them.
     const double upper = std::min(power_speed, 0.9 * critical);
-    CHECK(result["window_min_m_per_s"].get<double>() == doctest::Approx(force_speed));
+    CHECK(result["window_min_m_per_s"].get<double>() == rollgap::test::approx(force_speed));
     CHECK(result["binding_min"] == "force");
-    CHECK(result["advised_speed_m_per_s"].get<double>() == doctest::Approx(upper));
+    CHECK(result["advised_speed_m_per_s"].get<double>() == rollgap::test::approx(upper));
     CHECK(result["binding_limit"] == (power_speed < 0.9 * critical ? "power" : "chatter"));
     // The default stand runs at 19 m/s, above 0.9 V_c = 18.09 m/s: not permitted, and said so.
     CHECK(result["operating_permitted"] == (v >= force_speed && v <= upper));
@@ -268,14 +271,15 @@ TEST_CASE("speed_limit: a posterior reaches the chatter limit as (V_c - z sigma)
     REQUIRE(u["propagated"] == true);
     const double vc = u["critical_speed_m_per_s"].get<double>();
     const double sigma = u["standard_deviation_m_per_s"].get<double>();
-    CHECK(vc == doctest::Approx(result["critical_speed"]["critical_speed_m_per_s"].get<double>()));
-    CHECK(u["z"].get<double>() == doctest::Approx(1.6448536269514722).epsilon(1e-12));
+    CHECK(vc ==
+          rollgap::test::approx(result["critical_speed"]["critical_speed_m_per_s"].get<double>()));
+    CHECK(u["z"].get<double>() == rollgap::test::approx(1.6448536269514722).epsilon(1e-12));
     CHECK(u["lower_bound_m_per_s"].get<double>() ==
-          doctest::Approx(vc - 1.6448536269514722 * sigma));
+          rollgap::test::approx(vc - 1.6448536269514722 * sigma));
     const json* chatter = find_limit(result, "chatter");
     REQUIRE(chatter != nullptr);
     CHECK((*chatter)["value"].get<double>() ==
-          doctest::Approx((vc - 1.6448536269514722 * sigma) * 0.95).epsilon(1e-12));
+          rollgap::test::approx((vc - 1.6448536269514722 * sigma) * 0.95).epsilon(1e-12));
 
     // σ against differences of half a standard error, from core's critical speed directly:
     // the same σ if the response is near-linear over the posterior (and the units right).
@@ -302,11 +306,11 @@ TEST_CASE("speed_limit: a posterior reaches the chatter limit as (V_c - z sigma)
     const double independent = std::sqrt(a * a + b * b + 2 * -0.5 * a * b);
     MESSAGE("sigma " << sigma << " m/s linear in the answer, " << independent
                      << " m/s from half-step differences; sampled " << u["sampled"].dump());
-    CHECK(sigma == doctest::Approx(independent).epsilon(0.05));
+    CHECK(sigma == rollgap::test::approx(independent).epsilon(0.05));
     CHECK(u["parameters"][0]["critical_speed_change_m_per_s"].get<double>() ==
-          doctest::Approx(a).epsilon(0.05));
+          rollgap::test::approx(a).epsilon(0.05));
     CHECK(u["parameters"][1]["critical_speed_change_m_per_s"].get<double>() ==
-          doctest::Approx(b).epsilon(0.05));
+          rollgap::test::approx(b).epsilon(0.05));
 
     // The seeded draws: 16 critical speeds, their mean within 4 standard errors of the mean
     // (σ/√16) and their spread that of the linear σ to within what 16 draws resolve (the
@@ -378,9 +382,9 @@ TEST_CASE("speed_limit: what to change equals central differences of the whole a
         const double derivative = change["advised_speed_change_m_per_s_per_unit"].get<double>();
         MESSAGE(field << ": " << derivative << " m/s per unit in the answer, " << differences
                       << " from the whole analysis");
-        CHECK(derivative == doctest::Approx(differences).epsilon(0.01));
+        CHECK(derivative == rollgap::test::approx(differences).epsilon(0.01));
         CHECK(change["speed_gain_m_per_s"].get<double>() ==
-              doctest::Approx(std::abs(derivative) * change["step"].get<double>()));
+              rollgap::test::approx(std::abs(derivative) * change["step"].get<double>()));
         CHECK(change["direction"] == (derivative > 0 ? "raise" : "lower"));
     }
 }

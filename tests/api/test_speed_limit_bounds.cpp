@@ -15,6 +15,7 @@
 #include "core/propagation.h"
 #include "core/speed_limit.h"
 #include "service/evaluate.h"
+#include "support/approx.h"
 
 using nlohmann::json;
 using namespace rollgap;
@@ -78,20 +79,20 @@ TEST_CASE("speed limit bounds: every end at its one-sided bound, the tightest bi
     REQUIRE(r.status == core::SpeedLimitStatus::ok);
     CHECK(r.window_max == 24.0);
     CHECK(r.binding_max == core::SpeedLimitKind::chatter);
-    CHECK(r.window_min == doctest::Approx(17.0 + z * 0.5).epsilon(1e-15));
+    CHECK(r.window_min == rollgap::test::approx(17.0 + z * 0.5).epsilon(1e-15));
     CHECK(r.binding_min == core::SpeedLimitKind::force);
     CHECK(r.advised_speed == r.window_max);
     // sd 1 m/s: 25 - z = 23.36 is below 24: the power binds at its bound
     r = made_up(1.0);
     core::bound_window(r, z);
-    CHECK(r.window_max == doctest::Approx(25.0 - z).epsilon(1e-15));
+    CHECK(r.window_max == rollgap::test::approx(25.0 - z).epsilon(1e-15));
     CHECK(r.binding_max == core::SpeedLimitKind::power);
     CHECK(r.advised_speed == r.window_max);
     CHECK(r.operating_permitted);
     // the force's bound above the operating speed: not permitted there
     r = made_up(1.0, 1.5);
     core::bound_window(r, z);
-    CHECK(r.window_min == doctest::Approx(17.0 + 1.5 * z).epsilon(1e-15));
+    CHECK(r.window_min == rollgap::test::approx(17.0 + 1.5 * z).epsilon(1e-15));
     CHECK_FALSE(r.operating_permitted);
     // bounds that cross: no window is left
     r = made_up(1.0, 4.0);
@@ -164,17 +165,17 @@ TEST_CASE("speed limit bounds: a force and a power end's sigma equal differences
                              << sd_power << " m/s against " << sigma(g_power));
     CHECK(sd_force > 0.0);
     CHECK(sd_power > 0.0);
-    CHECK(sd_force == doctest::Approx(sigma(g_force)).epsilon(1e-6));
-    CHECK(sd_power == doctest::Approx(sigma(g_power)).epsilon(1e-6));
+    CHECK(sd_force == rollgap::test::approx(sigma(g_force)).epsilon(1e-6));
+    CHECK(sd_power == rollgap::test::approx(sigma(g_power)).epsilon(1e-6));
 
     // the window takes both ends at their bounds
     const double z = core::normal_quantile(0.95);
     const double lower = force["lower_speed_m_per_s"].get<double>();
     const double upper = power["upper_speed_m_per_s"].get<double>();
     CHECK(result["window_min_m_per_s"].get<double>() ==
-          doctest::Approx(lower + z * sd_force).epsilon(1e-12));
+          rollgap::test::approx(lower + z * sd_force).epsilon(1e-12));
     CHECK(result["window_max_m_per_s"].get<double>() ==
-          doctest::Approx(upper - z * sd_power).epsilon(1e-12));
+          rollgap::test::approx(upper - z * sd_power).epsilon(1e-12));
     CHECK(result["advised_speed_m_per_s"] == result["window_max_m_per_s"]);
     CHECK(result["binding_limit"] == "power");
     CHECK(result["binding_min"] == "force");

@@ -21,6 +21,7 @@
 
 #include "support/compare.h"
 #include "support/dynamics_scenarios.h"
+#include "support/approx.h"
 
 namespace bite_jacobian_test {
 
@@ -261,9 +262,9 @@ TEST_CASE("bite Jacobian: identities of the bite") {
             const double truncation =
                 method == Method::sensitivities ? 1.0 : 1.0 + delta * delta / (8.0 * draft * draft);
             CHECK(jb(BiteOutput::inlet_angle, BiteInput::exit_thickness) ==
-                  doctest::Approx(-truncation / (2.0 * a * theta)).epsilon(1e-10));
+                  rollgap::test::approx(-truncation / (2.0 * a * theta)).epsilon(1e-10));
             CHECK(jb(BiteOutput::inlet_angle, BiteInput::entry_thickness) ==
-                  doctest::Approx(truncation / (2.0 * a * theta)).epsilon(1e-10));
+                  rollgap::test::approx(truncation / (2.0 * a * theta)).epsilon(1e-10));
             for (const BiteInput in : {BiteInput::gap_rate, BiteInput::inlet_film,
                                        BiteInput::back_tension, BiteInput::front_tension})
                 CHECK(jb(BiteOutput::inlet_angle, in) == 0.0);
@@ -320,7 +321,7 @@ TEST_CASE("bite Jacobian: identities of the bite") {
                 << jb(BiteOutput::force, BiteInput::exit_thickness) << " N/m, through the film "
                 << jb(BiteOutput::force, BiteInput::inlet_film) * dh00_dy2 << " N/m, k4 "
                 << d.ref.strip_stiffness << " N/m");
-        CHECK(-total == doctest::Approx(d.ref.strip_stiffness).epsilon(1e-6));
+        CHECK(-total == rollgap::test::approx(d.ref.strip_stiffness).epsilon(1e-6));
 
         // and J_b at the steady-film bite (h0 <= 0: h00 inside the solve) is k4 itself: by the
         // differences (the same step as reference_state(), 1e-7 m) to the noise of the solves;
@@ -331,7 +332,7 @@ TEST_CASE("bite Jacobian: identities of the bite") {
         REQUIRE(steady_fd.status == BiteStatus::ok);
         CHECK(steady_fd.bite_solves == 2);
         CHECK(-steady_fd(BiteOutput::force, BiteInput::exit_thickness) ==
-              doctest::Approx(d.ref.strip_stiffness).epsilon(1e-9));
+              rollgap::test::approx(d.ref.strip_stiffness).epsilon(1e-9));
         const BiteJacobian steady = bite_jacobian(d.s, steady_bite_state(d.s), d.ref.bite,
                                                   bite_column(BiteInput::exit_thickness));
         REQUIRE(steady.status == BiteStatus::ok);
@@ -339,7 +340,7 @@ TEST_CASE("bite Jacobian: identities of the bite") {
         MESSAGE("k4 by sensitivities " << k4 << " N/m, by the differences of reference_state() "
                                        << d.ref.strip_stiffness << " N/m (relative "
                                        << rel(k4, d.ref.strip_stiffness) << ")");
-        CHECK(k4 == doctest::Approx(d.ref.strip_stiffness).epsilon(1e-6));
+        CHECK(k4 == rollgap::test::approx(d.ref.strip_stiffness).epsilon(1e-6));
         // the film column needs a given film
         const BiteJacobian no_film = bite_jacobian(d.s, steady_bite_state(d.s), d.ref.bite);
         CHECK(no_film.status != BiteStatus::ok);

@@ -12,6 +12,7 @@
 
 #include "core/calibration_observables.h"
 #include "core/coupled_model.h"
+#include "support/approx.h"
 
 using namespace rollgap::core;
 
@@ -133,9 +134,9 @@ TEST_CASE(
     observe(setup, vector({410e6, 12.0}), {0.005, 0.005});
     const ScenarioCalibrationResult result = calibrate_scenario(setup);
     REQUIRE(result.fit.status == CalibrationStatus::converged);
-    CHECK(result.fit.values(0) == doctest::Approx(410e6).epsilon(1e-6));
-    CHECK(result.fit.values(1) == doctest::Approx(7.0).epsilon(1e-9));
-    CHECK(result.fit.standard_errors(1) == doctest::Approx(0.5).epsilon(1e-6));
+    CHECK(result.fit.values(0) == rollgap::test::approx(410e6).epsilon(1e-6));
+    CHECK(result.fit.values(1) == rollgap::test::approx(7.0).epsilon(1e-9));
+    CHECK(result.fit.standard_errors(1) == rollgap::test::approx(0.5).epsilon(1e-6));
     REQUIRE(result.fit.unobservable.size() == 1);
     CHECK(result.fit.unobservable[0] == 1);
 }
@@ -179,11 +180,11 @@ TEST_CASE("a mode is followed by its shape, not its index, through an avoided cr
                        reference_state(dynamics_scenario(lightened)).strip_stiffness);
     REQUIRE(modal.ok);
     // The upper stack's mode is now index 3, the lower stack's index 2.
-    CHECK(light[0].value == doctest::Approx(modal.natural[3].frequency_Hz));
-    CHECK(light[1].value == doctest::Approx(modal.natural[2].frequency_Hz));
+    CHECK(light[0].value == rollgap::test::approx(modal.natural[3].frequency_Hz));
+    CHECK(light[1].value == rollgap::test::approx(modal.natural[2].frequency_Hz));
     CHECK(light[0].value > start[0].value + 5.0);
     CHECK(light[1].value ==
-          doctest::Approx(start[1].value).epsilon(1e-3));  // the lower stack did not change
+          rollgap::test::approx(start[1].value).epsilon(1e-3));  // the lower stack did not change
     CHECK(light[0].mode_mac > 0.8);
     CHECK(light[1].mode_mac > 0.95);
 }

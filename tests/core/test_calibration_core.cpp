@@ -10,6 +10,7 @@
 
 #include "core/calibration.h"
 #include "support/pool_control.h"
+#include "support/approx.h"
 
 using namespace rollgap::core;
 
@@ -43,16 +44,16 @@ TEST_CASE(
     const std::vector<CalibrationParameter> parameters{{500.0, 0.0, 1e4}, {1e-4, 0.0, 1.0}};
     const CalibrationResult fit = calibrate(parameters, 14, misra);
     REQUIRE(fit.status == CalibrationStatus::converged);
-    CHECK(fit.values(0) == doctest::Approx(2.3894212918E+02).epsilon(1e-6));
-    CHECK(fit.values(1) == doctest::Approx(5.5015643181E-04).epsilon(1e-6));
-    CHECK(fit.chi_squared_observations == doctest::Approx(1.2455138894E-01).epsilon(1e-6));
+    CHECK(fit.values(0) == rollgap::test::approx(2.3894212918E+02).epsilon(1e-6));
+    CHECK(fit.values(1) == rollgap::test::approx(5.5015643181E-04).epsilon(1e-6));
+    CHECK(fit.chi_squared_observations == rollgap::test::approx(1.2455138894E-01).epsilon(1e-6));
     CHECK(fit.degrees_of_freedom == 12);
     // Unit weights: NIST's standard errors are ours times the residual standard deviation.
     const double s = std::sqrt(fit.chi_squared_observations / fit.degrees_of_freedom);
-    CHECK(s * fit.standard_errors(0) == doctest::Approx(2.7070075241E+00).epsilon(1e-4));
-    CHECK(s * fit.standard_errors(1) == doctest::Approx(7.2668688436E-06).epsilon(1e-4));
-    CHECK(fit.correlation(0, 1) == doctest::Approx(fit.correlation(1, 0)));
-    CHECK(fit.correlation(0, 0) == doctest::Approx(1.0));
+    CHECK(s * fit.standard_errors(0) == rollgap::test::approx(2.7070075241E+00).epsilon(1e-4));
+    CHECK(s * fit.standard_errors(1) == rollgap::test::approx(7.2668688436E-06).epsilon(1e-4));
+    CHECK(fit.correlation(0, 1) == rollgap::test::approx(fit.correlation(1, 0)));
+    CHECK(fit.correlation(0, 0) == rollgap::test::approx(1.0));
     CHECK(fit.inseparable.empty());
 }
 
@@ -60,8 +61,8 @@ TEST_CASE(
     "Rosenbrock as least squares: from (-1.2, 1) to (1, 1), with x1 <= 0.5 to (0.5, 0.25) on the bound") {
     const CalibrationResult free = calibrate({{-1.2, -5.0, 5.0}, {1.0, -5.0, 5.0}}, 2, rosenbrock);
     REQUIRE(free.status == CalibrationStatus::converged);
-    CHECK(free.values(0) == doctest::Approx(1.0).epsilon(1e-8));
-    CHECK(free.values(1) == doctest::Approx(1.0).epsilon(1e-8));
+    CHECK(free.values(0) == rollgap::test::approx(1.0).epsilon(1e-8));
+    CHECK(free.values(1) == rollgap::test::approx(1.0).epsilon(1e-8));
     CHECK(free.bounds[0] == BoundState::inside);
 
     // Constrained minimum: x2 = x1² makes r1 vanish, then (1 − x1)² is least at the bound.
@@ -69,7 +70,7 @@ TEST_CASE(
         calibrate({{-1.2, -5.0, 0.5}, {1.0, -5.0, 5.0}}, 2, rosenbrock);
     REQUIRE(bounded.status == CalibrationStatus::converged);
     CHECK(bounded.values(0) == 0.5);
-    CHECK(bounded.values(1) == doctest::Approx(0.25).epsilon(1e-8));
+    CHECK(bounded.values(1) == rollgap::test::approx(0.25).epsilon(1e-8));
     CHECK(bounded.bounds[0] == BoundState::upper);
     CHECK(bounded.bounds[1] == BoundState::inside);
 }
@@ -86,11 +87,13 @@ TEST_CASE(
     CalibrationParameter b{1.0, -10.0, 10.0, true, 2.0, 0.25};
     const CalibrationResult fit = calibrate({a, b}, 1, model);
     REQUIRE(fit.status == CalibrationStatus::converged);
-    CHECK(fit.values(0) == doctest::Approx(3.0).epsilon(1e-9));
-    CHECK(fit.values(1) == doctest::Approx(2.0).epsilon(1e-9));
-    CHECK(fit.standard_errors(0) == doctest::Approx(0.5).epsilon(1e-6));
-    CHECK(fit.standard_errors(1) == doctest::Approx(0.25).epsilon(1e-6));
-    CHECK(fit.chi_squared_priors == doctest::Approx(0.0).epsilon(1e-12));
+    CHECK(fit.values(0) == rollgap::test::approx(3.0).epsilon(1e-9));
+    CHECK(fit.values(1) == rollgap::test::approx(2.0).epsilon(1e-9));
+    CHECK(fit.standard_errors(0) == rollgap::test::approx(0.5).epsilon(1e-6));
+    CHECK(fit.standard_errors(1) == rollgap::test::approx(0.25).epsilon(1e-6));
+    // b sits on its prior: the prior's chi-squared is zero up to the fit's rounding of b (about
+    // 1e-12 of its value), i.e. ((b - 2) / 0.25)^2 below 1e-20
+    CHECK(fit.chi_squared_priors < 1e-20);
     REQUIRE(fit.unobservable.size() == 1);
     CHECK(fit.unobservable[0] == 1);
 
@@ -98,7 +101,7 @@ TEST_CASE(
     b.has_prior = false;
     const CalibrationResult bare = calibrate({a, b}, 1, model);
     CHECK(std::isinf(bare.standard_errors(1)));
-    CHECK(bare.standard_errors(0) == doctest::Approx(0.5).epsilon(1e-6));
+    CHECK(bare.standard_errors(0) == rollgap::test::approx(0.5).epsilon(1e-6));
 }
 
 TEST_CASE("a prior and an observation of one parameter combine like two measurements") {
@@ -111,10 +114,10 @@ TEST_CASE("a prior and an observation of one parameter combine like two measurem
     };
     const CalibrationResult fit = calibrate({{0.0, -10.0, 10.0, true, 2.0, 0.5}}, 1, model);
     REQUIRE(fit.status == CalibrationStatus::converged);
-    CHECK(fit.values(0) == doctest::Approx(2.5).epsilon(1e-9));
-    CHECK(fit.standard_errors(0) == doctest::Approx(0.5 / std::sqrt(2.0)).epsilon(1e-6));
-    CHECK(fit.chi_squared_observations == doctest::Approx(1.0).epsilon(1e-8));
-    CHECK(fit.chi_squared_priors == doctest::Approx(1.0).epsilon(1e-8));
+    CHECK(fit.values(0) == rollgap::test::approx(2.5).epsilon(1e-9));
+    CHECK(fit.standard_errors(0) == rollgap::test::approx(0.5 / std::sqrt(2.0)).epsilon(1e-6));
+    CHECK(fit.chi_squared_observations == rollgap::test::approx(1.0).epsilon(1e-8));
+    CHECK(fit.chi_squared_priors == rollgap::test::approx(1.0).epsilon(1e-8));
     CHECK(fit.degrees_of_freedom == 0);
 }
 
@@ -134,7 +137,7 @@ TEST_CASE("parameters that enter only as a product are reported inseparable") {
     REQUIRE(fit.inseparable.size() == 1);
     CHECK(fit.inseparable[0] == std::vector<int>{0, 1});
     CHECK(fit.reciprocal_condition < 1e-6);
-    CHECK(fit.values(0) * fit.values(1) == doctest::Approx(6.0).epsilon(1e-8));
+    CHECK(fit.values(0) * fit.values(1) == rollgap::test::approx(6.0).epsilon(1e-8));
 }
 
 TEST_CASE("a model failure at the start is a status, a cancelled fit stops and says so") {

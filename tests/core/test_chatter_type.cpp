@@ -11,6 +11,7 @@
 #include "core/stability.h"
 #include "core/sweep.h"
 #include "support/pool_control.h"
+#include "support/approx.h"
 
 using namespace rollgap::core;
 
@@ -47,16 +48,16 @@ TEST_CASE(
     CHECK(third.type == ChatterType::third_octave);
     CHECK(third.band == ChatterType::third_octave);
     CHECK(third.agrees());
-    CHECK(third.shape.gap_opening == doctest::Approx(1.0));
-    CHECK(third.shape.work_roll_motion == doctest::Approx(0.45));
-    CHECK(third.shape.backup_follow == doctest::Approx(1.0 / 0.45));
+    CHECK(third.shape.gap_opening == rollgap::test::approx(1.0));
+    CHECK(third.shape.work_roll_motion == rollgap::test::approx(0.45));
+    CHECK(third.shape.backup_follow == rollgap::test::approx(1.0 / 0.45));
 
     // the work rolls move against each other and against nearly still back-up rolls
     const Vector6c rolls = shape_of({0.0, 0.09, -1.0, 1.0, -0.09, 0.0});
     const ChatterClassification fifth = classify_chatter(rolls, 600.0);
     CHECK(fifth.type == ChatterType::fifth_octave);
     CHECK(fifth.band == ChatterType::fifth_octave);
-    CHECK(fifth.shape.backup_follow == doctest::Approx(-0.09));
+    CHECK(fifth.shape.backup_follow == rollgap::test::approx(-0.09));
 
     // both work rolls together against their back-up rolls: the gap keeps its size
     CHECK(classify_chatter(shape_of({0.06, -0.22, 1.0, 1.0, -0.22, 0.06}), 313.0).type ==
@@ -80,8 +81,8 @@ TEST_CASE(
         const Vector6c turned = base * std::polar(3.5e-6, phase);
         const ChatterClassification c = classify_chatter(turned, 104.0);
         CHECK(c.type == reference.type);
-        CHECK(c.shape.gap_opening == doctest::Approx(reference.shape.gap_opening));
-        CHECK(c.shape.backup_follow == doctest::Approx(reference.shape.backup_follow));
+        CHECK(c.shape.gap_opening == rollgap::test::approx(reference.shape.gap_opening));
+        CHECK(c.shape.backup_follow == rollgap::test::approx(reference.shape.backup_follow));
     }
     // one side only: the lower work roll moving against its still back-up roll
     CHECK(classify_chatter(shape_of({0.0, 0.0, 0.0, -1.0, 0.05, 0.0}), 550.0).type ==
@@ -131,7 +132,7 @@ TEST_CASE(
     const double expected =
         std::sqrt((heavy.k3 + 2.0 * k4) / heavy.mass[2]) / (2.0 * 3.141592653589793);
     const NaturalMode work_rolls = nearest_mode(heavy, k4, expected);
-    CHECK(work_rolls.frequency_Hz == doctest::Approx(expected).epsilon(1e-3));
+    CHECK(work_rolls.frequency_Hz == rollgap::test::approx(expected).epsilon(1e-3));
     CHECK(classify_chatter(real_shape(work_rolls.shape), work_rolls.frequency_Hz).type ==
           ChatterType::fifth_octave);
 
@@ -153,7 +154,7 @@ TEST_CASE(
 TEST_CASE("the default stand's crossing at 104 Hz is third-octave") {
     const CriticalSpeedResult r = critical_speed(Scenario{});
     REQUIRE(r.status == CriticalSpeedStatus::found);
-    CHECK(r.unstable_mode.frequency_Hz == doctest::Approx(104.0).epsilon(0.01));
+    CHECK(r.unstable_mode.frequency_Hz == rollgap::test::approx(104.0).epsilon(0.01));
     CHECK(r.unstable_mode.chatter.type == ChatterType::third_octave);
     CHECK(r.unstable_mode.chatter.band == ChatterType::third_octave);
     // the least-damped mode at the scenario's speed is the same gap mode

@@ -18,6 +18,7 @@
 
 #include "support/compare.h"
 #include "support/dynamics_scenarios.h"
+#include "support/approx.h"
 
 namespace {
 
@@ -351,10 +352,10 @@ TEST_CASE("coupled model: the film models differ only in the squeeze / theta-dot
                                  << ", common part " << common);
 
     const int q3dot = 8, q4dot = 9;
-    CHECK(jp.jacobian(12, q3dot) == doctest::Approx(common + paper_term).epsilon(1e-6));
-    CHECK(je.jacobian(12, q3dot) == doctest::Approx(common - 0.5).epsilon(1e-6));
-    CHECK(jp.jacobian(12, q4dot) == doctest::Approx(-(common + paper_term)).epsilon(1e-6));
-    CHECK(je.jacobian(12, q4dot) == doctest::Approx(-(common - 0.5)).epsilon(1e-6));
+    CHECK(jp.jacobian(12, q3dot) == rollgap::test::approx(common + paper_term).epsilon(1e-6));
+    CHECK(je.jacobian(12, q3dot) == rollgap::test::approx(common - 0.5).epsilon(1e-6));
+    CHECK(jp.jacobian(12, q4dot) == rollgap::test::approx(-(common + paper_term)).epsilon(1e-6));
+    CHECK(je.jacobian(12, q4dot) == rollgap::test::approx(-(common - 0.5)).epsilon(1e-6));
     // the difference alone: the same bites enter both, so only the closed-form terms remain
     CHECK(std::abs((je.jacobian(12, q3dot) - jp.jacobian(12, q3dot)) - (-0.5 - paper_term)) < 1e-9);
 
@@ -373,7 +374,7 @@ TEST_CASE("coupled model: the film models differ only in the squeeze / theta-dot
                         << " N s/m");
     CHECK(dP_dh0 < 0.0);  // a thicker film lowers the asperity friction and the force
     CHECK(squeeze_damping ==
-          doctest::Approx(1.8e6).epsilon(0.05 / 1.8));  // "1.8 MN s/m", to its two digits
+          rollgap::test::approx(1.8e6).epsilon(0.05 / 1.8));  // "1.8 MN s/m", to its two digits
 
     // every other entry of the h0 row, and every other row, is the same for both models
     const double row_scale = jp.jacobian.row(12).cwiseAbs().maxCoeff();
@@ -435,7 +436,7 @@ TEST_CASE(
         REQUIRE(at15 > 0.0);
         const double measured = std::log(at5 / at15) / 10e-6;
         MESSAGE("coulomb: decay rate " << measured << " 1/s");
-        CHECK(measured == doctest::Approx(r).epsilon(2e-4));
+        CHECK(measured == rollgap::test::approx(r).epsilon(2e-4));
     }
 
     SUBCASE("mixed friction: the decay rate is eq. (11)'s plus the feedback of h0 on u1") {
@@ -507,10 +508,10 @@ TEST_CASE(
         MESSAGE("decay rate: measured " << measured << " 1/s, eq. (11) alone " << r
                                         << ", with the u1 feedback " << expected_rate
                                         << " (du1/dh0 = " << du1 << " 1/s)");
-        CHECK(measured == doctest::Approx(expected_rate).epsilon(1e-3));
+        CHECK(measured == rollgap::test::approx(expected_rate).epsilon(1e-3));
         // and the Jacobian's film entry is the same rate
         const Linearisation lin = linearise(model, model.equilibrium());
         REQUIRE(lin.status == DynamicsStatus::ok);
-        CHECK(-lin.jacobian(12, 12) == doctest::Approx(expected_rate).epsilon(1e-4));
+        CHECK(-lin.jacobian(12, 12) == rollgap::test::approx(expected_rate).epsilon(1e-4));
     }
 }

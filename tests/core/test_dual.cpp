@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "core/dual.h"
+#include "support/approx.h"
 
 namespace dual_test {
 
@@ -17,9 +18,9 @@ TEST_CASE("dual numbers: each operation's derivative is its closed form") {
     const double x = 0.7, y = -1.3;
     const D X = D::variable(x, 0), Y = D::variable(y, 1);
     const auto check = [](const D& f, double value, double dx, double dy) {
-        CHECK(f.v == doctest::Approx(value).epsilon(1e-15));
-        CHECK(f.d[0] == doctest::Approx(dx).epsilon(1e-14));
-        CHECK(f.d[1] == doctest::Approx(dy).epsilon(1e-14));
+        CHECK(f.v == rollgap::test::approx(value).epsilon(1e-15));
+        CHECK(f.d[0] == rollgap::test::approx(dx).epsilon(1e-14));
+        CHECK(f.d[1] == rollgap::test::approx(dy).epsilon(1e-14));
     };
     check(X + Y, x + y, 1, 1);
     check(X - Y, x - y, 1, -1);

@@ -11,6 +11,7 @@
 #include "core/inlet_film.h"
 #include "support/compare.h"
 #include "support/quadrature.h"
+#include "support/approx.h"
 
 namespace {
 
@@ -204,11 +205,12 @@ TEST_SUITE("inlet_film") {
 
     TEST_CASE("inlet_pressure_factor: 1 - exp(-gamma (sigma - s_b))") {
         // Large gamma (sigma - s_b): -> 1 (615 at the defaults).
-        CHECK(inlet_pressure_factor(kGamma, kSigma, kSb) == doctest::Approx(1.0).epsilon(1e-15));
+        CHECK(inlet_pressure_factor(kGamma, kSigma, kSb) ==
+              rollgap::test::approx(1.0).epsilon(1e-15));
         CHECK(inlet_pressure_factor(1.7e-8, kSigma, kSb) ==
-              doctest::Approx(ref_factor(1.7e-8, kSigma, kSb)).epsilon(1e-14));  // 6.15
+              rollgap::test::approx(ref_factor(1.7e-8, kSigma, kSb)).epsilon(1e-14));  // 6.15
         CHECK(inlet_pressure_factor(1e-6, 60e6, 10e6) ==
-              doctest::Approx(1.0).epsilon(1e-15));  // 50
+              rollgap::test::approx(1.0).epsilon(1e-15));  // 50
         // Small x = gamma (sigma - s_b): ~ x (1 - x/2). Tolerance from the documented formula's
         // conditioning: 1 - exp(-x) computed as written has an absolute error <= ~2u (exp rounds
         // within 1 ulp near 1, the subtraction is exact), i.e. a relative error 2u / x; -expm1
@@ -399,7 +401,8 @@ TEST_SUITE("inlet_film") {
     TEST_CASE("default-scenario anchor: h00 ~ 3.4 um at u1bar ~ 17.6 m/s (docs/model.md §8)") {
         const double h00 = wilson_walowit_film(kEta0, kGamma, kU1bar, kTheta, kSigma, kSb);
         CAPTURE(h00);
-        CHECK(h00 == doctest::Approx(3.4e-6).epsilon(0.03));  // 3.372e-6 from the quadrature route
+        CHECK(h00 ==
+              rollgap::test::approx(3.4e-6).epsilon(0.03));  // 3.372e-6 from the quadrature route
         CHECK(std::abs(h00 / ref_steady_film(kEta0, kGamma, kU1bar, kTheta, kSigma, kSb) - 1.0) <=
               1e-10);
         // and the film is the mixed regime for Rq = 2 um: H_t = h00 / Rq in [0.5, 3]

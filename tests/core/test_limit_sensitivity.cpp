@@ -12,6 +12,7 @@
 #include "core/limit_sensitivity.h"
 #include "core/speed_limit.h"
 #include "support/pool_control.h"
+#include "support/approx.h"
 
 using namespace rollgap::core;
 
@@ -66,7 +67,7 @@ void compare(const Scenario& s, const PlantLimits& limits, SpeedLimitKind expect
         MESSAGE(c.name << ": implicit " << implicit << ", whole analysis " << differences
                        << " m/s per SI unit; per analysis step " << implicit * c.analysis_step
                        << " m/s");
-        CHECK(implicit == doctest::Approx(differences).epsilon(0.01));
+        CHECK(implicit == rollgap::test::approx(differences).epsilon(0.01));
     }
 }
 

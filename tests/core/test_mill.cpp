@@ -21,6 +21,7 @@
 #include "support/jacobian_columns.h"
 #include "tools/verify_mill/lu2019.h"
 #include "tools/verify_mill/mills.h"
+#include "support/approx.h"
 
 namespace mill_test {
 
@@ -42,7 +43,7 @@ TEST_CASE("mill identity: one stand with its exit held is the single stand") {
     CHECK(st.force == single.force);  // the same bite, bit for bit
     CHECK(st.forward_slip == single.forward_slip);
     CHECK(steady.mass_flow ==
-          doctest::Approx(single.exit_speed * exit_thickness(s)).epsilon(1e-15));
+          rollgap::test::approx(single.exit_speed * exit_thickness(s)).epsilon(1e-15));
 
     // the frozen mill's Jacobian is the single stand's up to the span state's scale (T = s_b y1):
     // the same eigenvalues
@@ -262,7 +263,7 @@ TEST_CASE("mill transport inputs: B and B' are the differences of the rates in y
         const BiteState state = model.bite_state(i, z0.data());
         Eigen::VectorXd dz = Eigen::VectorXd::Zero(n);
         dz(model.displacement_index(i) + 2) = 1e-6;
-        CHECK(lin.output.row(i).dot(dz) == doctest::Approx(1e-6).epsilon(1e-12));
+        CHECK(lin.output.row(i).dot(dz) == rollgap::test::approx(1e-6).epsilon(1e-12));
         CHECK(rel(lin.delay[static_cast<std::size_t>(i)] *
                       steady.stands[static_cast<std::size_t>(i)].exit_speed,
                   m.span_length[static_cast<std::size_t>(i)]) < 1e-7);

@@ -19,6 +19,7 @@
 #include "core/mill/mill_limit_sensitivity.h"
 #include "core/mill/mill_speed_limit.h"
 #include "tools/verify_mill/mills.h"
+#include "support/approx.h"
 
 namespace mill_limit_sensitivity_test {
 
@@ -84,7 +85,7 @@ TEST_CASE(
     CHECK(s.binding.kind == SpeedLimitKind::power);
     CHECK(s.stand == 1);
     CHECK_FALSE(s.crossing.has_value());
-    CHECK(s.binding.speed == doctest::Approx(at).epsilon(1e-8).scale(0.0));
+    CHECK(s.binding.speed == rollgap::test::approx(at).epsilon(1e-8));
     CHECK(s.binding.margin_slope < 0.0);  // the power rises with the speed: its margin falls
     for (std::size_t j = 0; j < named.size(); ++j) {
         CAPTURE(named[j].name);
@@ -103,9 +104,7 @@ TEST_CASE(
                               << " whole window");
         if (difference == 0.0)  // stand 1's rolls do not reach the last stand's power
             CHECK(*s.binding.derivatives[j] == 0.0);
-        else
-            CHECK(*s.binding.derivatives[j] ==
-                  doctest::Approx(difference).epsilon(1e-3).scale(0.0));
+        else CHECK(*s.binding.derivatives[j] == rollgap::test::approx(difference).epsilon(1e-3));
     }
 }
 
@@ -145,7 +144,7 @@ TEST_CASE(
             const double difference = (speed[0] - speed[1]) / (2.0 * h);
             MESSAGE(name << " at " << c.speed << " m/s, " << named[j].name << ": "
                          << *d.derivatives[j] << " implicit, " << difference << " searched again");
-            CHECK(*d.derivatives[j] == doctest::Approx(difference).epsilon(1e-3).scale(0.0));
+            CHECK(*d.derivatives[j] == rollgap::test::approx(difference).epsilon(1e-3));
         }
         ++checked;
     }
@@ -176,7 +175,7 @@ TEST_CASE(
     for (std::size_t j = 0; j < named.size(); ++j) {
         REQUIRE((s.binding.derivatives[j] && d.derivatives[j]));
         CHECK(*s.binding.derivatives[j] ==
-              doctest::Approx(0.9 * *d.derivatives[j]).epsilon(1e-12).scale(0.0));
+              rollgap::test::approx(0.9 * *d.derivatives[j]).epsilon(1e-12));
     }
 }
 

@@ -15,6 +15,7 @@
 #include "core/mill/mill_stability.h"
 #include "core/stand_structure.h"
 #include "tools/verify_mill/mills.h"
+#include "support/approx.h"
 
 namespace mill_margin_factors_test {
 
@@ -47,8 +48,8 @@ TEST_CASE("margin factors: one span's own loop is rho, and it carries the whole 
     REQUIRE(f.size() == 1);
     MESSAGE("rho " << a.margin.margin << " at " << a.margin.frequency_Hz << " Hz; |M_11| "
                    << f[0].tension_loop_gain);
-    CHECK(f[0].tension_loop_gain == doctest::Approx(a.margin.margin).epsilon(1e-9));
-    CHECK(f[0].worst_input_share == doctest::Approx(1.0).epsilon(1e-12));
+    CHECK(f[0].tension_loop_gain == rollgap::test::approx(a.margin.margin).epsilon(1e-9));
+    CHECK(f[0].worst_input_share == rollgap::test::approx(1.0).epsilon(1e-12));
     CHECK(f[0].thickness_gain == -1.0);  // the last span feeds no span
 }
 
@@ -64,9 +65,10 @@ TEST_CASE("margin factors: five stands, shares, the thickness path and the bite'
         const int i = x.span, k = i + 1;  // the receiving stand
         CAPTURE(i);
         shares += x.worst_input_share;
-        CHECK(x.tension_loop_gain == doctest::Approx(std::abs(direct(i, i))).epsilon(1e-9));
+        CHECK(x.tension_loop_gain == rollgap::test::approx(std::abs(direct(i, i))).epsilon(1e-9));
         if (i + 1 < 4)
-            CHECK(x.thickness_gain == doctest::Approx(std::abs(direct(i + 1, i))).epsilon(1e-9));
+            CHECK(x.thickness_gain ==
+                  rollgap::test::approx(std::abs(direct(i + 1, i))).epsilon(1e-9));
         // a thicker strip entering: more force, a slower entry. With the exit held the bite's
         // continuity u1 y1 = u2 y2 gives du1/dy1 = -u1/y1 + (y2/y1) du2/dy1, and u2 moves only
         // by the forward slip: du1/dy1 lies within 30 % of -u1/y1
@@ -82,7 +84,7 @@ TEST_CASE("margin factors: five stands, shares, the thickness path and the bite'
         CHECK(std::abs(x.entry_speed_per_entry_thickness * y1 / s.entry_speed + 1.0) < 0.3);
         CHECK(x.compliance > 0.0);
     }
-    CHECK(shares == doctest::Approx(1.0).epsilon(1e-12));
+    CHECK(shares == rollgap::test::approx(1.0).epsilon(1e-12));
 
     // the compliance as omega -> 0 against the static one from the natural modes of (M, K_s):
     // g^T K_s^-1 g = sum_k (g^T phi_k)^2 / omega_k^2, phi mass-normalised
@@ -101,7 +103,7 @@ TEST_CASE("margin factors: five stands, shares, the thickness path and the bite'
     }
     MESSAGE("static compliance " << static_factors[0].compliance * 1e9 << " um/kN, from the modes "
                                  << compliance * 1e9 << " um/kN");
-    CHECK(static_factors[0].compliance == doctest::Approx(compliance).epsilon(1e-9));
+    CHECK(static_factors[0].compliance == rollgap::test::approx(compliance).epsilon(1e-9));
 }
 
 }  // namespace mill_margin_factors_test

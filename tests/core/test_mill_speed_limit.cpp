@@ -14,6 +14,7 @@
 #include "core/mill/mill_speed_limit.h"
 #include "core/speed_limit.h"
 #include "tools/verify_mill/mills.h"
+#include "support/approx.h"
 
 namespace mill_speed_limit_test {
 
@@ -54,8 +55,8 @@ TEST_CASE("mill speed limit: a stand's limit set to its figure at a mill speed b
     const MillSpeedLimitResult r = mill_speed_limit(m, limits, range());
     REQUIRE(r.window.status == SpeedLimitStatus::ok);
     CHECK_FALSE(r.critical.has_value());
-    CHECK(r.window.window_min == doctest::Approx(force_speed).epsilon(1e-8));
-    CHECK(r.window.window_max == doctest::Approx(power_speed).epsilon(1e-8));
+    CHECK(r.window.window_min == rollgap::test::approx(force_speed).epsilon(1e-8));
+    CHECK(r.window.window_max == rollgap::test::approx(power_speed).epsilon(1e-8));
     REQUIRE((r.window.binding_min && r.window.binding_max));
     CHECK(*r.window.binding_min == SpeedLimitKind::force);
     CHECK(r.window.binding_min_stand == 1);
@@ -71,8 +72,8 @@ TEST_CASE("mill speed limit: a stand's limit set to its figure at a mill speed b
     // the operating speed's figures are the mill's own at its speed
     const std::vector<SteadyFigures> operating = mill_steady_figures(m, m.speed);
     const LimitAnswer* force = answer_of(r.window, SpeedLimitKind::force, 1);
-    CHECK(force->at_operating == doctest::Approx(operating[1].force).epsilon(1e-12));
-    CHECK(force->utilisation == doctest::Approx(operating[1].force / at_force[1].force));
+    CHECK(force->at_operating == rollgap::test::approx(operating[1].force).epsilon(1e-12));
+    CHECK(force->utilisation == rollgap::test::approx(operating[1].force / at_force[1].force));
     CHECK(r.window.operating_permitted == (m.speed >= force_speed && m.speed <= power_speed));
 }
 
@@ -94,8 +95,8 @@ TEST_CASE("mill speed limit: a mill of one stand has the single stand's window")
     const MillSpeedLimitResult mill = mill_speed_limit(m, limits, range());
     REQUIRE(single.status == SpeedLimitStatus::ok);
     REQUIRE(mill.window.status == SpeedLimitStatus::ok);
-    CHECK(mill.window.window_min == doctest::Approx(single.window_min).epsilon(1e-8));
-    CHECK(mill.window.window_max == doctest::Approx(single.window_max).epsilon(1e-8));
+    CHECK(mill.window.window_min == rollgap::test::approx(single.window_min).epsilon(1e-8));
+    CHECK(mill.window.window_max == rollgap::test::approx(single.window_max).epsilon(1e-8));
     CHECK(mill.window.binding_min == single.binding_min);
     CHECK(mill.window.binding_max == single.binding_max);
     REQUIRE(mill.window.limits.size() == single.limits.size());
@@ -103,7 +104,7 @@ TEST_CASE("mill speed limit: a mill of one stand has the single stand's window")
         CAPTURE(k);
         CHECK(mill.window.limits[k].kind == single.limits[k].kind);
         CHECK(mill.window.limits[k].at_operating ==
-              doctest::Approx(single.limits[k].at_operating).epsilon(1e-9));
+              rollgap::test::approx(single.limits[k].at_operating).epsilon(1e-9));
     }
 }
 
@@ -127,14 +128,14 @@ TEST_CASE("mill speed limit: chatter is the headline critical speed less the mar
         const MillCrossing& head = *crossings[c.headline];
         MESSAGE("two-stand mill: headline " << head.speed << " m/s, moving stand "
                                             << head.moving_stand + 1);
-        CHECK(chatter->limit == doctest::Approx(0.9 * head.speed).epsilon(1e-12));
+        CHECK(chatter->limit == rollgap::test::approx(0.9 * head.speed).epsilon(1e-12));
         CHECK(chatter->stand == head.moving_stand);
-        CHECK(r.window.window_max == doctest::Approx(std::min(0.9 * head.speed, 30.0)));
+        CHECK(r.window.window_max == rollgap::test::approx(std::min(0.9 * head.speed, 30.0)));
         if (0.9 * head.speed < 30.0) {
             CHECK(r.window.binding_max == SpeedLimitKind::chatter);
             CHECK(r.window.binding_max_stand == head.moving_stand);
         }
-        CHECK(chatter->utilisation == doctest::Approx(m.speed / (0.9 * head.speed)));
+        CHECK(chatter->utilisation == rollgap::test::approx(m.speed / (0.9 * head.speed)));
     } else {
         MESSAGE("two-stand mill: no crossing inside the model's range in 5-30 m/s");
         CHECK(chatter->limit == 30.0);

@@ -19,6 +19,7 @@
 #include "core/mill/mill_speed_limit.h"
 #include "core/propagation.h"
 #include "tools/verify_mill/mills.h"
+#include "support/approx.h"
 
 namespace mill_speed_uncertainty_test {
 
@@ -93,20 +94,20 @@ TEST_CASE("mill speed uncertainty: the headline's sigma is the whole search's, d
     MESSAGE("headline " << head.speed << " m/s: sigma " << u.standard_deviation << " m/s implicit, "
                         << 10.0 * differenced.standard_deviation << " differenced");
     CHECK(u.standard_deviation ==
-          doctest::Approx(10.0 * differenced.standard_deviation).epsilon(1e-3).scale(0.0));
+          rollgap::test::approx(10.0 * differenced.standard_deviation).epsilon(1e-3));
     for (Eigen::Index j = 0; j < 3; ++j) {
         MESSAGE("dV_c/dx_" << j << ": " << u.gradient(j) << " implicit, " << differenced.gradient(j)
                            << " differenced");
-        CHECK(u.gradient(j) == doctest::Approx(differenced.gradient(j)).epsilon(1e-3).scale(0.0));
+        CHECK(u.gradient(j) == rollgap::test::approx(differenced.gradient(j)).epsilon(1e-3));
     }
     // the chatter limit at the one-sided bound, less the margin
     const double z = normal_quantile(0.95);
     CHECK(u.lower_bound ==
-          doctest::Approx(head.speed - z * u.standard_deviation).epsilon(1e-12).scale(0.0));
+          rollgap::test::approx(head.speed - z * u.standard_deviation).epsilon(1e-12));
     const LimitAnswer& chatter = r.window.limits.back();
     REQUIRE(chatter.kind == SpeedLimitKind::chatter);
-    CHECK(chatter.limit == doctest::Approx(0.95 * u.lower_bound).epsilon(1e-12).scale(0.0));
-    CHECK(r.window.window_max == doctest::Approx(0.95 * u.lower_bound).epsilon(1e-12).scale(0.0));
+    CHECK(chatter.limit == rollgap::test::approx(0.95 * u.lower_bound).epsilon(1e-12));
+    CHECK(r.window.window_max == rollgap::test::approx(0.95 * u.lower_bound).epsilon(1e-12));
     CHECK(r.window.binding_max == SpeedLimitKind::chatter);
 }
 
@@ -152,16 +153,14 @@ TEST_CASE(
                          << " found again; force end " << *force->lower_speed << ": "
                          << *force->lower_speed_sd << ", " << 10.0 * bottom.standard_deviation);
     CHECK(*power->upper_speed_sd ==
-          doctest::Approx(10.0 * top.standard_deviation).epsilon(1e-3).scale(0.0));
+          rollgap::test::approx(10.0 * top.standard_deviation).epsilon(1e-3));
     CHECK(*force->lower_speed_sd ==
-          doctest::Approx(10.0 * bottom.standard_deviation).epsilon(1e-3).scale(0.0));
+          rollgap::test::approx(10.0 * bottom.standard_deviation).epsilon(1e-3));
     const double z = normal_quantile(0.95);
-    CHECK(r.window.window_max == doctest::Approx(*power->upper_speed - z * *power->upper_speed_sd)
-                                     .epsilon(1e-12)
-                                     .scale(0.0));
-    CHECK(r.window.window_min == doctest::Approx(*force->lower_speed + z * *force->lower_speed_sd)
-                                     .epsilon(1e-12)
-                                     .scale(0.0));
+    CHECK(r.window.window_max ==
+          rollgap::test::approx(*power->upper_speed - z * *power->upper_speed_sd).epsilon(1e-12));
+    CHECK(r.window.window_min ==
+          rollgap::test::approx(*force->lower_speed + z * *force->lower_speed_sd).epsilon(1e-12));
     CHECK(r.window.advised_speed == r.window.window_max);
 }
 

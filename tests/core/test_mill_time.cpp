@@ -25,6 +25,7 @@
 #include "core/stability.h"
 #include "tools/verify_mill/envelope.h"
 #include "tools/verify_mill/mills.h"
+#include "support/approx.h"
 
 namespace mill_time_test {
 
@@ -67,8 +68,8 @@ KickFit check_identity_8(const KickCase& c, double separation, int min_peaks) {
                          << " peaks (error " << 100.0 * (e.growth_rate / fit.root.real() - 1.0)
                          << " %), frequency " << e.frequency << " Hz");
         CHECK(e.peaks >= min_peaks);
-        CHECK(e.growth_rate == doctest::Approx(fit.root.real()).epsilon(0.02));
-        CHECK(e.frequency == doctest::Approx(fit.frequency).epsilon(0.005));
+        CHECK(e.growth_rate == rollgap::test::approx(fit.root.real()).epsilon(0.02));
+        CHECK(e.frequency == rollgap::test::approx(fit.frequency).epsilon(0.005));
         CHECK(fit.largest[k] < 1e-3 * c.mill.thickness[k + 1]);
     }
     return fit;
@@ -156,8 +157,8 @@ TEST_CASE("mill time domain: before the transport arrives the mill is the frozen
                                    << e.frequency << " Hz against " << frequency << "; "
                                    << run.steps << " steps");
     CHECK(e.peaks > 20);
-    CHECK(e.growth_rate == doctest::Approx(lambda.real()).epsilon(0.02));
-    CHECK(e.frequency == doctest::Approx(frequency).epsilon(0.005));
+    CHECK(e.growth_rate == rollgap::test::approx(lambda.real()).epsilon(0.02));
+    CHECK(e.frequency == rollgap::test::approx(frequency).epsilon(0.005));
 }
 
 TEST_CASE(
@@ -174,10 +175,10 @@ TEST_CASE(
     const BiteState before = model.bite_state(1, z0.data());
     const BiteState after = model.bite_state(1, z0.data(), dy);
     const double y1 = before.entry_thickness;
-    CHECK(after.entry_thickness - y1 == doctest::Approx(dy).epsilon(1e-9));
+    CHECK(after.entry_thickness - y1 == rollgap::test::approx(dy).epsilon(1e-9));
     // -sigma dy / y to first order; the exact T/(y + dy) - T/y differs by dy/y = 7e-5 of it
     CHECK(after.back_tension - before.back_tension ==
-          doctest::Approx(-before.back_tension * dy / y1).epsilon(2.0 * dy / y1));
+          rollgap::test::approx(-before.back_tension * dy / y1).epsilon(2.0 * dy / y1));
 
     // in time: stand 1's gap opened by dy at t = 0 reaches stand 2 when S(t) - S(0) = L, a step
     // in y1 there; sampled every 10 ns across the arrival
@@ -207,12 +208,12 @@ TEST_CASE(
     CHECK(b.t - b.transport_time[0] >= 0.0);
     // the step is the kick: y2 of stand 1 just after t = 0 (at rest: it moves as t^2)
     const double step = b.stands[1].entry_thickness - a.stands[1].entry_thickness;
-    CHECK(step == doctest::Approx(dy).epsilon(1e-3));
+    CHECK(step == rollgap::test::approx(dy).epsilon(1e-3));
     // sigma_b,2 = T / y1 jumps by -sigma dy / y; T is a state, continuous: over the 10 ns it
     // moves by its rate alone (~1 % of the jump per microsecond, here 1e-4)
     const double jump = b.stands[1].back_tension - a.stands[1].back_tension;
     const double expected = -a.stands[1].back_tension * step / b.stands[1].entry_thickness;
-    CHECK(jump == doctest::Approx(expected).epsilon(1e-3));
+    CHECK(jump == rollgap::test::approx(expected).epsilon(1e-3));
     CHECK(std::abs(b.span_force[1] - a.span_force[1]) <
           1e-3 * std::abs(expected) * b.stands[1].entry_thickness);
     // and stand 1's front stress, T / y2 of stand 1, does not see the step

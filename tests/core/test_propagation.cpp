@@ -17,6 +17,7 @@
 #include "core/stability.h"
 #include "support/critical_speed_figure.h"
 #include "support/pool_control.h"
+#include "support/approx.h"
 
 namespace propagation_test {
 
@@ -29,10 +30,10 @@ TEST_CASE("normal quantile: Phi(z(p)) = p, published values, symmetry") {
         const double phi = 0.5 * std::erfc(-z / std::numbers::sqrt2);
         CHECK(std::abs(phi - p) <= 1e-14 * std::max(p, 1e-300) + 1e-16);
         // symmetry where 1 - p is exact enough (1 - 1e-12 rounds by ~1e-4 of p)
-        if (p >= 1e-6) CHECK(normal_quantile(1.0 - p) == doctest::Approx(-z).epsilon(1e-9));
+        if (p >= 1e-6) CHECK(normal_quantile(1.0 - p) == rollgap::test::approx(-z).epsilon(1e-9));
     }
-    CHECK(normal_quantile(0.95) == doctest::Approx(1.6448536269514722).epsilon(1e-15));
-    CHECK(normal_quantile(0.975) == doctest::Approx(1.959963984540054).epsilon(1e-15));
+    CHECK(normal_quantile(0.95) == rollgap::test::approx(1.6448536269514722).epsilon(1e-15));
+    CHECK(normal_quantile(0.975) == rollgap::test::approx(1.959963984540054).epsilon(1e-15));
     CHECK(normal_quantile(0.5) == 0.0);
     CHECK(std::isnan(normal_quantile(0.0)));
     CHECK(std::isnan(normal_quantile(1.0)));
@@ -49,11 +50,11 @@ TEST_CASE("propagation: linear is exact on a linear figure, sampling agrees with
     const double exact = std::sqrt(a.dot(covariance * a));
     const Propagated linear = propagate_linear(f, mean, covariance);
     REQUIRE(linear.ok);
-    CHECK(linear.value == doctest::Approx(3.0 + a.dot(mean)).epsilon(1e-15));
-    CHECK(linear.standard_deviation == doctest::Approx(exact).epsilon(1e-12));
+    CHECK(linear.value == rollgap::test::approx(3.0 + a.dot(mean)).epsilon(1e-15));
+    CHECK(linear.standard_deviation == rollgap::test::approx(exact).epsilon(1e-12));
     CHECK((linear.gradient - Eigen::VectorXd(a)).norm() <= 1e-12);
     CHECK(lower_bound(linear, 0.95) ==
-          doctest::Approx(linear.value - 1.6448536269514722 * exact).epsilon(1e-14));
+          rollgap::test::approx(linear.value - 1.6448536269514722 * exact).epsilon(1e-14));
 
     const int n = 20000;
     const rollgap::test::PoolControl pool(2);

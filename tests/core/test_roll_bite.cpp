@@ -9,6 +9,7 @@
 
 #include "core/inlet_film.h"
 #include "core/roll_bite.h"
+#include "support/approx.h"
 
 using namespace rollgap::core;
 
@@ -50,15 +51,16 @@ TEST_CASE("the default bite is solved and both ends carry the tension boundary p
 
     const double y1 = s.strip.entry_thickness, y2 = exit_thickness(s);
     CHECK(r.contact_length ==
-          doctest::Approx(std::sqrt(s.rolls.radius * (y1 - y2))).epsilon(1e-15));
-    CHECK(r.inlet_angle == doctest::Approx(std::sqrt((y1 - y2) / s.rolls.radius)).epsilon(1e-15));
+          rollgap::test::approx(std::sqrt(s.rolls.radius * (y1 - y2))).epsilon(1e-15));
+    CHECK(r.inlet_angle ==
+          rollgap::test::approx(std::sqrt((y1 - y2) / s.rolls.radius)).epsilon(1e-15));
     CHECK(r.neutral_point > 0.0);
     CHECK(r.neutral_point < r.contact_length);
 
     // eq. (7): p = sigma - s at both ends
     CHECK(r.distribution.front().x == 0.0);
     CHECK(r.distribution.front().pressure == s.strip.flow_stress - s.tensions.front.stress);
-    CHECK(r.distribution.back().x == doctest::Approx(r.contact_length).epsilon(1e-15));
+    CHECK(r.distribution.back().x == rollgap::test::approx(r.contact_length).epsilon(1e-15));
     CHECK(r.distribution.back().pressure == s.strip.flow_stress - s.tensions.back.stress);
 }
 
@@ -73,14 +75,15 @@ TEST_CASE("mass is conserved along the bite, with and without a moving gap (Yun,
         const double y1 = s.strip.entry_thickness;
         for (const BitePoint& p : r.distribution) {
             const double inflow = r.entry_speed * y1 - (r.contact_length - p.x) * gap_rate;
-            CHECK(p.strip_speed * p.thickness == doctest::Approx(inflow).epsilon(1e-13));
-            CHECK(
-                p.thickness ==
-                doctest::Approx(state.exit_thickness + p.x * p.x / s.rolls.radius).epsilon(1e-14));
+            CHECK(p.strip_speed * p.thickness == rollgap::test::approx(inflow).epsilon(1e-13));
+            CHECK(p.thickness ==
+                  rollgap::test::approx(state.exit_thickness + p.x * p.x / s.rolls.radius)
+                      .epsilon(1e-14));
         }
-        CHECK(r.exit_speed == doctest::Approx(r.distribution.front().strip_speed).epsilon(1e-14));
+        CHECK(r.exit_speed ==
+              rollgap::test::approx(r.distribution.front().strip_speed).epsilon(1e-14));
         CHECK(r.forward_slip ==
-              doctest::Approx((r.exit_speed - s.rolls.speed) / s.rolls.speed).epsilon(1e-12));
+              rollgap::test::approx((r.exit_speed - s.rolls.speed) / s.rolls.speed).epsilon(1e-12));
     }
 }
 
@@ -91,9 +94,9 @@ TEST_CASE("at the neutral point the strip moves with the rolls and the pressure 
     const Sides sides = split_at_neutral_point(r);
     const BitePoint& from_exit = sides.exit.back();
     const BitePoint& from_entry = sides.entry.front();
-    CHECK(from_exit.x == doctest::Approx(r.neutral_point).epsilon(1e-15));
-    CHECK(from_entry.x == doctest::Approx(r.neutral_point).epsilon(1e-15));
-    CHECK(from_exit.strip_speed == doctest::Approx(s.rolls.speed).epsilon(1e-13));
+    CHECK(from_exit.x == rollgap::test::approx(r.neutral_point).epsilon(1e-15));
+    CHECK(from_entry.x == rollgap::test::approx(r.neutral_point).epsilon(1e-15));
+    CHECK(from_exit.strip_speed == rollgap::test::approx(s.rolls.speed).epsilon(1e-13));
     CHECK(relative(from_exit.pressure, from_entry.pressure) < 1e-9);
     // the friction reverses there: it pulls the strip in on the entry side (tau < 0) and holds
     // it back on the exit side (tau > 0)
@@ -134,11 +137,11 @@ TEST_CASE("the friction is the mixed law of eqs. (16)-(18) with the limiting-she
         const double magnitude =
             p.contact_ratio * tau_a +
             (1.0 - p.contact_ratio) * s.lubricant.limiting_shear_coefficient * p.pressure;
-        CHECK(std::abs(p.friction) == doctest::Approx(magnitude).epsilon(1e-13));
-        CHECK(p.film_ratio == doctest::Approx(p.film / rq).epsilon(1e-14));
+        CHECK(std::abs(p.friction) == rollgap::test::approx(magnitude).epsilon(1e-13));
+        CHECK(p.film_ratio == rollgap::test::approx(p.film / rq).epsilon(1e-14));
         // eq. (15): h (v + u) = h0 (v + u1)
         CHECK(p.film * (s.rolls.speed + p.strip_speed) ==
-              doctest::Approx(r.inlet_film * (s.rolls.speed + r.entry_speed)).epsilon(1e-13));
+              rollgap::test::approx(r.inlet_film * (s.rolls.speed + r.entry_speed)).epsilon(1e-13));
         const Regime expected = p.film_ratio < 0.5    ? Regime::boundary
                                 : p.film_ratio <= 3.0 ? Regime::mixed
                                                       : Regime::full_film;
@@ -157,7 +160,7 @@ TEST_CASE("without the cap the bite fluid is Newtonian at eta0 (docs/model.md §
         const double fluid = s.lubricant.viscosity * (p.strip_speed - s.rolls.speed) / p.film;
         const double sign = p.friction > 0 ? 1.0 : -1.0;
         CHECK(p.friction ==
-              doctest::Approx(sign * p.contact_ratio * tau_a + (1 - p.contact_ratio) * fluid)
+              rollgap::test::approx(sign * p.contact_ratio * tau_a + (1 - p.contact_ratio) * fluid)
                   .epsilon(1e-9));
     }
 }
@@ -179,7 +182,7 @@ TEST_CASE("the steady inlet film is the stationary point of the unsteady film eq
         CHECK(std::abs(inlet_film_rate(model, in)) < 1e-12 * r.inlet_angle * in.mean_inlet_speed);
     }
     // docs/model.md §8: about 3.4 um at the defaults
-    CHECK(r.inlet_film == doctest::Approx(3.4e-6).epsilon(0.02));
+    CHECK(r.inlet_film == rollgap::test::approx(3.4e-6).epsilon(0.02));
 }
 
 TEST_CASE("force, torque and mean friction are the integrals of the distributions") {
@@ -194,14 +197,14 @@ TEST_CASE("force, torque and mean friction are the integrals of the distribution
     const double integral_p = simpson(sides.exit, p) + simpson(sides.entry, p);
     const double integral_tau = simpson(sides.exit, tau) + simpson(sides.entry, tau);
     const double integral_abs_tau = simpson(sides.exit, abs_tau) + simpson(sides.entry, abs_tau);
-    CHECK(r.force == doctest::Approx(s.strip.width * integral_p).epsilon(1e-8));
+    CHECK(r.force == rollgap::test::approx(s.strip.width * integral_p).epsilon(1e-8));
     CHECK(r.torque ==
-          doctest::Approx(-s.strip.width * s.rolls.radius * integral_tau).epsilon(1e-6));
+          rollgap::test::approx(-s.strip.width * s.rolls.radius * integral_tau).epsilon(1e-6));
     CHECK(r.mean_friction_coefficient ==
-          doctest::Approx(integral_abs_tau / integral_p).epsilon(1e-7));
+          rollgap::test::approx(integral_abs_tau / integral_p).epsilon(1e-7));
     CHECK(r.torque > 0.0);  // the rolls drive the strip
     // docs/model.md §4: about 6.5 MN at 19 m/s
-    CHECK(r.force == doctest::Approx(6.5e6).epsilon(0.02));
+    CHECK(r.force == rollgap::test::approx(6.5e6).epsilon(0.02));
 }
 
 TEST_CASE("the force converges under refinement to 1e-6") {
@@ -303,11 +306,11 @@ TEST_CASE(
         (entry_p(mid) - exit_p(mid) > 0 ? lo : hi) = mid;
     }
     const double xn = 0.5 * (lo + hi);
-    CHECK(r.neutral_point == doctest::Approx(xn).epsilon(1e-5));
+    CHECK(r.neutral_point == rollgap::test::approx(xn).epsilon(1e-5));
     for (const BitePoint& p : r.distribution) {
         const double exact = p.x <= xn ? exit_p(p.x) : entry_p(p.x);
         if (std::abs(p.x - xn) > 1e-3 * xw)
-            CHECK(p.pressure == doctest::Approx(exact).epsilon(1e-5));
+            CHECK(p.pressure == rollgap::test::approx(exact).epsilon(1e-5));
     }
 }
 

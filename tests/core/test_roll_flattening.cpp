@@ -12,6 +12,7 @@
 #include "core/roll_bite.h"
 #include "core/roll_flattening.h"
 #include "core/stability.h"
+#include "support/approx.h"
 
 using namespace rollgap::core;
 
@@ -60,9 +61,10 @@ double secant_radius(const Scenario& s) {
 TEST_CASE("Hitchcock's constant for steel rolls") {
     // 16 (1 - 0.09) / (pi 210e9) = 2.2069e-11 1/Pa
     CHECK(hitchcock_constant(210e9, 0.3) ==
-          doctest::Approx(14.56 / (std::numbers::pi * 210e9)).epsilon(1e-14));
-    CHECK(hitchcock_constant(210e9, 0.3) == doctest::Approx(2.2069e-11).epsilon(1e-4));
-    CHECK(hitchcock_constant(420e9, 0.0) == doctest::Approx(16.0 / (std::numbers::pi * 420e9)));
+          rollgap::test::approx(14.56 / (std::numbers::pi * 210e9)).epsilon(1e-14));
+    CHECK(hitchcock_constant(210e9, 0.3) == rollgap::test::approx(2.2069e-11).epsilon(1e-4));
+    CHECK(hitchcock_constant(420e9, 0.0) ==
+          rollgap::test::approx(16.0 / (std::numbers::pi * 420e9)));
 }
 
 TEST_CASE(
@@ -73,7 +75,7 @@ TEST_CASE(
         BiteState state = steady_bite_state(s);
         REQUIRE(state.roll_radius > s.rolls.radius);
         const double secant = secant_radius(s);
-        CHECK(state.roll_radius == doctest::Approx(secant).epsilon(1e-9));
+        CHECK(state.roll_radius == rollgap::test::approx(secant).epsilon(1e-9));
 
         // R' = R (1 + c F / (w dh)) at the force the bite gives on R'
         const BiteResult bite = solve_roll_bite(s, state, {false});
@@ -82,13 +84,13 @@ TEST_CASE(
         const double dh = s.strip.entry_thickness - exit_thickness(s);
         const double c = hitchcock_constant(s.rolls.youngs_modulus, s.rolls.poisson_ratio);
         CHECK(state.roll_radius ==
-              doctest::Approx(s.rolls.radius * (1.0 + c * bite.force / (s.strip.width * dh)))
+              rollgap::test::approx(s.rolls.radius * (1.0 + c * bite.force / (s.strip.width * dh)))
                   .epsilon(1e-10));
         // the longer arc carries more force than the rigid roll's
         const Scenario plain = rigid(s);
         const BiteResult rigid_bite = solve_roll_bite(plain, steady_bite_state(plain), {false});
         CHECK(bite.force > rigid_bite.force);
-        CHECK(bite.contact_length == doctest::Approx(std::sqrt(state.roll_radius * dh)));
+        CHECK(bite.contact_length == rollgap::test::approx(std::sqrt(state.roll_radius * dh)));
     }
 }
 
@@ -100,9 +102,9 @@ TEST_CASE(
     REQUIRE(r.status == BiteStatus::ok);
     CHECK(r.converged);
     CHECK(r.iterations > 2);
-    CHECK(r.radius ==
-          doctest::Approx(hitchcock_radius(s, r.force, s.strip.entry_thickness - exit_thickness(s)))
-              .epsilon(1e-11));
+    CHECK(r.radius == rollgap::test::approx(
+                          hitchcock_radius(s, r.force, s.strip.entry_thickness - exit_thickness(s)))
+                          .epsilon(1e-11));
     // stiffer rolls flatten less, and infinitely stiff ones not at all
     Scenario stiff = s;
     stiff.rolls.youngs_modulus = 1000e9;

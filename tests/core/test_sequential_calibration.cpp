@@ -17,6 +17,7 @@
 #include "core/speed_limit.h"
 #include "core/scenario.h"
 #include "support/pool_control.h"
+#include "support/approx.h"
 
 namespace sequential_calibration_test {
 
@@ -130,7 +131,8 @@ TEST_CASE(
     for (int k = 0; k < 2; ++k) {
         CAPTURE(k);
         CHECK(std::abs(sequential.values(k) - j.values(k)) < 0.02 * j.standard_errors(k));
-        CHECK(sequential.standard_errors(k) == doctest::Approx(j.standard_errors(k)).epsilon(0.01));
+        CHECK(sequential.standard_errors(k) ==
+              rollgap::test::approx(j.standard_errors(k)).epsilon(0.01));
     }
     CHECK(std::abs(sequential.correlation(0, 1) - j.correlation(0, 1)) < 0.005);
 
@@ -156,5 +158,6 @@ TEST_CASE(
     const ScenarioCalibrationResult r = fit({all.front()}, mu, JointPrior{{0, 1}, mu, sigma}, pool);
     REQUIRE(r.fit.status == CalibrationStatus::converged);
     const Eigen::Vector2d d = r.fit.values - mu;
-    CHECK(r.fit.chi_squared_priors == doctest::Approx(d.dot(sigma.inverse() * d)).epsilon(1e-9));
+    CHECK(r.fit.chi_squared_priors ==
+          rollgap::test::approx(d.dot(sigma.inverse() * d)).epsilon(1e-9));
 }

@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "core/roll_bite.h"
+#include "support/approx.h"
 
 using namespace rollgap::core;
 
@@ -32,8 +33,8 @@ TEST_CASE("textbook anchor: 6.0 -> 4.8 mm, D = 400 mm, 2k = 750 MPa, mu = 0.1, w
     const Scenario s = textbook_strip(0.1, 0.2);
     const BiteResult r = solve_roll_bite(s, steady_bite_state(s));
     REQUIRE(r.status == BiteStatus::ok);
-    CHECK(r.force == doctest::Approx(1912.6e3).epsilon(1e-3));  // this slab equation
-    CHECK(r.force == doctest::Approx(1908e3).epsilon(5e-3));    // the textbook's answer
+    CHECK(r.force == rollgap::test::approx(1912.6e3).epsilon(1e-3));  // this slab equation
+    CHECK(r.force == rollgap::test::approx(1908e3).epsilon(5e-3));    // the textbook's answer
 }
 
 TEST_CASE("Hill's formula agrees within a few per cent over friction and reduction") {
@@ -49,7 +50,7 @@ TEST_CASE("Hill's formula agrees within a few per cent over friction and reducti
                 s.strip.width * s.strip.flow_stress * std::sqrt(a * (y1 - y2)) *
                 (1.08 + 1.79 * mu * reduction * std::sqrt(1 - reduction) * std::sqrt(a / y2) -
                  1.02 * reduction);
-            CHECK(r.force == doctest::Approx(hill).epsilon(0.03));
+            CHECK(r.force == rollgap::test::approx(hill).epsilon(0.03));
         }
     }
 }
@@ -60,13 +61,13 @@ TEST_CASE("the Coulomb friction hill: tau = mu p, pressure peaks at the neutral 
     REQUIRE(r.status == BiteStatus::ok);
     double peak = 0.0, peak_x = 0.0;
     for (const BitePoint& p : r.distribution) {
-        CHECK(std::abs(p.friction) == doctest::Approx(0.1 * p.pressure).epsilon(1e-14));
+        CHECK(std::abs(p.friction) == rollgap::test::approx(0.1 * p.pressure).epsilon(1e-14));
         if (p.pressure > peak) {
             peak = p.pressure;
             peak_x = p.x;
         }
     }
-    CHECK(peak_x == doctest::Approx(r.neutral_point).epsilon(1e-12));
+    CHECK(peak_x == rollgap::test::approx(r.neutral_point).epsilon(1e-12));
     // more friction, a higher friction hill
     const Scenario more = textbook_strip(0.15, 0.2);
     CHECK(solve_roll_bite(more, steady_bite_state(more)).force > r.force);

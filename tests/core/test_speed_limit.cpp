@@ -13,6 +13,7 @@
 #include "core/speed_limit.h"
 #include "core/stability.h"
 #include "support/pool_control.h"
+#include "support/approx.h"
 
 namespace speed_limit_test {
 
@@ -105,7 +106,7 @@ TEST_CASE("speed limit: a plant limit set to the stand's figure at a speed binds
         const SteadyFigures operating = steady_figures(s, s.rolls.speed);
         const double expected =
             is_minimum ? value / figure(operating, kind) : figure(operating, kind) / value;
-        CHECK(a->utilisation == doctest::Approx(expected).epsilon(1e-12));
+        CHECK(a->utilisation == rollgap::test::approx(expected).epsilon(1e-12));
         CHECK(a->met_at_operating == (expected <= 1.0));
         CHECK(r.operating_permitted == a->met_at_operating);
     }
@@ -129,12 +130,12 @@ TEST_CASE("speed limit: the chatter limit is the critical speed less the margin"
     const LimitAnswer* a = answer_of(r, SpeedLimitKind::chatter);
     REQUIRE(a != nullptr);
     CHECK(a->limit == limit);
-    CHECK(a->utilisation == doctest::Approx(s.rolls.speed / limit).epsilon(1e-15));
+    CHECK(a->utilisation == rollgap::test::approx(s.rolls.speed / limit).epsilon(1e-15));
     // with the critical speed's uncertainty: the one-sided 95 % bound, less the margin
     limits.chatter_sigma = 0.36;
     const SpeedLimitResult sure = speed_limit(s, limits, {}, pool.control);
     const double bound = (critical.critical_speed - 1.6448536269514722 * 0.36) * 0.9;
-    CHECK(sure.window_max == doctest::Approx(bound).epsilon(1e-14));
+    CHECK(sure.window_max == rollgap::test::approx(bound).epsilon(1e-14));
     CHECK(sure.binding_max == SpeedLimitKind::chatter);
     limits.confidence = 0.5;  // the median: the critical speed itself
     CHECK(speed_limit(s, limits, {}, pool.control).window_max == limit);
@@ -158,8 +159,8 @@ TEST_CASE("speed limit: the window is the intersection, and empty when the limit
     limits.max_power = high.power;
     const SpeedLimitResult r = speed_limit(s, limits, {}, pool.control);
     REQUIRE(r.status == SpeedLimitStatus::ok);
-    CHECK(r.window_min == doctest::Approx(8.0).epsilon(1e-8));
-    CHECK(r.window_max == doctest::Approx(16.0).epsilon(1e-8));
+    CHECK(r.window_min == rollgap::test::approx(8.0).epsilon(1e-8));
+    CHECK(r.window_max == rollgap::test::approx(16.0).epsilon(1e-8));
     CHECK(r.binding_min == SpeedLimitKind::force);
     CHECK(r.binding_max == SpeedLimitKind::power);
     CHECK_FALSE(r.operating_permitted);  // 19 m/s is above the power limit
@@ -174,8 +175,8 @@ TEST_CASE("speed limit: the window is the intersection, and empty when the limit
     REQUIRE(power != nullptr);
     REQUIRE(force->lower_speed.has_value());
     REQUIRE(power->upper_speed.has_value());
-    CHECK(*force->lower_speed == doctest::Approx(16.0).epsilon(1e-8));
-    CHECK(*power->upper_speed == doctest::Approx(8.0).epsilon(1e-8));
+    CHECK(*force->lower_speed == rollgap::test::approx(16.0).epsilon(1e-8));
+    CHECK(*power->upper_speed == rollgap::test::approx(8.0).epsilon(1e-8));
 }
 
 }  // namespace speed_limit_test

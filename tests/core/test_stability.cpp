@@ -20,6 +20,7 @@
 #include "core/stability.h"
 #include "support/compare.h"
 #include "support/pool_control.h"
+#include "support/approx.h"
 
 namespace {
 
@@ -197,7 +198,7 @@ TEST_CASE("stability: the model document's claims on the variants over 1-60 m/s"
         CHECK(lead.real() > 0.0);
         CHECK(std::abs(lead.imag()) > 0.0);
         const double f_above = std::abs(lead.imag()) / (2 * kPi);
-        CHECK(f_above == doctest::Approx(r.unstable_mode.frequency_Hz).epsilon(0.01));
+        CHECK(f_above == rollgap::test::approx(r.unstable_mode.frequency_Hz).epsilon(0.01));
         // below v_c the same branch (nearest frequency) is damped
         const Eigenmode* same = nullptr;
         for (const auto& m : below.oscillatory)
@@ -206,7 +207,7 @@ TEST_CASE("stability: the model document's claims on the variants over 1-60 m/s"
                 same = &m;
         REQUIRE(same != nullptr);
         CHECK(same->eigenvalue.real() < 0.0);
-        CHECK(same->frequency_Hz == doctest::Approx(f_above).epsilon(0.01));
+        CHECK(same->frequency_Hz == rollgap::test::approx(f_above).epsilon(0.01));
         CHECK(std::abs(r.unstable_mode.eigenvalue.real()) <
               0.02 * (above.max_real_part - below.max_real_part));
         MESSAGE("unstable mode shape |q|: " << r.unstable_mode.shapes.front().transpose());

@@ -13,6 +13,7 @@
 #include "core/stand_structure.h"
 
 #include "support/compare.h"
+#include "support/approx.h"
 
 namespace {
 
@@ -214,8 +215,8 @@ TEST_CASE("mill structure: matrices are eq. (37) row by row") {
         for (int j = 0; j < 6; ++j) {
             CAPTURE(i);
             CAPTURE(j);
-            CHECK(K(i, j) == doctest::Approx(K37(i, j)).epsilon(1e-15));
-            CHECK(mats.damping(i, j) == doctest::Approx(C37(i, j)).epsilon(1e-15));
+            CHECK(K(i, j) == rollgap::test::approx(K37(i, j)).epsilon(1e-15));
+            CHECK(mats.damping(i, j) == rollgap::test::approx(C37(i, j)).epsilon(1e-15));
         }
     }
     // the right-hand side of eq. (37): +dP on m3, -dP on m4

@@ -11,6 +11,7 @@
 
 #include "core/stand_structure.h"
 #include "core/tension_cycle.h"
+#include "support/approx.h"
 
 using namespace rollgap::core;
 
@@ -28,14 +29,14 @@ TEST_CASE(
     for (const PhaseDistribution& p : r.phases) {
         CAPTURE(p.phase);
         CHECK(p.back_tension ==
-              doctest::Approx(mean + amplitude * std::sin(2 * std::numbers::pi * p.phase))
+              rollgap::test::approx(mean + amplitude * std::sin(2 * std::numbers::pi * p.phase))
                   .epsilon(1e-9));
         REQUIRE(p.bite.status == BiteStatus::ok);
         CHECK(p.bite.distribution.back().pressure ==
-              doctest::Approx(s.strip.flow_stress - p.back_tension).epsilon(1e-12));
+              rollgap::test::approx(s.strip.flow_stress - p.back_tension).epsilon(1e-12));
         if (p.phase != 0.5) {
             const double quasi_static = compliance * (p.bite.force - reference_force);
-            CHECK(p.gap == doctest::Approx(quasi_static).epsilon(0.06));
+            CHECK(p.gap == rollgap::test::approx(quasi_static).epsilon(0.06));
         }
     }
     // the highest back tension (T = 0.25) pulls the force down and the gap closes
@@ -68,7 +69,7 @@ TEST_CASE("the phase outputs do not depend on the intermediate stops") {
     REQUIRE(a.status == DynamicsStatus::ok);
     REQUIRE(b.status == DynamicsStatus::ok);
     CHECK(a.phases[0].time == b.phases[1].time);
-    CHECK(a.phases[0].gap == doctest::Approx(b.phases[1].gap).epsilon(1e-4));
+    CHECK(a.phases[0].gap == rollgap::test::approx(b.phases[1].gap).epsilon(1e-4));
 }
 
 TEST_CASE("a direct caller's nonsense cycle is a status, not a hang") {

@@ -11,6 +11,7 @@
 
 #include "core/time_integration.h"
 #include "support/least_damped_mode.h"
+#include "support/approx.h"
 
 using namespace rollgap;
 using namespace rollgap::core;
@@ -74,9 +75,9 @@ TEST_CASE("below the critical speed the nonlinear response decays at the least-d
     REQUIRE(mode.value.real() < 0.0);
     const Measured m = run_along_least_damped_mode(19.0, 1e-7, 1.0);
     CHECK(m.status == DynamicsStatus::ok);
-    CHECK(m.growth_rate == doctest::Approx(mode.value.real()).epsilon(0.03));
+    CHECK(m.growth_rate == rollgap::test::approx(mode.value.real()).epsilon(0.03));
     CHECK(m.frequency ==
-          doctest::Approx(mode.value.imag() / (2 * std::numbers::pi)).epsilon(0.005));
+          rollgap::test::approx(mode.value.imag() / (2 * std::numbers::pi)).epsilon(0.005));
 }
 
 TEST_CASE("above the critical speed the nonlinear response grows at the least-damped eigenvalue") {
@@ -86,9 +87,9 @@ TEST_CASE("above the critical speed the nonlinear response grows at the least-da
     REQUIRE(mode.value.real() > 0.0);
     const Measured m = run_along_least_damped_mode(21.0, 1e-7, 1.0);
     CHECK(m.status == DynamicsStatus::ok);
-    CHECK(m.growth_rate == doctest::Approx(mode.value.real()).epsilon(0.03));
+    CHECK(m.growth_rate == rollgap::test::approx(mode.value.real()).epsilon(0.03));
     CHECK(m.frequency ==
-          doctest::Approx(mode.value.imag() / (2 * std::numbers::pi)).epsilon(0.005));
+          rollgap::test::approx(mode.value.imag() / (2 * std::numbers::pi)).epsilon(0.005));
 }
 
 TEST_CASE("at the equilibrium the model stays put: z0 is a fixed point of the integration") {

@@ -10,6 +10,7 @@
 
 #include "core/amplitude.h"
 #include "core/stability.h"
+#include "support/approx.h"
 
 using namespace rollgap::core;
 
@@ -43,7 +44,7 @@ TEST_CASE(
         REQUIRE(r.status == AmplitudeStatus::settled);
         const double linear =
             linear_response_x3(s, r.excitation_frequency_Hz, o.excitation_amplitude);
-        CHECK(r.upper_roll == doctest::Approx(linear).epsilon(0.02));
+        CHECK(r.upper_roll == rollgap::test::approx(linear).epsilon(0.02));
         CHECK(r.gap > r.upper_roll);  // the lower roll moves against the upper one
     }
 }
@@ -70,7 +71,7 @@ TEST_CASE("small excitations respond linearly") {
     const AmplitudeResult full = vibration_amplitude(s, o);
     o.excitation_amplitude = 0.5e6;
     const AmplitudeResult half = vibration_amplitude(s, o);
-    CHECK(half.upper_roll == doctest::Approx(0.5 * full.upper_roll).epsilon(0.01));
+    CHECK(half.upper_roll == rollgap::test::approx(0.5 * full.upper_roll).epsilon(0.01));
 }
 
 TEST_CASE("above the critical speed the response grows until a physical limit ends the run") {

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "support/http_test.h"
+#include "support/approx.h"
 
 using namespace rollgap;
 using namespace rollgap::test;
@@ -327,7 +328,7 @@ TEST_CASE("durable jobs: a running chunked job shows its finished points as a pa
     CHECK(document["worker"] == "replica-test");
     CHECK(document["points_total"] == 5);
     CHECK(document["points_done"] == 2);
-    CHECK(document["progress"] == doctest::Approx(0.4));
+    CHECK(document["progress"] == rollgap::test::approx(0.4));
     const json& partial = document["partial_result"];
     CHECK(partial["partial"] == true);
     CHECK(partial["points_total"] == 5);

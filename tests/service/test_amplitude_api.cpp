@@ -13,6 +13,7 @@
 #include "service/analyses/amplitude.h"
 #include "service/evaluate.h"
 #include "support/refused_options.h"
+#include "support/approx.h"
 
 using nlohmann::json;
 using namespace rollgap;
@@ -104,7 +105,7 @@ TEST_CASE(
               point["status"].get<std::string>()) == 1);
     CHECK(point["steady_status"] == "ok");
     CHECK(point["end_status"] == "ok");
-    CHECK(point["end_time_s"].get<double>() == doctest::Approx(0.2));
+    CHECK(point["end_time_s"].get<double>() == rollgap::test::approx(0.2));
     // Excited at the least-damped eigenfrequency (~104 Hz), stable at 19 m/s.
     CHECK(point["excitation_frequency_Hz"].get<double>() > 80.0);
     CHECK(point["excitation_frequency_Hz"].get<double>() < 130.0);
@@ -117,7 +118,7 @@ TEST_CASE(
     CHECK(point["settled"].is_boolean());
     CHECK(point["growth_rate_per_s"].is_number());
     REQUIRE(point["windows"].size() == 10);
-    CHECK(point["windows"][9]["end_s"].get<double>() == doctest::Approx(0.2));
+    CHECK(point["windows"][9]["end_s"].get<double>() == rollgap::test::approx(0.2));
     CHECK(point["windows"][9]["upper_roll_amplitude_um"] == point["upper_roll_amplitude_um"]);
     CHECK_FALSE(point.contains("time_series"));
 }

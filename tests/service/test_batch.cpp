@@ -19,6 +19,7 @@
 #include "service/csv_answer.h"
 #include "service/evaluate.h"
 #include "support/mill_requests.h"
+#include "support/approx.h"
 
 using nlohmann::json;
 using namespace rollgap;
@@ -113,9 +114,9 @@ TEST_CASE("batch: each row is its item's own answer, and a failing item carries 
         const double operating = alone["result"]["operating_speed_m_per_s"];
         const double advised = alone["result"]["advised_speed_m_per_s"];
         CHECK(row["headline"]["speed_margin_m_per_s"].get<double>() ==
-              doctest::Approx(advised - operating).epsilon(1e-12));
+              rollgap::test::approx(advised - operating).epsilon(1e-12));
         CHECK(row["headline"]["utilisation"].get<double>() ==
-              doctest::Approx(operating / advised).epsilon(1e-12));
+              rollgap::test::approx(operating / advised).epsilon(1e-12));
         CHECK(row["headline"]["best_change_field"].is_null());  // not asked
     }
     CHECK(result["items"][0]["label"] == "C-101");

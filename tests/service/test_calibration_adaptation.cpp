@@ -19,6 +19,7 @@
 #include "core/stability.h"
 #include "service/evaluate.h"
 #include "support/refused_options.h"
+#include "support/approx.h"
 
 using nlohmann::json;
 using namespace rollgap;
@@ -127,7 +128,7 @@ TEST_CASE(
         CHECK(j["at_bound"].is_null());
         const double se = j["standard_error"].get<double>();
         CHECK(std::abs(s["value"].get<double>() - j["value"].get<double>()) < 0.02 * se);
-        CHECK(s["standard_error"].get<double>() == doctest::Approx(se).epsilon(0.01));
+        CHECK(s["standard_error"].get<double>() == rollgap::test::approx(se).epsilon(0.01));
     }
     // The echo reruns to the same fit.
     const json again = calibrate(two["scenario"], two["options"]);
@@ -159,7 +160,7 @@ TEST_CASE("calibrate: the running stand's least-damped root recovers the structu
                                        << running.least_damped.damping_ratio << "; fitted "
                                        << fit["result"]["parameters"][0].dump());
     CHECK(fit["result"]["parameters"][0]["value"].get<double>() ==
-          doctest::Approx(0.05).epsilon(1e-4));
+          rollgap::test::approx(0.05).epsilon(1e-4));
     CHECK(fit["result"]["observations"][0]["predicted"].get<double>() ==
-          doctest::Approx(running.least_damped.damping_ratio).epsilon(1e-6));
+          rollgap::test::approx(running.least_damped.damping_ratio).epsilon(1e-6));
 }

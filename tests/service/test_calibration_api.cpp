@@ -18,6 +18,7 @@
 #include "service/evaluate.h"
 #include "support/refused_options.h"
 #include "support/repository.h"
+#include "support/approx.h"
 
 using nlohmann::json;
 using namespace rollgap;
@@ -194,7 +195,7 @@ TEST_CASE("README example: its observations are the model's predictions at the p
         CAPTURE(i);
         // The file gives 8 significant digits.
         CHECK(predicted[i].value ==
-              doctest::Approx(plan.setup.observations[i].value).epsilon(1e-7));
+              rollgap::test::approx(plan.setup.observations[i].value).epsilon(1e-7));
     }
 }
 

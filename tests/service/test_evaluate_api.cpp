@@ -19,6 +19,7 @@
 #include "service/evaluate.h"
 #include "service/analyses/evaluation.h"
 #include "support/refused_options.h"
+#include "support/approx.h"
 
 using nlohmann::json;
 using namespace rollgap;
@@ -198,7 +199,7 @@ TEST_CASE("the facade's Control: progress is reported between 0 and 1") {
         CHECK(fraction >= 0.0);
         CHECK(fraction <= 1.0);
     }
-    CHECK(*std::max_element(reported.begin(), reported.end()) == doctest::Approx(1.0));
+    CHECK(*std::max_element(reported.begin(), reported.end()) == rollgap::test::approx(1.0));
     // The same request without a Control gives the same document.
     CHECK(evaluate({{"analysis", "evaluate"}, {"options", fast_options}}).body == outcome.body);
 }

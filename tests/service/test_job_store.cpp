@@ -17,6 +17,7 @@
 
 #include "service/store/job_store.h"
 #include "support/postgres.h"
+#include "support/approx.h"
 
 namespace {
 
@@ -277,7 +278,7 @@ TEST_CASE_TEMPLATE(
         CHECK_FALSE(store->claim("replica-b", 1000ms).value->has_value());
     }
     CHECK(store->progress(item.lease, 0.25) == StoreStatus::ok);
-    CHECK(store->get(id).value->progress == doctest::Approx(0.25));
+    CHECK(store->get(id).value->progress == rollgap::test::approx(0.25));
 
     CHECK(store->release(item.lease) == StoreStatus::ok);  // draining replica
     CHECK(store->get(id).value->state == JobState::running);
@@ -377,7 +378,7 @@ TEST_CASE_TEMPLATE("job store: chunks claimed by two workers assemble every poin
     CHECK(running.value->state == JobState::running);
     CHECK(running.value->points_done == 20);
     CHECK(running.value->chunks_done == 2);
-    CHECK(running.value->progress == doctest::Approx(20.0 / 103.0));
+    CHECK(running.value->progress == rollgap::test::approx(20.0 / 103.0));
     const auto partial = first->finished_chunks(id);
     REQUIRE(partial.ok());
     REQUIRE(partial.value->size() == 2);

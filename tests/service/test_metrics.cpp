@@ -13,6 +13,7 @@
 #include <string>
 
 #include "support/http_test.h"
+#include "support/approx.h"
 
 using namespace rollgap;
 using namespace rollgap::service;
@@ -26,7 +27,7 @@ TEST_CASE(
     histogram.observe(20.0);                                      // +Inf
     histogram.observe(std::numeric_limits<double>::quiet_NaN());  // ignored
     CHECK(histogram.count() == 3);
-    CHECK(histogram.sum() == doctest::Approx(20.6));
+    CHECK(histogram.sum() == rollgap::test::approx(20.6));
     CHECK(histogram.bucket_counts() == std::vector<std::uint64_t>{1, 1, 0, 1});
 }
 

@@ -28,6 +28,7 @@
 #include "service/cli.h"
 
 #include "support/repository.h"
+#include "support/approx.h"
 
 using nlohmann::json;
 
@@ -396,11 +397,11 @@ TEST_CASE("README examples: the reader of shown output follows the JSON structur
     CHECK(values[1].value == "found");
     CHECK(values[2].pointer == "/result/points/2/b/0");
     CHECK(values[3].pointer == "/result/points/2/b/1");
-    CHECK(values[3].value.get<double>() == doctest::Approx(2.25e-3));
+    CHECK(values[3].value.get<double>() == rollgap::test::approx(2.25e-3));
     CHECK(values[4].pointer == "/result/stable");
     CHECK(values[4].value == true);
-    CHECK(printed_tolerance("9242.88", 9242.88) == doctest::Approx(0.005));
-    CHECK(printed_tolerance("2.25e-3", 2.25e-3) == doctest::Approx(0.5e-5));
+    CHECK(printed_tolerance("9242.88", 9242.88) == rollgap::test::approx(0.005));
+    CHECK(printed_tolerance("2.25e-3", 2.25e-3) == rollgap::test::approx(0.5e-5));
 }
 
 TEST_CASE("README examples: a block is an example when its command runs the program") {

@@ -12,6 +12,7 @@
 #include "service/evaluate.h"
 #include "service/analyses/stability.h"
 #include "support/refused_options.h"
+#include "support/approx.h"
 
 using nlohmann::json;
 using namespace rollgap;
@@ -115,7 +116,7 @@ TEST_CASE(
     double largest = 0.0;
     for (const json& component : mode["shape"])
         largest = std::max(largest, component.get<double>());
-    CHECK(largest == doctest::Approx(1.0));
+    CHECK(largest == rollgap::test::approx(1.0));
     // The oscillatory modes, ascending in frequency, include it.
     CHECK(result["oscillatory_modes"].size() == 6);
 

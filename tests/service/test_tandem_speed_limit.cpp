@@ -18,6 +18,7 @@
 #include "service/csv_answer.h"
 #include "service/evaluate.h"
 #include "support/mill_requests.h"
+#include "support/approx.h"
 
 using nlohmann::json;
 using namespace rollgap;
@@ -69,7 +70,7 @@ TEST_CASE("tandem speed limit: a stand's own force limit binds where the schedul
         {{"chatter", false}, {"stands", {json::object(), {{"max_roll_force_kN", force_kN}}}}}));
     const json& result = answer["result"];
     CHECK(result["status"] == "ok");
-    CHECK(result["window_min_m_per_s"].get<double>() == doctest::Approx(speed).epsilon(1e-7));
+    CHECK(result["window_min_m_per_s"].get<double>() == rollgap::test::approx(speed).epsilon(1e-7));
     CHECK(result["binding_min"] == "force");
     CHECK(result["binding_min_stand"] == 2);
     CHECK(result["binding_limit"].is_null());  // nothing above: the range's top
@@ -79,10 +80,11 @@ TEST_CASE("tandem speed limit: a stand's own force limit binds where the schedul
     const std::vector<json> force = rows_of(result, "force");
     REQUIRE(force.size() == 1);  // stand 1 has no force limit
     CHECK(force[0]["stand"] == 2);
-    CHECK(force[0]["value"].get<double>() == doctest::Approx(force_kN).epsilon(1e-12));
+    CHECK(force[0]["value"].get<double>() == rollgap::test::approx(force_kN).epsilon(1e-12));
     // the figure at the mill's own speed (15 m/s) is the schedule's there
     const double at_operating = stand_at(15.0, 2)["force_kN"].get<double>();
-    CHECK(force[0]["at_operating"].get<double>() == doctest::Approx(at_operating).epsilon(1e-12));
+    CHECK(force[0]["at_operating"].get<double>() ==
+          rollgap::test::approx(at_operating).epsilon(1e-12));
     CHECK(result["checked"] == json({"steady_state", "force"}));
 }
 
@@ -105,7 +107,7 @@ TEST_CASE("tandem speed limit: the echo lists every stand's limits resolved and 
         REQUIRE(row["upper_speed_m_per_s"].is_number());
         const double v = row["upper_speed_m_per_s"].get<double>();
         const double kW = stand_at(v, row["stand"].get<int>())["power_kW"].get<double>();
-        CHECK(kW == doctest::Approx(row["value"].get<double>()).epsilon(1e-7));
+        CHECK(kW == rollgap::test::approx(row["value"].get<double>()).epsilon(1e-7));
     }
     // the echo, sent back, is the same request
     const json again = test::answer_of(
@@ -123,11 +125,11 @@ TEST_CASE("tandem speed limit: chatter is the headline less the margin, bound by
     const json& head = critical[critical["headline"].get<std::string>()];
     const std::vector<json> chatter = rows_of(result, "chatter");
     REQUIRE(chatter.size() == 1);
-    CHECK(chatter[0]["value"].get<double>() == doctest::Approx(0.9 * v_c).epsilon(1e-12));
+    CHECK(chatter[0]["value"].get<double>() == rollgap::test::approx(0.9 * v_c).epsilon(1e-12));
     CHECK(chatter[0]["stand"] == head["moving_stand"]);
     REQUIRE(0.9 * v_c > 5.0);
     CHECK(result["advised_speed_m_per_s"].get<double>() ==
-          doctest::Approx(0.9 * v_c).epsilon(1e-12));
+          rollgap::test::approx(0.9 * v_c).epsilon(1e-12));
     CHECK(result["binding_limit"] == "chatter");
     CHECK(result["binding_stand"] == head["moving_stand"]);
     CHECK(result["summary"].get<std::string>().find("chatter limit") != std::string::npos);

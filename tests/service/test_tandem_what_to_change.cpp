@@ -16,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "support/mill_requests.h"
+#include "support/approx.h"
 
 using nlohmann::json;
 using namespace rollgap;
@@ -71,10 +72,10 @@ void check_rows(const json& options, const std::vector<std::string>& fields,
         const double derivative = row["advised_speed_change_m_per_s_per_unit"].get<double>();
         MESSAGE(field << ": " << derivative << " m/s per " << row["unit"].get<std::string>()
                       << " against " << difference << " rerun");
-        CHECK(derivative == doctest::Approx(difference).epsilon(2e-3).scale(0.0));
+        CHECK(derivative == rollgap::test::approx(difference).epsilon(2e-3));
         // the gain per typical step, in the direction that gains
         CHECK(row["speed_gain_m_per_s"].get<double>() ==
-              doctest::Approx(std::abs(derivative) * row["step"].get<double>()));
+              rollgap::test::approx(std::abs(derivative) * row["step"].get<double>()));
         CHECK(row["direction"] == (derivative >= 0.0 ? "raise" : "lower"));
     }
     // ranked by the gain
@@ -111,7 +112,7 @@ TEST_CASE("tandem what to change: with the chatter limit binding, each row is th
     CHECK(what["crossing"] == headline);
     CHECK(what["binding_stand"] == result["binding_stand"]);
     CHECK(what["crossing_speed_m_per_s"].get<double>() ==
-          doctest::Approx(critical[headline]["speed_m_per_s"].get<double>()));
+          rollgap::test::approx(critical[headline]["speed_m_per_s"].get<double>()));
     CHECK(what["note"].get<std::string>().find(headline) != std::string::npos);
     wtc::check_rows(options,
                     {"/spans/tension_MPa/0", "/stands/1/lubricant/viscosity_Pa_s",
@@ -144,7 +145,7 @@ TEST_CASE(
     CHECK(result["what_to_change"]["binding_stand"] == 2);
     CHECK(result["what_to_change"]["crossing"].is_null());
     CHECK(result["what_to_change"]["crossing_speed_m_per_s"].get<double>() ==
-          doctest::Approx(result["advised_speed_m_per_s"].get<double>()));
+          rollgap::test::approx(result["advised_speed_m_per_s"].get<double>()));
     wtc::check_rows(options,
                     {"/spans/tension_MPa/0", "/exit/tension_MPa", "/stands/1/roughness/roll_rq_um"},
                     "power");
@@ -164,7 +165,7 @@ TEST_CASE("tandem what to change: every stand's viscosity at once is the sum of 
     const double sum = derivative("/stands/0/lubricant/viscosity_Pa_s") +
                        derivative("/stands/1/lubricant/viscosity_Pa_s");
     MESSAGE("every stand's viscosity: " << both << " m/s per Pa.s, the stands' sum " << sum);
-    CHECK(both == doctest::Approx(sum).epsilon(1e-3).scale(0.0));
+    CHECK(both == rollgap::test::approx(sum).epsilon(1e-3));
     CHECK(wtc::row_of(result, "/stand_defaults/lubricant/viscosity_Pa_s")["value"] ==
           wtc::row_of(result, "/stands/0/lubricant/viscosity_Pa_s")["value"]);
 }

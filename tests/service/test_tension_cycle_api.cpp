@@ -11,6 +11,7 @@
 #include "service/evaluate.h"
 #include "service/analyses/tension_cycle.h"
 #include "support/refused_options.h"
+#include "support/approx.h"
 
 using nlohmann::json;
 using namespace rollgap;
@@ -98,12 +99,12 @@ TEST_CASE(
     REQUIRE(phases.size() == 3);
     // Mean 18 MPa, amplitude 9 MPa (docs/model.md §6).
     CHECK(phases[0]["phase"] == 0.25);
-    CHECK(phases[0]["back_tension_MPa"].get<double>() == doctest::Approx(27.0).epsilon(1e-9));
-    CHECK(phases[1]["back_tension_MPa"].get<double>() == doctest::Approx(18.0).epsilon(1e-9));
-    CHECK(phases[2]["back_tension_MPa"].get<double>() == doctest::Approx(9.0).epsilon(1e-9));
+    CHECK(phases[0]["back_tension_MPa"].get<double>() == rollgap::test::approx(27.0).epsilon(1e-9));
+    CHECK(phases[1]["back_tension_MPa"].get<double>() == rollgap::test::approx(18.0).epsilon(1e-9));
+    CHECK(phases[2]["back_tension_MPa"].get<double>() == rollgap::test::approx(9.0).epsilon(1e-9));
     // In the last of the 2 cycles of 0.1 s.
-    CHECK(phases[0]["time_s"].get<double>() == doctest::Approx(0.125));
-    CHECK(phases[2]["time_s"].get<double>() == doctest::Approx(0.175));
+    CHECK(phases[0]["time_s"].get<double>() == rollgap::test::approx(0.125));
+    CHECK(phases[2]["time_s"].get<double>() == rollgap::test::approx(0.175));
 
     // Each phase carries the roll_gap analysis's own result document, with distributions.
     const Outcome roll_gap = evaluate({{"analysis", "roll_gap"}});
