@@ -681,6 +681,10 @@ nlohmann::json speed_limit_result_json(const SpeedLimitReport& report) {
 
 std::vector<std::string> speed_limit_check_columns() { return limit_table().names(); }
 
+nlohmann::json sampled_critical_speed_json(const core::Propagated& sampled) {
+    return sampled_table().write(sampled);
+}
+
 std::vector<ResultSchema> speed_limit_result_schemas() {
     return {result_schema(limit_table()),
             result_schema(change_table()),

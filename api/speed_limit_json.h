@@ -108,6 +108,8 @@ std::string summary_speed_text(double speed);
 // A limit's kind as the results name it (null for none), and its schema.
 nlohmann::json speed_limit_kind_json(const std::optional<core::SpeedLimitKind>& kind);
 nlohmann::json speed_limit_kind_schema(bool nullable);
+// The draws' figures (SampledCriticalSpeed), for the mill's uncertainty too.
+nlohmann::json sampled_critical_speed_json(const core::Propagated& sampled);
 
 // One sentence for people: "runs at 15 m/s, 83 % of its 18.09 m/s chatter limit; ...".
 std::string speed_limit_summary(const SpeedLimitReport& report);

@@ -38,6 +38,8 @@ const std::vector<std::string_view>& option_members() {
         out.push_back(option_name(OptionId::chatter_limit));
         out.push_back(option_name(OptionId::chatter_margin));
         out.push_back(option_name(OptionId::confidence));
+        out.push_back(option_name(OptionId::samples));
+        out.push_back(option_name(OptionId::seed));
         out.push_back(option_name(OptionId::what_to_change));
         out.push_back(stands_name);
         out.push_back(changes_name);
@@ -281,13 +283,30 @@ TandemSpeedLimitOptions tandem_speed_limit_options_from_json(const nlohmann::jso
     reader.read(OptionId::chatter_margin, out.limits.chatter_margin);
     out.limits.stands.assign(static_cast<std::size_t>(std::max(stands, 0)), out.mill_wide);
     reader.read(OptionId::confidence, out.limits.confidence);
-    if (const nlohmann::json* list = reader.find(detail::posteriors_name);
-        list != nullptr && !list->is_null()) {
+    const nlohmann::json* posteriors = reader.find(detail::posteriors_name);
+    if (posteriors != nullptr && !posteriors->is_null()) {
         if (std::optional<MillPosteriors> read = read_mill_posteriors(
-                *list, reader.at(detail::posteriors_name), valid_mill, errors)) {
+                *posteriors, reader.at(detail::posteriors_name), valid_mill, errors)) {
             out.posteriors = std::move(read->stands);
             out.limits.posterior = std::move(read->mill);
         }
+    }
+    int seed = 1;
+    reader.read(OptionId::samples, out.limits.samples);
+    if (reader.read(OptionId::seed, seed)) out.limits.seed = static_cast<std::uint64_t>(seed);
+    const std::string samples_at = reader.at(option_name(OptionId::samples));
+    if (out.limits.samples > 0 && (posteriors == nullptr || posteriors->is_null())) {
+        errors.add({samples_at,
+                    "draws need posteriors to draw from: give options.posteriors (each stand's "
+                    "calibration posterior, or null) or set samples to 0",
+                    std::nullopt, std::nullopt});
+    }
+    if (out.limits.samples > 0 && !out.limits.chatter &&
+        !errors.has_error_at_or_below(samples_at)) {
+        errors.add({samples_at,
+                    "the draws check the critical speed's uncertainty, which is not used when "
+                    "chatter is false: set samples to 0",
+                    std::nullopt, std::nullopt});
     }
     reader.read(OptionId::what_to_change, out.what_to_change);
     if (const nlohmann::json* changes = reader.find(detail::changes_name))
@@ -324,6 +343,8 @@ nlohmann::json tandem_speed_limit_options_json(const TandemSpeedLimitOptions& op
         stands.push_back(detail::limits_json(stand));
     document[std::string(detail::stands_name)] = std::move(stands);
     put_option(document, OptionId::confidence, options.limits.confidence);
+    put_option(document, OptionId::samples, options.limits.samples);
+    put_option(document, OptionId::seed, static_cast<int>(options.limits.seed));
     put_option(document, OptionId::what_to_change, options.what_to_change);
     document[std::string(detail::changes_name)] = mill_changes_json(options.changes);
     nlohmann::json posteriors(nullptr);

@@ -15,6 +15,8 @@
 //                       stand (its fields the stand's own scenario fields, its values the
 //                       stand's); the stands independent (docs/model.md §13.7)
 //   confidence          0.95  of the one-sided bounds the limits are taken at under posteriors
+//   samples, seed       0, 1  with posteriors: the headline critical speed at this many seeded
+//                       draws too (each draw's mill searched whole), the check on sigma
 //   what_to_change      true  the advised mill speed's derivatives at the binding limit
 //   changes             [{field, step}]: tandem-document pointers and their typical steps
 //                       (api/tandem_change_json.h; default: default_mill_change_fields)

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "api/result_json.h"
+#include "api/speed_limit_json.h"
 #include "api/tandem_change_json.h"
 #include "api/tandem_result_json.h"
 #include "api/text.h"
@@ -121,6 +122,15 @@ const ResultTable<UncertaintyView>& uncertainty_table() {
                      }
                  }
                  return rows;
+             }},
+            {"sampled",
+             "The headline critical speed at options.samples seeded draws from the posteriors "
+             "(each draw's mill searched whole, its headline whichever crossing it is): the "
+             "check on sigma; null when samples is 0.",
+             ref_schema("SampledCriticalSpeed", true),
+             [](const R& r) {
+                 return r.uncertainty.sampled ? sampled_critical_speed_json(*r.uncertainty.sampled)
+                                              : json(nullptr);
              }},
         }};
     return table;

@@ -121,6 +121,26 @@ MillSpeedUncertainty mill_crossing_uncertainty(const Mill& mill, const MillCross
     return out;
 }
 
+Propagated mill_sampled_critical_speed(const Mill& mill, const MillPosterior& posterior,
+                                       const CriticalSpeedOptions& options, int count,
+                                       std::uint64_t seed, const Control& control) {
+    const auto n = static_cast<Eigen::Index>(posterior.numbers.size());
+    // each draw's search on its own thread: the cancellation is passed on, the pool is not
+    Control serial;
+    serial.cancelled = control.cancelled;
+    const Figure headline = [&](const Eigen::VectorXd& x) -> std::optional<double> {
+        Mill m = mill;
+        for (Eigen::Index j = 0; j < n; ++j)
+            posterior.numbers[static_cast<std::size_t>(j)].shift(m, x(j));
+        const MillCriticalSpeeds c = mill_critical_speeds(m, options, serial);
+        if (c.headline < 0) return std::nullopt;
+        const MillCrossing* crossings[] = {&c.frozen, &c.delay_independent, &c.nominal_delay};
+        return crossings[c.headline]->speed;
+    };
+    return propagate_sampled(headline, Eigen::VectorXd::Zero(n), posterior.covariance, count, seed,
+                             control);
+}
+
 void bound_mill_plant_limits(const Mill& mill, const MillPlantLimits& limits,
                              SpeedLimitResult& window, const Control& control) {
     if (!limits.posterior) return;

@@ -10,6 +10,7 @@
 //   nominal_delay      -Re s of the crossing root with the nominal delays, followed by Newton
 //                      from the root at the crossing (so the same root, not the rightmost).
 
+#include <cstdint>
 #include <functional>
 #include <optional>
 #include <vector>
@@ -19,6 +20,7 @@
 #include "core/mill/mill.h"
 #include "core/mill/mill_critical_speed.h"
 #include "core/mill/mill_speed_limit.h"
+#include "core/propagation.h"
 
 namespace rollgap::core {
 
@@ -44,6 +46,15 @@ struct MillBindingSensitivity {
 MillSpeedUncertainty mill_crossing_uncertainty(const Mill& mill, const MillCrossing& crossing,
                                                const MillPosterior& posterior, double confidence,
                                                const Control& control = {});
+
+// The headline critical speed at `count` seeded draws from the posterior (propagate_sampled: the
+// same draws for the same seed), each draw's mill searched whole as `options` say (one thread a
+// draw, the draws side by side): the check on mill_crossing_uncertainty's linear sigma, and on
+// its one crossing, since a draw's headline may be another lobe's or another kind's. A draw
+// without a headline crossing is a failed sample.
+Propagated mill_sampled_critical_speed(const Mill& mill, const MillPosterior& posterior,
+                                       const CriticalSpeedOptions& options, int count,
+                                       std::uint64_t seed, const Control& control = {});
 
 // Every stand's plant-limit end under limits.posterior: its sigma (LimitAnswer lower_speed_sd /
 // upper_speed_sd) from the implicit gradient of its stand's margin at the end, then the window

@@ -26,6 +26,33 @@ std::vector<SteadyFigures> mill_steady_figures(const Mill& mill, double speed) {
     return out;
 }
 
+namespace mill_speed_limit_detail {
+
+// The steady_state limit's row named by the stand that loses its steady state just beyond the
+// row's end (the upper end when it has one: the advised speed's side), and the window's binding
+// stand with it (docs/model.md §13.5). The window's ends are bisected to 1e-9 m/s, so a
+// micrometre per second beyond is past the schedule's failure.
+void name_steady_state_stand(const Mill& mill, SpeedLimitResult& window) {
+    for (LimitAnswer& a : window.limits) {
+        if (a.kind != SpeedLimitKind::steady_state) continue;
+        const bool upper = a.upper_speed.has_value();
+        const std::optional<double> end = upper ? a.upper_speed : a.lower_speed;
+        if (!end) return;
+        Mill beyond = mill;
+        beyond.speed = *end + (upper ? 1e-6 : -1e-6);
+        const MillSteadyState s = mill_steady_state(beyond);
+        if (s.status == MillSteadyStatus::ok || s.stand < 0) return;
+        a.stand = s.stand;
+        if (window.binding_max == SpeedLimitKind::steady_state && upper)
+            window.binding_max_stand = s.stand;
+        if (window.binding_min == SpeedLimitKind::steady_state && !upper)
+            window.binding_min_stand = s.stand;
+        return;
+    }
+}
+
+}  // namespace mill_speed_limit_detail
+
 MillSpeedLimitResult mill_speed_limit(const Mill& mill, const MillPlantLimits& limits,
                                       const CriticalSpeedOptions& options, const Control& control) {
     MillSpeedLimitResult out;
@@ -56,8 +83,11 @@ MillSpeedLimitResult mill_speed_limit(const Mill& mill, const MillPlantLimits& l
             double speed = c.speed;
             if (limits.posterior) {
                 // docs/model.md §13.7: the limit at the headline's one-sided lower bound
-                const MillSpeedUncertainty& u = out.uncertainty.emplace(mill_crossing_uncertainty(
+                MillSpeedUncertainty& u = out.uncertainty.emplace(mill_crossing_uncertainty(
                     mill, c, *limits.posterior, limits.confidence, control));
+                if (limits.samples > 0 && !control.should_stop())
+                    u.sampled.emplace(mill_sampled_critical_speed(
+                        mill, *limits.posterior, options, limits.samples, limits.seed, control));
                 if (u.ok) speed = u.lower_bound;
             }
             limit = {speed * (1.0 - limits.chatter_margin), c.moving_stand};
@@ -71,6 +101,7 @@ MillSpeedLimitResult mill_speed_limit(const Mill& mill, const MillPlantLimits& l
     out.window = speed_window(
         checks, [&mill](double v) { return mill_steady_figures(mill, v); }, mill.speed, chatter,
         options, control);
+    mill_speed_limit_detail::name_steady_state_stand(mill, out.window);
     if (limits.posterior && !control.should_stop())
         bound_mill_plant_limits(mill, limits, out.window, control);
     return out;

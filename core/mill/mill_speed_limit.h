@@ -7,6 +7,7 @@
 // given is not checked; a mill limit names its stand. Under a posterior (§13.7) the chatter limit
 // is taken at V_c's one-sided lower bound and every plant end at its own.
 
+#include <cstdint>
 #include <optional>
 #include <vector>
 
@@ -15,6 +16,7 @@
 #include "core/control.h"
 #include "core/mill/mill.h"
 #include "core/mill/mill_critical_speed.h"
+#include "core/propagation.h"
 #include "core/speed_limit.h"
 
 namespace rollgap::core {
@@ -37,15 +39,20 @@ struct MillPlantLimits {
     double chatter_margin = 0.0;
     std::optional<MillPosterior> posterior;
     double confidence = 0.95;  // of the one-sided bounds under the posterior (z its quantile)
+    // with a posterior: the headline critical speed at this many seeded draws too, the check on
+    // the linear sigma (docs/model.md §13.7); 0: none
+    int samples = 0;
+    std::uint64_t seed = 1;
 };
 
 // The headline critical speed's uncertainty (docs/model.md §13.7).
 struct MillSpeedUncertainty {
     bool ok = false;              // the gradient was found (the crossing's margin at every point)
     double critical_speed = 0.0;  // the headline's, at the posterior mean, m/s
-    double standard_deviation = 0.0;  // sqrt(g Σ gᵀ), m/s
-    double lower_bound = 0.0;         // V_c − z sigma, m/s
-    Eigen::VectorXd gradient;         // dV_c/dx_j, m/s per SI unit
+    double standard_deviation = 0.0;    // sqrt(g Σ gᵀ), m/s
+    double lower_bound = 0.0;           // V_c − z sigma, m/s
+    Eigen::VectorXd gradient;           // dV_c/dx_j, m/s per SI unit
+    std::optional<Propagated> sampled;  // MillPlantLimits::samples > 0: the draws' figures
 };
 
 // Every stand's steady figures at mill speed V (the schedule, or the speeds mode's roll speeds

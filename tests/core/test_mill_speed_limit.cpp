@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 #include "core/mill/mill_critical_speed.h"
 #include "core/mill/mill_speed_limit.h"
@@ -75,6 +76,40 @@ TEST_CASE("mill speed limit: a stand's limit set to its figure at a mill speed b
     CHECK(force->at_operating == rollgap::test::approx(operating[1].force).epsilon(1e-12));
     CHECK(force->utilisation == rollgap::test::approx(operating[1].force / at_force[1].force));
     CHECK(r.window.operating_permitted == (m.speed >= force_speed && m.speed <= power_speed));
+}
+
+TEST_CASE("mill speed limit: the steady state's end is named by the stand that loses it") {
+    // Stand 2 pulled back by a 150 MPa span: as the mill speeds up its forward slip runs down
+    // until its neutral point leaves the bite, and the schedule has no steady state above that.
+    Mill m = two_stand_mill(5.0);
+    m.interstand_tension = {150e6};
+    MillPlantLimits limits;
+    limits.chatter = false;
+    limits.stands.resize(2);
+    const MillSpeedLimitResult r = mill_speed_limit(m, limits, range());
+    REQUIRE(r.window.status == SpeedLimitStatus::ok);
+    const LimitAnswer& steady = r.window.limits.front();
+    REQUIRE(steady.kind == SpeedLimitKind::steady_state);
+    REQUIRE(steady.upper_speed.has_value());
+    const double end = *steady.upper_speed;
+    Mill past = m;
+    past.speed = end + 1e-3;
+    const MillSteadyState beyond = mill_steady_state(past);
+    const std::vector<SteadyFigures> before = mill_steady_figures(m, end - 1e-3);
+    const std::vector<SteadyFigures> slow = mill_steady_figures(m, 5.0);
+    REQUIRE((before[1].ok && slow[1].ok));
+    MESSAGE("steady state up to " << end << " m/s; beyond: " << std::string(beyond.message)
+                                  << " (stand index " << beyond.stand
+                                  << "); stand 2's forward slip " << slow[1].forward_slip
+                                  << " at 5 m/s, " << before[1].forward_slip << " at the end");
+    CHECK(beyond.status != MillSteadyStatus::ok);
+    CHECK(beyond.stand == 1);
+    CHECK(before[1].forward_slip < 0.1 * slow[1].forward_slip);
+    // the row and the window's binding end name that stand
+    CHECK(steady.stand == 1);
+    CHECK(r.window.binding_max == SpeedLimitKind::steady_state);
+    CHECK(r.window.binding_max_stand == 1);
+    CHECK(r.window.window_max == end);
 }
 
 TEST_CASE("mill speed limit: a mill of one stand has the single stand's window") {

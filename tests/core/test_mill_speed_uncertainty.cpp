@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "core/mill/mill_critical_speed.h"
+#include "core/mill/mill_limit_sensitivity.h"
 #include "core/mill/mill_speed_limit.h"
 #include "core/propagation.h"
 #include "tools/verify_mill/mills.h"
@@ -162,6 +163,82 @@ TEST_CASE(
     CHECK(r.window.window_min ==
           rollgap::test::approx(*force->lower_speed + z * *force->lower_speed_sd).epsilon(1e-12));
     CHECK(r.window.advised_speed == r.window.window_max);
+}
+
+TEST_CASE(
+    "mill speed uncertainty: the seeded draws' headline speeds are the whole search's second-order "
+    "expansion, draw by draw") {
+    // The posterior is small enough for the headline to stay one root (the linear regime): the
+    // whole search at each draw x then follows V_c + g·x + ½ xᵀHx, so the draws' mean and spread
+    // equal that expansion's at the same draws (the same seed draws the same x), whatever the
+    // sampling noise of 24 draws. The spread is the linear sigma's; the mean is shifted from V_c by
+    // the curvature, ½ tr(HΣ), which the linear sigma does not carry: H by second differences of
+    // the whole search over one standard error.
+    const Mill m = two_stand_mill(5.0);
+    const MillPosterior p = posterior();
+    MillPlantLimits limits;
+    limits.stands.resize(2);
+    limits.posterior = p;
+    limits.samples = 24;
+    limits.seed = 11;
+    const MillSpeedLimitResult r = mill_speed_limit(m, limits, range());
+    REQUIRE(r.uncertainty.has_value());
+    const MillSpeedUncertainty& u = *r.uncertainty;
+    REQUIRE(u.ok);
+    REQUIRE(u.sampled.has_value());
+    const Propagated& sampled = *u.sampled;
+    REQUIRE(sampled.ok);
+    CHECK(sampled.samples == 24);
+    CHECK(sampled.failed_samples == 0);
+
+    const MillCrossingKind kind = headline_of(*r.critical).kind;
+    const auto whole = [&](const Eigen::Vector3d& x) {
+        const MillCriticalSpeeds c = mill_critical_speeds(moved(m, p, x), range());
+        REQUIRE(c.headline >= 0);
+        CHECK(headline_of(c).kind == kind);
+        return headline_of(c).speed;
+    };
+    const Eigen::Vector3d h = p.covariance.diagonal().cwiseSqrt();
+    const auto at = [&](int j, double sj, int k = 0, double sk = 0.0) {
+        Eigen::Vector3d x = Eigen::Vector3d::Zero();
+        x(j) += sj * h(j);
+        x(k) += sk * h(k);
+        return whole(x);
+    };
+    Eigen::Matrix3d H;
+    for (int j = 0; j < 3; ++j) {
+        H(j, j) = (at(j, 1.0) + at(j, -1.0) - 2.0 * u.critical_speed) / (h(j) * h(j));
+        for (int k = 0; k < j; ++k)
+            H(j, k) = H(k, j) = (at(j, 1.0, k, 1.0) - at(j, 1.0, k, -1.0) - at(j, -1.0, k, 1.0) +
+                                 at(j, -1.0, k, -1.0)) /
+                                (4.0 * h(j) * h(k));
+    }
+    const Figure linear = [&](const Eigen::VectorXd& x) -> std::optional<double> {
+        return u.critical_speed + u.gradient.dot(x);
+    };
+    const Figure quadratic = [&](const Eigen::VectorXd& x) -> std::optional<double> {
+        return u.critical_speed + u.gradient.dot(x) + 0.5 * x.dot(H * x);
+    };
+    const Propagated first =
+        propagate_sampled(linear, Eigen::Vector3d::Zero(), p.covariance, 24, 11);
+    const Propagated second =
+        propagate_sampled(quadratic, Eigen::Vector3d::Zero(), p.covariance, 24, 11);
+    REQUIRE((first.ok && second.ok));
+    MESSAGE("headline " << u.critical_speed << " m/s, linear sigma " << u.standard_deviation
+                        << ", ½ tr(HΣ) " << 0.5 * (H * p.covariance).trace() << "; 24 draws: mean "
+                        << sampled.value << ", sd " << sampled.standard_deviation
+                        << "; at the same draws V_c + g·x: mean " << first.value << ", sd "
+                        << first.standard_deviation << "; + ½ xᵀHx: mean " << second.value
+                        << ", sd " << second.standard_deviation);
+    // the spread is the linear one's to 1 % (the curvature's share of it is smaller still)
+    CHECK(sampled.standard_deviation ==
+          rollgap::test::approx(first.standard_deviation).epsilon(0.01));
+    // the mean's shift from the linear prediction is the curvature's, to a tenth of it
+    const double shift = sampled.value - first.value;
+    MESSAGE("the draws' mean less the linear prediction's "
+            << shift << " m/s, less the second-order " << sampled.value - second.value);
+    CHECK(std::abs(sampled.value - second.value) < 0.1 * std::abs(shift));
+    CHECK(std::abs(sampled.value - second.value) < 0.01 * u.standard_deviation);
 }
 
 }  // namespace mill_speed_uncertainty_test

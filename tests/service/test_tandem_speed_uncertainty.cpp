@@ -66,8 +66,11 @@ TEST_CASE(
     const json changes =
         json::array({{{"field", "/stands/1/lubricant/viscosity_Pa_s"}, {"step", 0.0001}},
                      {{"field", "/stands/1/friction/asperity_factor"}, {"step", 0.05}}});
-    const json answer = test::answer_of(tsu::request(
-        {{"chatter_margin", 0.05}, {"posteriors", tsu::posteriors}, {"changes", changes}}));
+    const json answer = test::answer_of(tsu::request({{"chatter_margin", 0.05},
+                                                      {"posteriors", tsu::posteriors},
+                                                      {"changes", changes},
+                                                      {"samples", 8},
+                                                      {"seed", 3}}));
     const json& result = answer["result"];
     const json& u = result["uncertainty"];
     REQUIRE(u.is_object());
@@ -105,12 +108,22 @@ TEST_CASE(
         CHECK(row["advised_speed_change_m_per_s_per_unit"].get<double>() ==
               rollgap::test::approx(0.95 * per_unit).epsilon(2e-3));
     }
-    // the echo lists the posteriors and answers the same
+    // the seeded draws: 8 whole searches, their mean within 4 standard errors of V_c (σ/√8);
+    // their agreement with sigma draw by draw is tests/core/test_mill_speed_uncertainty.cpp's
+    const json& sampled = u["sampled"];
+    REQUIRE(sampled.is_object());
+    MESSAGE("sampled " << sampled.dump());
+    CHECK(sampled["samples"].get<int>() + sampled["failed_samples"].get<int>() == 8);
+    CHECK(std::abs(sampled["mean_m_per_s"].get<double>() - vc) < 4.0 * sigma / std::sqrt(8.0));
+    // the echo lists the posteriors, samples and seed, and answers the same (the same draws)
     const json again = test::answer_of({{"analysis", "tandem_speed_limit"},
                                         {"tandem", test::two_stands},
                                         {"options", answer["options"]}});
+    CHECK(answer["options"]["samples"] == 8);
+    CHECK(answer["options"]["seed"] == 3);
     CHECK(again["options"] == answer["options"]);
     CHECK(again["result"]["advised_speed_m_per_s"] == result["advised_speed_m_per_s"]);
+    CHECK(again["result"]["uncertainty"]["sampled"] == sampled);
 }
 
 TEST_CASE("tandem speed uncertainty: a plant end is taken at its one-sided bound") {
@@ -148,4 +161,9 @@ TEST_CASE("tandem speed uncertainty: every violation of the posteriors is report
     CHECK(problem.dump().find("/exit_thickness_mm/1") != std::string::npos);
     const json short_list = test::refusal_of(tsu::request({{"posteriors", {nullptr}}}));
     CHECK(tsu::has_error_at(short_list, "/options/posteriors"));
+    // draws need posteriors, and a chatter limit whose uncertainty they check
+    CHECK(tsu::has_error_at(test::refusal_of(tsu::request({{"samples", 4}})), "/options/samples"));
+    const json unchecked = test::refusal_of(
+        tsu::request({{"samples", 4}, {"chatter", false}, {"posteriors", tsu::posteriors}}));
+    CHECK(tsu::has_error_at(unchecked, "/options/samples"));
 }
