@@ -1033,9 +1033,23 @@ try {
       check(shown[i].startsWith(`to run faster: ${x.direction} ${x.field} by `), `row ${i}: ${shown[i]}, the API ${x.direction} ${x.field}`);
       near(Number(headline[shown[i]]), x.speed_gain_m_per_s, `${x.field}'s gain [m/s]`);
     });
+    check(chart.datasets.every((d) => !d.label.startsWith('critical speed:')), 'no uncertainty band without posteriors');
+    // Stand 1's viscosity known to ±2 µPa·s, stand 2 exactly (null): a JSON list, one entry per
+    // stand. The chatter lane carries the band from the 95 % lower bound to the mean, and the
+    // headline the σ and the bound, the numbers the API gives.
+    await page.fill('#f-options-posteriors', JSON.stringify([{ parameters: [{ field: '/lubricant/viscosity_Pa_s', value: 0.00055, standard_error: 0.000002 }] }, null]));
+    const withPosteriors = await postedDuring(row.path, () => runAndWait('speed-limits'));
+    check(Array.isArray(withPosteriors[0].options.posteriors) && withPosteriors[0].options.posteriors.length === 2, `the page sent posteriors: ${JSON.stringify(withPosteriors[0].options.posteriors)}`);
+    const u = (await post(row.path, withPosteriors[0])).body.result.uncertainty;
+    check(u && u.propagated && u.standard_deviation_m_per_s > 0, `the API's uncertainty: ${JSON.stringify(u)}`);
+    const band = (await chartData('speed-limits')).datasets.find((d) => d.label.startsWith('critical speed:'));
+    check(band && band.data[0].x === u.lower_bound_m_per_s && band.data[1].x === u.critical_speed_m_per_s, `band ${JSON.stringify(band && band.data)}, the API ${u.lower_bound_m_per_s} to ${u.critical_speed_m_per_s}`);
+    const banded = await headlineTable();
+    near(Number(banded['its standard deviation']), u.standard_deviation_m_per_s, 'σ [m/s]');
+    near(Number(banded['its lower bound']), u.lower_bound_m_per_s, 'lower bound [m/s]');
     await shot('tandem-speed-limit');
     await checkAxe();
-    for (const id of ['#f-options-max-roll-force-kN', '#f-options-max-power-kW', '#f-options-chatter-margin']) await page.fill(id, '');
+    for (const id of ['#f-options-max-roll-force-kN', '#f-options-max-power-kW', '#f-options-chatter-margin', '#f-options-posteriors']) await page.fill(id, '');
     await page.click('#tab-tandem');
   });
 

@@ -12,6 +12,12 @@ export function resolve(doc, schema) {
 }
 
 const isObject = (schema) => schema.properties !== undefined;
+// An array's items are objects when their schema is one, or is a composition of one (a stand's
+// limits: allOf [StandLimits]; a stand's posterior: anyOf [Posterior, null]).
+const itemsAreObjects = (doc, items) => {
+  const schema = resolve(doc, items);
+  return isObject(schema) || [...(schema.allOf || []), ...(schema.anyOf || []), ...(schema.oneOf || [])].some((s) => isObject(resolve(doc, s)));
+};
 const types = (schema) => [].concat(schema.type || []);
 
 // The served document's objects come with their members sorted by name (the service's JSON
@@ -69,8 +75,8 @@ function leafInput(doc, schema, pointer, optional) {
       input = el('input', { id, type: 'checkbox' });
     }
     input.dataset.kind = 'boolean';
-  } else if (types(schema).includes('array') && isObject(resolve(doc, schema.items))) {
-    // A list of objects (calibration observations, map axes): edited as JSON.
+  } else if (types(schema).includes('array') && itemsAreObjects(doc, schema.items)) {
+    // A list of objects (calibration observations, map axes, a mill's stands): edited as JSON.
     input = el('textarea', { id, rows: 4, spellcheck: 'false', placeholder: 'JSON array, e.g. [{ … }]' });
     input.dataset.kind = 'json';
   } else if (types(schema).includes('array')) {

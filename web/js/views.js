@@ -912,6 +912,7 @@ export const views = {
       const r = response.result;
       speedLimitAxis(plots, response, true);
       const c = r.critical_speeds;
+      const u = r.uncertainty;
       const named = (kind, stand) => (kind ? `${limitNames[kind] || kind}${stand != null ? ` of stand ${stand}` : ''}` : '—');
       // what to change (docs/model.md §13.6): fields of the tandem document, the largest gain first
       const changes = r.what_to_change && r.what_to_change.changes ? r.what_to_change.changes.filter((x) => x.speed_gain_m_per_s != null) : [];
@@ -925,6 +926,10 @@ export const views = {
         ['chatter limit from', basis[r.chatter_basis] || r.chatter_basis, ''],
         row('headline critical speed', c ? c.critical_speed_m_per_s : null, 'm/s'),
         ['headline crossing', c && c.headline ? crossingNames[c.headline] : '—', ''],
+        // under the stands' posteriors (docs/model.md §13.7): σ, the bound the limit is taken at
+        row('its standard deviation', u ? u.standard_deviation_m_per_s : null, 'm/s'),
+        row('its lower bound', u ? u.lower_bound_m_per_s : null, 'm/s'),
+        ...(u && u.sampled ? [row(`its standard deviation over ${u.sampled.samples} seeded draws`, u.sampled.standard_deviation_m_per_s, 'm/s')] : []),
         ...changes.slice(0, 3).map((x) => [`to run faster: ${x.direction} ${x.field} by ${fmt(x.step)}`, fmt(x.speed_gain_m_per_s), 'm/s']),
       ];
     },
