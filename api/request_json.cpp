@@ -35,15 +35,23 @@ void read_base(const nlohmann::json& base, AnalysisRequest& parsed, FieldErrors&
              std::string(stored_scenario_name_pattern), std::nullopt});
         return;
     }
+    parsed.base = read_resolved_base(base, "/base", errors);
+}
+
+}  // namespace
+
+std::optional<ScenarioBase> read_resolved_base(const nlohmann::json& base,
+                                               const std::string& pointer, FieldErrors& errors) {
     static constexpr std::array<std::string_view, 2> known{"name", "version"};
-    reject_unknown_fields(base, "/base", known, errors);
+    reject_unknown_fields(base, pointer, known, errors);
     ScenarioBase resolved;
     bool complete = true;
+    const std::string name_at = pointer + "/name";
     if (const auto name = base.find("name"); name == base.end()) {
-        errors.add({"/base/name", "required", std::nullopt, std::nullopt});
+        errors.add({name_at, "required", std::nullopt, std::nullopt});
         complete = false;
-    } else if (auto text = read_string(*name, "/base/name", errors)) {
-        if (auto error = stored_scenario_name_error(*text, "/base/name")) {
+    } else if (auto text = read_string(*name, name_at, errors)) {
+        if (auto error = stored_scenario_name_error(*text, name_at)) {
             errors.add(std::move(*error));
             complete = false;
         }
@@ -53,18 +61,18 @@ void read_base(const nlohmann::json& base, AnalysisRequest& parsed, FieldErrors&
     }
     // Versions count writes from 1; 2^53 - 1 keeps them exact in every JSON client.
     const Interval versions = closed(1.0, 9007199254740991.0);
+    const std::string version_at = pointer + "/version";
     if (const auto version = base.find("version"); version == base.end()) {
-        errors.add({"/base/version", "required", std::nullopt, std::nullopt});
+        errors.add({version_at, "required", std::nullopt, std::nullopt});
         complete = false;
-    } else if (auto number = read_integer(*version, "/base/version", versions, false, errors)) {
+    } else if (auto number = read_integer(*version, version_at, versions, false, errors)) {
         resolved.version = *number;
     } else {
         complete = false;
     }
-    if (complete) parsed.base = std::move(resolved);
+    if (!complete) return std::nullopt;
+    return resolved;
 }
-
-}  // namespace
 
 bool is_stored_scenario_name(std::string_view name) {
     if (name.empty() || name.size() > max_name_length || name == reserved_scenario_name)

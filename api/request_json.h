@@ -48,6 +48,9 @@ AnalysisRequest analysis_request_from_json(const nlohmann::json& request, FieldE
 
 // {"name": ..., "version": ...}: the resolved form of "base", as echoed in results.
 nlohmann::json scenario_base_json(const ScenarioBase& base);
+// The resolved {"name", "version"} form (an object) at `pointer`: nullopt when incomplete.
+std::optional<ScenarioBase> read_resolved_base(const nlohmann::json& base,
+                                               const std::string& pointer, FieldErrors& errors);
 
 // The violation of a name that is not a stored scenario's name (pattern or `default`), at
 // `pointer`; nothing if it is one.

@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "api/request_json.h"
 #include "api/scenario_json.h"
 #include "api/scenario_schema.h"
 #include "api/tandem_schema.h"
@@ -25,6 +26,7 @@ struct Reading {
     bool stands_valid = false;
     json stand_defaults = json::object();
     json stands = json::array();
+    StandBases bases;  // one per stand once the stands are read
 };
 
 void read_list(const TandemField& field, const json& value, const std::string& pointer,
@@ -234,6 +236,38 @@ json stand_document(const json& shared, const json& patch, const core::Mill& mil
     return document;
 }
 
+// A stand's "base" (docs/http-api.md, "Stored stands in a mill"), taken out of its patch: the
+// resolved form is recorded, a name is refused here (only the service has the store).
+void read_stand_base(json& patch, const std::string& pointer, std::optional<ScenarioBase>& base,
+                     FieldErrors& errors) {
+    if (!patch.is_object()) return;
+    const auto found = patch.find("base");
+    if (found == patch.end()) return;
+    const std::string at = pointer + "/base";
+    if (found->is_string()) {
+        const std::string& name = found->get_ref<const std::string&>();
+        if (auto error = stored_scenario_name_error(name, at)) {
+            errors.add(std::move(*error));
+        } else {
+            errors.add({at,
+                        concat("a stored stand is read by the service when it accepts an "
+                               "analysis request (not by rollgap run, a stored mill or a batch "
+                               "item): "
+                               "here send the stand itself, e.g. the body of GET /v1/scenarios/",
+                               name, " without the fields the mill gives a stand"),
+                        std::nullopt, std::nullopt});
+        }
+    } else if (found->is_object()) {
+        base = read_resolved_base(*found, at, errors);
+    } else if (!found->is_null()) {
+        errors.add({at,
+                    concat("must be the name of a stored stand scenario (a string), not ",
+                           json_type_name(*found)),
+                    std::string(stored_scenario_name_pattern), std::nullopt});
+    }
+    patch.erase(found);
+}
+
 void read_stands(const std::string& base, Reading& reading, FieldErrors& errors) {
     core::Mill& mill = reading.mill;
     const int stands = static_cast<int>(reading.stands.size());
@@ -264,10 +298,12 @@ void read_stands(const std::string& base, Reading& reading, FieldErrors& errors)
                                 static_cast<int>(mill.span_length.size()) == stands - 1 &&
                                 static_cast<int>(mill.interstand_tension.size()) == stands - 1;
     mill.stands.assign(static_cast<std::size_t>(stands), core::Scenario{});
+    reading.bases.assign(static_cast<std::size_t>(stands), std::nullopt);
     for (int i = 0; i < stands; ++i) {
         const std::string pointer = concat(base, "/", stands_member, "/", std::to_string(i));
-        const json& patch = reading.stands[static_cast<std::size_t>(i)];
+        json patch = reading.stands[static_cast<std::size_t>(i)];
         if (!patch.is_null() && !require_object(patch, pointer, errors)) continue;
+        read_stand_base(patch, pointer, reading.bases[static_cast<std::size_t>(i)], errors);
         reject_mill_owned(patch, pointer, mill, errors);
         // speeds mode: every stand's roll speed is its own, in its patch or the shared defaults
         const json::json_pointer speed_at{std::string(roll_speed_path)};
@@ -322,7 +358,21 @@ void check_mill_speed(const std::string& base, const core::Mill& mill, FieldErro
 
 }  // namespace
 
-nlohmann::json resolved_tandem_json(const core::Mill& mill) {
+nlohmann::json without_mill_owned_fields(nlohmann::json stand, bool speeds_mode) {
+    if (!stand.is_object()) return stand;
+    for (const MillOwnedField& owned : mill_owned_stand_fields()) {
+        if (speeds_mode && owned.stand_path == roll_speed_path) continue;  // the stand's own
+        const std::string path(owned.stand_path);
+        const auto slash = path.rfind('/');
+        const json::json_pointer parent_at(path.substr(0, slash));
+        if (!stand.contains(parent_at)) continue;
+        json& parent = stand[parent_at];
+        if (parent.is_object()) parent.erase(path.substr(slash + 1));
+    }
+    return stand;
+}
+
+nlohmann::json resolved_tandem_json(const core::Mill& mill, const StandBases* bases) {
     json document = json::object();
     for (const TandemField& field : tandem_fields()) {
         json& slot = document[json::json_pointer(field.path)];
@@ -342,8 +392,8 @@ nlohmann::json resolved_tandem_json(const core::Mill& mill) {
     }
     document[std::string(stand_defaults_member)] = json::object();
     json stands = json::array();
-    for (const core::Scenario& stand : mill.stands) {
-        json scenario = resolved_scenario_json(stand);
+    for (std::size_t i = 0; i < mill.stands.size(); ++i) {
+        json scenario = resolved_scenario_json(mill.stands[i]);
         for (const MillOwnedField& owned : mill_owned_stand_fields()) {
             if (!given_by_mill(owned, mill)) continue;  // speeds mode: the stand's own speed
             const std::string path(owned.stand_path);
@@ -352,6 +402,8 @@ nlohmann::json resolved_tandem_json(const core::Mill& mill) {
                 slash == 0 ? scenario : scenario[json::json_pointer(path.substr(0, slash))];
             parent.erase(path.substr(slash + 1));
         }
+        if (bases != nullptr && i < bases->size() && (*bases)[i])
+            scenario["base"] = scenario_base_json(*(*bases)[i]);
         stands.push_back(std::move(scenario));
     }
     document[std::string(stands_member)] = std::move(stands);
@@ -370,7 +422,7 @@ nlohmann::json default_tandem_json() {
 }
 
 core::Mill mill_from_json(const nlohmann::json& document, const std::string& pointer,
-                          FieldErrors& errors) {
+                          FieldErrors& errors, StandBases* bases) {
     Reading reading;
     reading.list_read.assign(tandem_fields().size(), false);
     read_group("", document, pointer, reading, errors);
@@ -379,6 +431,7 @@ core::Mill mill_from_json(const nlohmann::json& document, const std::string& poi
         check_mill(pointer, reading, errors);
         read_stands(pointer, reading, errors);
         check_mill_speed(pointer, reading.mill, errors);
+        if (bases != nullptr) *bases = std::move(reading.bases);
     }
     if (errors.empty()) {
         // core's own guard agrees with the field checks; a disagreement is a bug, said plainly
@@ -390,10 +443,10 @@ core::Mill mill_from_json(const nlohmann::json& document, const std::string& poi
 }
 
 core::Mill mill_from_patch(const nlohmann::json& patch, const std::string& pointer,
-                           FieldErrors& errors) {
+                           FieldErrors& errors, StandBases* bases) {
     json document = default_tandem_json();
     document.merge_patch(patch);
-    return mill_from_json(document, pointer, errors);
+    return mill_from_json(document, pointer, errors, bases);
 }
 
 }  // namespace rollgap::api

@@ -122,8 +122,9 @@ std::variant<Outcome, PreparedRequest> prepare_request(const nlohmann::json& req
         ready.prepared = envelope.analysis->prepare_batch(std::move(envelope.parsed.options),
                                                           "/options", errors);
     } else if (of_mill) {
-        ready.mill = api::mill_from_patch(
-            envelope.parsed.tandem_patch.value_or(nlohmann::json::object()), "/tandem", errors);
+        ready.mill =
+            api::mill_from_patch(envelope.parsed.tandem_patch.value_or(nlohmann::json::object()),
+                                 "/tandem", errors, &ready.stand_bases);
         ready.prepared = envelope.analysis->prepare_mill(*ready.mill, envelope.parsed.options,
                                                          "/options", errors);
     } else {
@@ -183,7 +184,7 @@ Outcome result_outcome(PreparedRequest& ready, nlohmann::json result) {
     // The subject echoed, so the answer can be rerun; a batch's items are in its options.
     if (ready.analysis->subject() != Subject::batch) {
         outcome.body[ready.mill ? "tandem" : "scenario"] =
-            ready.mill ? api::resolved_tandem_json(*ready.mill)
+            ready.mill ? api::resolved_tandem_json(*ready.mill, &ready.stand_bases)
                        : api::resolved_scenario_json(ready.scenario);
     }
     if (ready.base) outcome.body["base"] = api::scenario_base_json(*ready.base);

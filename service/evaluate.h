@@ -15,6 +15,7 @@
 #include "api/problem.h"
 #include "api/request_json.h"
 #include "core/control.h"
+#include "api/tandem_json.h"
 #include "core/mill/mill.h"
 #include "service/analyses/analysis.h"
 
@@ -82,6 +83,7 @@ struct PreparedRequest {
     std::optional<api::ScenarioBase> base;  // the stored scenario it was resolved onto, echoed
     core::Scenario scenario;                // a stand's analysis: the scenario
     std::optional<core::Mill> mill;         // a mill's analysis (Subject::mill): the mill, echoed
+    api::StandBases stand_bases;            // its stands' stored bases, echoed in each stand
     PreparedAnalysis prepared;
 };
 

@@ -430,6 +430,27 @@ json tandem_leaf_schema(const api::TandemField& field, const json& default_value
     return schema;
 }
 
+// A stand of the tandem document: a scenario merge patch, which may name a stored stand
+// (docs/http-api.md, "Stored stands in a mill").
+json mill_stand_schema() {
+    json schema = scenario_json_schema(true);
+    schema["properties"]["base"] = {
+        {"anyOf", json::array({component_ref("ScenarioName"), component_ref("ScenarioBase"),
+                               json{{"type", "null"}}})},
+        {"description",
+         "A stored stand scenario's name (PUT /v1/scenarios/{name}; the service only): the stand "
+         "is that scenario without the fields the mill gives every stand, with the rest of this "
+         "patch merged over it (stand_defaults do not reach it). Echoed resolved, {name, "
+         "version}: that form is the service's to write (a job's stored request), over HTTP "
+         "a stand's base is a name. A mill speed limit without "
+         "options.posteriors takes the stand's stored calibration posterior while it still "
+         "describes the stand. 422 at this pointer when no such stand is stored."}};
+    schema["description"] =
+        "One stand of a tandem mill: a scenario merge patch, or a stored stand (`base`) with a "
+        "patch over it.";
+    return schema;
+}
+
 json tandem_group_schema(std::string_view path, const json& defaults, bool patch) {
     json properties = json::object();
     json required = json::array();
@@ -450,13 +471,14 @@ json tandem_group_schema(std::string_view path, const json& defaults, bool patch
                 {"type", patch ? json::array({"array", "null"}) : json("array")},
                 {"minItems", 1},
                 {"maxItems", core::max_mill_stands},
-                {"items", component_ref("ScenarioPatch")},
+                {"items", component_ref("MillStand")},
                 {"description",
                  "One scenario merge patch per stand, from the entry (1 to 6 stands): the "
-                 "default scenario, then stand_defaults, then this patch make the stand. An array "
-                 "is replaced whole by a merge patch: send every stand (`{}` for a stand that "
-                 "takes the shared defaults). The stand's structure group keeps its v1 name "
-                 "`mill` (one stand's masses, stiffnesses, damping)."}};
+                 "default scenario, then stand_defaults, then this patch make the stand; or a "
+                 "stored stand (`base`) with this patch over it. An array is replaced whole by a "
+                 "merge patch: send every stand (`{}` for a stand that takes the shared "
+                 "defaults). The stand's structure group keeps its v1 name `mill` (one stand's "
+                 "masses, stiffnesses, damping)."}};
         } else if (api::is_tandem_group(child)) {
             properties[std::string(member)] = tandem_group_schema(child, child_default, patch);
         } else if (const api::TandemField* field = api::find_tandem_field(child)) {
@@ -494,6 +516,7 @@ json openapi_document() {
     json& schemas = document["components"]["schemas"];
     schemas["Scenario"] = scenario_json_schema(false);
     schemas["ScenarioPatch"] = scenario_json_schema(true);
+    schemas["MillStand"] = mill_stand_schema();
     schemas["Tandem"] = tandem_json_schema(false);
     schemas["TandemPatch"] = tandem_json_schema(true);
     // A running chunked job's points so far, typed by the result tables' point components.

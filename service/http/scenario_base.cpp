@@ -8,6 +8,7 @@
 #include "api/batch_json.h"
 #include "api/json_text.h"
 #include "api/request_json.h"
+#include "api/tandem_json.h"
 #include "api/text.h"
 #include "service/analyses/table.h"
 #include "service/http/responses.h"
@@ -116,6 +117,110 @@ Resolution resolve_one(json& request, const Lookup& lookup, const json* then_pat
     return std::monostate{};
 }
 
+// A mill's stands that name a stored stand (docs/http-api.md, "Stored stands in a mill"):
+// "/tandem/stands/i/base": "<name>" becomes that stored stand's scenario without the fields the
+// mill gives every stand, the stand's own patch merged over it, and "base": {"name", "version"}.
+// A mill speed limit without options.posteriors takes each such stand's stored posterior while
+// it still describes the stand (none of its fields the mill's, none moved by the patch). Every
+// unresolvable name is reported at once.
+Resolution resolve_stand_bases(json& request, const Lookup& lookup) {
+    const auto analysis_name = request.find("analysis");
+    const Analysis* analysis =
+        analysis_name != request.end() && analysis_name->is_string()
+            ? find_analysis(analyses(), analysis_name->get_ref<const std::string&>())
+            : nullptr;
+    if (analysis == nullptr || analysis->subject() != Subject::mill) return std::monostate{};
+    const auto tandem = request.find("tandem");
+    if (tandem == request.end() || !tandem->is_object()) return std::monostate{};
+    const auto stands = tandem->find("stands");
+    // more stands than a mill has: the facade says so, no store is read for them
+    if (stands == tandem->end() || !stands->is_array() ||
+        stands->size() > static_cast<std::size_t>(core::max_mill_stands))
+        return std::monostate{};
+    const bool speeds_mode = tandem->value("mode", json()) == "speeds";
+    api::FieldErrors errors;
+    std::vector<json> posteriors(stands->size());
+    bool any_posterior = false;
+    for (std::size_t i = 0; i < stands->size(); ++i) {
+        json& stand = (*stands)[i];
+        if (!stand.is_object()) continue;  // the facade reports it
+        const auto found = stand.find("base");
+        if (found == stand.end() || found->is_null()) continue;
+        const std::string pointer = concat("/tandem/stands/", std::to_string(i), "/base");
+        // A client names a stored stand; the resolved {"name", "version"} form is what this
+        // function writes, never something a client may claim (as for the request's "base").
+        if (!found->is_string()) {
+            errors.add(base_error(pointer, concat("must be the name of a stored stand scenario "
+                                                  "(a string), not ",
+                                                  api::json_type_name(*found))));
+            continue;
+        }
+        const std::string name = found->get<std::string>();
+        if (auto error = api::stored_scenario_name_error(name, pointer)) {
+            errors.add(std::move(*error));
+            continue;
+        }
+        const auto stored = lookup(name);
+        if (stored.status == store::StoreStatus::not_found) {
+            errors.add(
+                base_error(pointer, concat("names no stored stand ", api::quoted_for_message(name),
+                                           "; GET /v1/scenarios lists them")));
+            continue;
+        }
+        if (!stored.ok()) {
+            return problem_outcome(api::make_problem(
+                api::ProblemCode::store_unavailable,
+                "the scenario store did not answer, so a stand's \"base\" cannot be resolved; "
+                "retry later, or send the stand itself"));
+        }
+        if (stored.value->kind != store::StoredKind::stand) {
+            errors.add(base_error(pointer,
+                                  "names a stored mill; a mill's stand takes a stored "
+                                  "stand scenario (GET /v1/scenarios lists them)"));
+            continue;
+        }
+        auto parsed = api::parse_json_text(stored.value->body);
+        if (std::holds_alternative<api::Problem>(parsed)) {
+            return problem_outcome(api::make_problem(
+                api::ProblemCode::internal, concat("stored scenario ", name, " is not JSON")));
+        }
+        const json stored_stand =
+            api::without_mill_owned_fields(std::move(std::get<json>(parsed)), speeds_mode);
+        json document = stored_stand;
+        json patch = stand;
+        patch.erase("base");
+        document.merge_patch(patch);
+        if (!stored.value->posterior.empty()) {
+            const json posterior = json::parse(stored.value->posterior);
+            bool describes = true;
+            for (const json& p : posterior.value("parameters", json::array())) {
+                const json::json_pointer at(p.value("field", ""));
+                describes = describes && stored_stand.contains(at) && document.contains(at) &&
+                            stored_stand[at] == document[at];
+            }
+            if (describes) {
+                posteriors[i] = posterior;
+                any_posterior = true;
+            }
+        }
+        document["base"] = api::scenario_base_json({name, stored.value->version});
+        stand = std::move(document);
+    }
+    if (!errors.empty()) {
+        const std::string detail = concat(std::to_string(errors.size()),
+                                          errors.size() == 1 ? " stand base" : " stand bases",
+                                          " of the mill name no stored stand it can use");
+        return problem_outcome(errors.to_problem(api::ProblemCode::invalid_request, detail));
+    }
+    if (any_posterior && analysis->name == "tandem_speed_limit") {
+        json& options = request["options"];
+        if (options.is_null()) options = json::object();
+        if (options.is_object() && !options.contains("posteriors"))
+            options["posteriors"] = json(posteriors);
+    }
+    return std::monostate{};
+}
+
 // Looks names up in the store, reporting each answer to the store's health.
 Lookup store_lookup(ServiceState& state) {
     return [&state](const std::string& name) -> store::Result<store::StoredScenario> {
@@ -218,11 +323,17 @@ std::optional<Outcome> resolve_base(json& request, ServiceState& state) {
     if (!request.is_object()) return std::nullopt;  // the facade reports it
     const auto analysis = request.find("analysis");
     if (analysis != request.end() && *analysis == "batch") return resolve_batch(request, state);
+    const Lookup lookup = store_lookup(state);
     const auto found = request.find("base");
-    if (found == request.end() || found->is_null()) return std::nullopt;
-    Resolution resolution = resolve_one(request, store_lookup(state), nullptr, "/base");
-    if (std::holds_alternative<std::monostate>(resolution)) return std::nullopt;
-    return unresolved_outcome(std::move(resolution));
+    if (found != request.end() && !found->is_null()) {
+        Resolution resolution = resolve_one(request, lookup, nullptr, "/base");
+        if (!std::holds_alternative<std::monostate>(resolution))
+            return unresolved_outcome(std::move(resolution));
+    }
+    // the mill's own stands, stored ones among them, after the stored mill's patch is merged
+    Resolution stands = resolve_stand_bases(request, lookup);
+    if (auto* outcome = std::get_if<Outcome>(&stands)) return std::move(*outcome);
+    return std::nullopt;
 }
 
 void answer_unresolved(ServiceState& state, const Outcome& refused, httplib::Response& response) {
