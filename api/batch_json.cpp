@@ -48,6 +48,9 @@ json speed_limit_headline(const json& result, bool mill) {
                 ? at(result,
                      ("/critical_speeds/" + headline.get<std::string>() + "/chatter_type").c_str())
                 : json(nullptr);
+        // under the stands' posteriors (docs/model.md §13.7), the headline's
+        row["critical_speed_sd_m_per_s"] = at(result, "/uncertainty/standard_deviation_m_per_s");
+        row["critical_speed_lower_bound_m_per_s"] = at(result, "/uncertainty/lower_bound_m_per_s");
         row["summary"] = result.value("summary", json(nullptr));
         return row;
     }
@@ -100,7 +103,9 @@ json row_schema() {
          "critical_speed_sd_m_per_s and critical_speed_lower_bound_m_per_s (with a posterior), "
          "best_change_field and best_change_gain_m_per_s (with what_to_change), summary. "
          "tandem_speed_limit: the same to utilisation, then binding_stand, binding_min_stand, "
-         "chatter_basis, critical_speed_m_per_s (the mill's headline), chatter_type, summary. Any "
+         "chatter_basis, critical_speed_m_per_s (the mill's headline), chatter_type, "
+         "critical_speed_sd_m_per_s and critical_speed_lower_bound_m_per_s (with posteriors), "
+         "summary. Any "
          "other analysis: its result's scalars to two levels, a nested one named by its path "
          "without the leading slash (critical_speed/critical_speed_m_per_s). Null when the item "
          "failed."},

@@ -251,8 +251,7 @@ void read_stand_base(json& patch, const std::string& pointer, std::optional<Scen
         } else {
             errors.add({at,
                         concat("a stored stand is read by the service when it accepts an "
-                               "analysis request (not by rollgap run, a stored mill or a batch "
-                               "item): "
+                               "analysis request (not by rollgap run, nor into a stored mill): "
                                "here send the stand itself, e.g. the body of GET /v1/scenarios/",
                                name, " without the fields the mill gives a stand"),
                         std::nullopt, std::nullopt});

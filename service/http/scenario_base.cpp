@@ -102,14 +102,9 @@ Resolution resolve_one(json& request, const Lookup& lookup, const json* then_pat
         json& options = request["options"];
         if (options.is_null()) options = json::object();
         if (options.is_object() && !options.contains("posterior")) {
-            const json posterior = json::parse(stored.value->posterior);
-            bool centred = true;
-            for (const json& p : posterior.value("parameters", json::array())) {
-                const json::json_pointer at(p.value("field", ""));
-                centred = centred && stored_document.contains(at) && document.contains(at) &&
-                          stored_document[at] == document[at];
-            }
-            if (centred) options["posterior"] = posterior;
+            const std::string kept =
+                posterior_still_centred(stored.value->posterior, stored_document, document);
+            if (!kept.empty()) options["posterior"] = json::parse(kept);
         }
     }
     request[std::string(member)] = std::move(document);
@@ -118,35 +113,30 @@ Resolution resolve_one(json& request, const Lookup& lookup, const json* then_pat
 }
 
 // A mill's stands that name a stored stand (docs/http-api.md, "Stored stands in a mill"):
-// "/tandem/stands/i/base": "<name>" becomes that stored stand's scenario without the fields the
+// "<at>/stands/i/base": "<name>" becomes that stored stand's scenario without the fields the
 // mill gives every stand, the stand's own patch merged over it, and "base": {"name", "version"}.
-// A mill speed limit without options.posteriors takes each such stand's stored posterior while
-// it still describes the stand (none of its fields the mill's, none moved by the patch). Every
-// unresolvable name is reported at once.
-Resolution resolve_stand_bases(json& request, const Lookup& lookup) {
-    const auto analysis_name = request.find("analysis");
-    const Analysis* analysis =
-        analysis_name != request.end() && analysis_name->is_string()
-            ? find_analysis(analyses(), analysis_name->get_ref<const std::string&>())
-            : nullptr;
-    if (analysis == nullptr || analysis->subject() != Subject::mill) return std::monostate{};
-    const auto tandem = request.find("tandem");
-    if (tandem == request.end() || !tandem->is_object()) return std::monostate{};
-    const auto stands = tandem->find("stands");
+// Violations go to `errors` (every one at once); a store that fails is the returned outcome.
+// `posteriors` gets, per stand, the stored posterior of a resolved stand while it still
+// describes the stand (none of its fields the mill's, none moved by the patch), else null; it
+// stays empty when no stand was resolved with one.
+std::optional<Outcome> resolve_stands(json& tandem, const std::string& at, const Lookup& lookup,
+                                      api::FieldErrors& errors, std::vector<json>& posteriors) {
+    posteriors.clear();
+    if (!tandem.is_object()) return std::nullopt;  // the facade reports it
+    const auto stands = tandem.find("stands");
     // more stands than a mill has: the facade says so, no store is read for them
-    if (stands == tandem->end() || !stands->is_array() ||
+    if (stands == tandem.end() || !stands->is_array() ||
         stands->size() > static_cast<std::size_t>(core::max_mill_stands))
-        return std::monostate{};
-    const bool speeds_mode = tandem->value("mode", json()) == "speeds";
-    api::FieldErrors errors;
-    std::vector<json> posteriors(stands->size());
+        return std::nullopt;
+    const bool speeds_mode = tandem.value("mode", json()) == "speeds";
+    std::vector<json> found_posteriors(stands->size());
     bool any_posterior = false;
     for (std::size_t i = 0; i < stands->size(); ++i) {
         json& stand = (*stands)[i];
         if (!stand.is_object()) continue;  // the facade reports it
         const auto found = stand.find("base");
         if (found == stand.end() || found->is_null()) continue;
-        const std::string pointer = concat("/tandem/stands/", std::to_string(i), "/base");
+        const std::string pointer = concat(at, "/stands/", std::to_string(i), "/base");
         // A client names a stored stand; the resolved {"name", "version"} form is what this
         // function writes, never something a client may claim (as for the request's "base").
         if (!found->is_string()) {
@@ -190,34 +180,58 @@ Resolution resolve_stand_bases(json& request, const Lookup& lookup) {
         json patch = stand;
         patch.erase("base");
         document.merge_patch(patch);
-        if (!stored.value->posterior.empty()) {
-            const json posterior = json::parse(stored.value->posterior);
-            bool describes = true;
-            for (const json& p : posterior.value("parameters", json::array())) {
-                const json::json_pointer at(p.value("field", ""));
-                describes = describes && stored_stand.contains(at) && document.contains(at) &&
-                            stored_stand[at] == document[at];
-            }
-            if (describes) {
-                posteriors[i] = posterior;
-                any_posterior = true;
-            }
+        // stored_stand lacks the mill's fields, so a posterior on one of them is not kept
+        const std::string kept =
+            posterior_still_centred(stored.value->posterior, stored_stand, document);
+        if (!kept.empty()) {
+            found_posteriors[i] = json::parse(kept);
+            any_posterior = true;
         }
         document["base"] = api::scenario_base_json({name, stored.value->version});
         stand = std::move(document);
     }
-    if (!errors.empty()) {
-        const std::string detail = concat(std::to_string(errors.size()),
-                                          errors.size() == 1 ? " stand base" : " stand bases",
-                                          " of the mill name no stored stand it can use");
-        return problem_outcome(errors.to_problem(api::ProblemCode::invalid_request, detail));
-    }
-    if (any_posterior && analysis->name == "tandem_speed_limit") {
-        json& options = request["options"];
-        if (options.is_null()) options = json::object();
-        if (options.is_object() && !options.contains("posteriors"))
-            options["posteriors"] = json(posteriors);
-    }
+    if (any_posterior) posteriors = std::move(found_posteriors);
+    return std::nullopt;
+}
+
+// `options.posteriors` of a mill speed limit from its stored stands, unless the request gives
+// its own (`also_given`: the batch's shared options gave them).
+void take_stored_posteriors(json& options, const std::vector<json>& posteriors,
+                            bool also_given = false) {
+    if (posteriors.empty() || also_given) return;
+    if (options.is_null()) options = json::object();
+    if (options.is_object() && !options.contains("posteriors")) options["posteriors"] = posteriors;
+}
+
+const Analysis* analysis_of(const json& request) {
+    const auto name = request.find("analysis");
+    return name != request.end() && name->is_string()
+               ? find_analysis(analyses(), name->get_ref<const std::string&>())
+               : nullptr;
+}
+
+std::string stand_bases_detail(const api::FieldErrors& errors) {
+    return concat(std::to_string(errors.size()),
+                  errors.size() == 1 ? " stand base" : " stand bases",
+                  " of the mill name no stored stand it can use");
+}
+
+// A mill analysis' request: its stands resolved (resolve_stands at /tandem), a speed limit's
+// posteriors taken from them.
+Resolution resolve_stand_bases(json& request, const Lookup& lookup) {
+    const Analysis* analysis = analysis_of(request);
+    if (analysis == nullptr || analysis->subject() != Subject::mill) return std::monostate{};
+    const auto tandem = request.find("tandem");
+    if (tandem == request.end()) return std::monostate{};
+    api::FieldErrors errors;
+    std::vector<json> posteriors;
+    if (auto failed = resolve_stands(*tandem, "/tandem", lookup, errors, posteriors))
+        return std::move(*failed);
+    if (!errors.empty())
+        return problem_outcome(
+            errors.to_problem(api::ProblemCode::invalid_request, stand_bases_detail(errors)));
+    if (analysis->name == "tandem_speed_limit")
+        take_stored_posteriors(request["options"], posteriors);
     return std::monostate{};
 }
 
@@ -275,9 +289,35 @@ std::optional<Outcome> resolve_batch(json& request, ServiceState& state) {
     };
     api::FieldErrors errors;
     const json shared_options = options.value("options", json::object());
+    // A mill's stands that name stored stands: the batch's shared patch's once, each item's own
+    // (RFC 7396: an item's "stands" replace the batch's whole); a speed limit's posteriors from
+    // them unless the item or the batch gives its own.
+    const bool of_mill = inner->subject() == Subject::mill;
+    const bool takes_posteriors =
+        inner->name == "tandem_speed_limit" &&
+        !(shared_options.is_object() && shared_options.contains("posteriors"));
+    std::vector<json> shared_posteriors;
+    if (of_mill && options.contains(member)) {
+        if (auto failed = resolve_stands(options[member], concat("/options/", member), cached,
+                                         errors, shared_posteriors))
+            return std::move(*failed);
+    }
     for (std::size_t i = 0; i < items->size(); ++i) {
         json& item = (*items)[i];
         if (!item.is_object()) continue;  // the facade reports it
+        if (of_mill) {
+            const bool own_stands = item.contains(member) && item[member].is_object() &&
+                                    item[member].contains("stands");
+            std::vector<json> posteriors = own_stands ? std::vector<json>{} : shared_posteriors;
+            if (own_stands) {
+                if (auto failed = resolve_stands(
+                        item[member], concat("/options/items/", std::to_string(i), "/", member),
+                        cached, errors, posteriors))
+                    return std::move(*failed);
+            }
+            if (takes_posteriors && !posteriors.empty())
+                take_stored_posteriors(item["options"], posteriors);
+        }
         const bool own = item.contains("base") && !item["base"].is_null();
         if (!own && shared_base.is_null()) continue;
         const std::string pointer =
@@ -310,7 +350,8 @@ std::optional<Outcome> resolve_batch(json& request, ServiceState& state) {
         return problem_outcome(errors.to_problem(
             api::ProblemCode::invalid_request,
             concat(std::to_string(errors.size()), errors.size() == 1 ? " base" : " bases",
-                   " of the batch name no stored document it can use")));
+                   " of the batch (its items' or their stands') name no stored document it can "
+                   "use")));
     }
     // Every item that had the batch's base holds it resolved now.
     options.erase("base");
@@ -318,6 +359,17 @@ std::optional<Outcome> resolve_batch(json& request, ServiceState& state) {
 }
 
 }  // namespace
+
+std::string posterior_still_centred(const std::string& posterior, const json& before,
+                                    const json& after) {
+    if (posterior.empty()) return "";
+    const json parsed = json::parse(posterior);
+    for (const json& p : parsed.value("parameters", json::array())) {
+        const json::json_pointer at(p.value("field", ""));
+        if (!before.contains(at) || !after.contains(at) || before[at] != after[at]) return "";
+    }
+    return posterior;
+}
 
 std::optional<Outcome> resolve_base(json& request, ServiceState& state) {
     if (!request.is_object()) return std::nullopt;  // the facade reports it

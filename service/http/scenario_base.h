@@ -21,6 +21,12 @@ namespace rollgap::service::http {
 // 422 at /base (not a name, or no such stored scenario), 503 store_unavailable.
 std::optional<Outcome> resolve_base(nlohmann::json& request, ServiceState& state);
 
+// A stored posterior (its text; "" for none) still describes a scenario edited from `before` to
+// `after` only while every field it describes keeps its value: the posterior, else "". Used
+// wherever a stored stand is edited or patched (a new version, a request's base, a mill's stand).
+std::string posterior_still_centred(const std::string& posterior, const nlohmann::json& before,
+                                    const nlohmann::json& after);
+
 // Answers what resolve_base() refused: a store_unavailable problem gets Retry-After.
 void answer_unresolved(ServiceState& state, const Outcome& refused, httplib::Response& response);
 

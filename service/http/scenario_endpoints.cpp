@@ -15,6 +15,7 @@
 #include "service/evaluate.h"
 #include "api/text.h"
 #include "service/http/responses.h"
+#include "service/http/scenario_base.h"
 
 namespace rollgap::service::http {
 
@@ -157,18 +158,6 @@ std::string posterior_of(const json& result) {
     if (parameters.empty()) return "";
     return dump(json{{"parameters", std::move(parameters)},
                      {"correlation", result.value("correlation", json::array())}});
-}
-
-// A posterior stays with an edited version only while the fields it describes keep their values.
-std::string posterior_still_centred(const std::string& posterior, const json& before,
-                                    const json& after) {
-    if (posterior.empty()) return "";
-    const json parsed = json::parse(posterior);
-    for (const json& p : parsed.value("parameters", json::array())) {
-        const json::json_pointer at(p.value("field", ""));
-        if (!before.contains(at) || !after.contains(at) || before[at] != after[at]) return "";
-    }
-    return posterior;
 }
 
 }  // namespace

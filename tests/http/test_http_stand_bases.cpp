@@ -5,7 +5,8 @@
 // out by hand; the echo carries {"name", "version"} and reruns to the same answer; a mill speed
 // limit takes the calibrated stand's stored posterior while it still describes the stand; every
 // name that cannot be used is one 422, and without the service the name is refused with what to
-// send instead. Two-stand mills: about 2 s here.
+// send instead; a batch of mills resolves the names of its shared stands and of each item's own.
+// Two-stand mills: about 3 s here.
 
 #include <doctest/doctest.h>
 
@@ -43,6 +44,28 @@ json put_stand(httplib::Client& client, const std::string& name, const json& bod
     REQUIRE(put->status == 201);
     return json::parse(put->body);
 }
+
+// F2 calibrated on one coil (its roll force): the stored stand keeps the flow stress's posterior
+// (version 2).
+void calibrate_f2(httplib::Client& client) {
+    const json calibration = {
+        {"options",
+         {{"parameters", {{{"field", "/strip/flow_stress_MPa"}}}},
+          {"observations",
+           {{{"quantity", "roll_force_kN"}, {"value", 6400}, {"standard_uncertainty", 50}}}}}}};
+    const auto calibrated = client.Post("/v1/scenarios/F2/calibrate", {{"If-Match", "\"1\""}},
+                                        calibration.dump(), "application/json");
+    REQUIRE(calibrated);
+    CAPTURE(calibrated->body.substr(0, 400));
+    REQUIRE(calibrated->status == 200);
+}
+
+// A two-stand mill speed limit's search over 5-30 m/s, without what to change.
+const json search = {{"speed_min_m_per_s", 5},
+                     {"speed_max_m_per_s", 30},
+                     {"speed_step_m_per_s", 0.5},
+                     {"relative_tolerance", 1e-8},
+                     {"what_to_change", false}};
 
 bool has_error_at(const json& problem, const std::string& pointer) {
     for (const json& e : problem["errors"])
@@ -111,22 +134,8 @@ TEST_CASE("stored stands in a mill: a calibrated stand brings its posterior to t
     test::TestServer server;
     auto client = server.client();
     sbh::put_stand(client, "F2", sbh::stored_f2);
-    // calibrated on one coil: the stored stand keeps the flow stress's posterior (version 2)
-    const json calibration = {
-        {"options",
-         {{"parameters", {{{"field", "/strip/flow_stress_MPa"}}}},
-          {"observations",
-           {{{"quantity", "roll_force_kN"}, {"value", 6400}, {"standard_uncertainty", 50}}}}}}};
-    const auto calibrated = client.Post("/v1/scenarios/F2/calibrate", {{"If-Match", "\"1\""}},
-                                        calibration.dump(), "application/json");
-    REQUIRE(calibrated);
-    CAPTURE(calibrated->body.substr(0, 400));
-    REQUIRE(calibrated->status == 200);
-    const json search = {{"speed_min_m_per_s", 5},
-                         {"speed_max_m_per_s", 30},
-                         {"speed_step_m_per_s", 0.5},
-                         {"relative_tolerance", 1e-8},
-                         {"what_to_change", false}};
+    sbh::calibrate_f2(client);
+    const json& search = sbh::search;
     const json answer = test::body_json(
         test::post_json(client, "/v1/tandem/speed-limit",
                         {{"tandem", sbh::mill_with({{"base", "F2"}})}, {"options", search}}));
@@ -187,4 +196,57 @@ TEST_CASE("stored stands in a mill: every name the mill cannot use is one 422") 
         test::refusal_of({{"analysis", "tandem"}, {"tandem", sbh::mill_with({{"base", "F2"}})}});
     CHECK(sbh::has_error_at(facade, "/tandem/stands/1/base"));
     CHECK(facade.dump().find("GET /v1/scenarios/F2") != std::string::npos);
+}
+
+TEST_CASE("stored stands in a mill: a batch of mills resolves its stands' names, shared and own") {
+    test::TestServer server;
+    auto client = server.client();
+    sbh::put_stand(client, "F2", sbh::stored_f2);
+    sbh::calibrate_f2(client);
+    const json two_plain = json::array({json::object(), json::object()});
+    const json moved =
+        json::array({json::object(), {{"base", "F2"}, {"strip", {{"flow_stress_MPa", 400}}}}});
+    json batch = {{"analysis", "tandem_speed_limit"},
+                  {"options", sbh::search},
+                  {"tandem", sbh::mill_with({{"base", "F2"}})},
+                  {"items", json::array({
+                                {{"label", "C-1"}},  // the batch's stands: F2, its posterior
+                                {{"label", "C-2"}, {"tandem", {{"stands", two_plain}}}},
+                                {{"label", "C-3"}, {"tandem", {{"stands", moved}}}},
+                                {{"label", "C-4"}, {"tandem", {{"speed_m_per_s", 12}}}},
+                            })}};
+    const auto submitted = test::post_json(client, "/v1/batches", {{"options", batch}});
+    REQUIRE(submitted);
+    CAPTURE(submitted->body.substr(0, 600));
+    REQUIRE(submitted->status == 202);
+    const json job = test::poll_until_finished(client, submitted->get_header_value("Location"),
+                                               std::chrono::milliseconds(60000));
+    CAPTURE(job.dump().substr(0, 800));
+    REQUIRE(job["state"] == "succeeded");
+    const json& rows = job["result"]["result"]["items"];
+    REQUIRE(rows.size() == 4);
+    // C-1 is the single request's answer: the same σ from F2's stored posterior
+    const json single = test::body_json(
+        test::post_json(client, "/v1/tandem/speed-limit",
+                        {{"tandem", sbh::mill_with({{"base", "F2"}})}, {"options", sbh::search}}));
+    const json sd = single["result"]["uncertainty"]["standard_deviation_m_per_s"];
+    REQUIRE(sd.is_number());
+    CHECK(rows[0]["headline"]["critical_speed_sd_m_per_s"] == sd);
+    CHECK(rows[0]["headline"]["advised_speed_m_per_s"] ==
+          single["result"]["advised_speed_m_per_s"]);
+    CHECK(
+        rows[1]["headline"]["critical_speed_sd_m_per_s"].is_null());  // its own stands, none stored
+    CHECK(rows[2]["headline"]["critical_speed_sd_m_per_s"].is_null());    // F2 moved: not described
+    CHECK(rows[3]["headline"]["critical_speed_sd_m_per_s"].is_number());  // the batch's stands
+    CHECK(rows[3]["headline"]["operating_speed_m_per_s"] == 12.0);
+    // every name the batch cannot use, shared or an item's, is one 422
+    batch["tandem"]["stands"][1]["base"] = "nowhere";
+    batch["items"][2]["tandem"]["stands"][1]["base"] = "nowhere-either";
+    const auto refused = test::post_json(client, "/v1/batches", {{"options", batch}});
+    REQUIRE(refused);
+    CHECK(refused->status == 422);
+    const json problem = json::parse(refused->body);
+    CAPTURE(problem.dump());
+    CHECK(sbh::has_error_at(problem, "/options/tandem/stands/1/base"));
+    CHECK(sbh::has_error_at(problem, "/options/items/2/tandem/stands/1/base"));
 }
