@@ -171,7 +171,8 @@ std::optional<ObservationRead> read_observation(const nlohmann::json& value,
     ok =
         reader.number("standard_uncertainty", unit, open_closed(0.0, 1e300), out.uncertainty) && ok;
     out.patch_pointer = reader.at("scenario");
-    if (const auto* patch = reader.find("scenario")) {
+    // absent or null: the request's scenario as it is
+    if (const auto* patch = reader.find("scenario"); patch != nullptr && !patch->is_null()) {
         if (require_object(*patch, out.patch_pointer, errors)) {
             out.patch = *patch;
         } else {
@@ -320,10 +321,8 @@ CalibrationPlan calibration_plan_from_json(const nlohmann::json& options,
         reader, "observations", max_calibration_observations, "observations", read_observation);
     int max_iterations = 30;
     reader.read(OptionId::max_iterations, max_iterations);
-    const nlohmann::json* search = reader.find("critical_speed");
-    plan.setup.critical_speed =
-        critical_speed_options_from_json(search != nullptr ? *search : nlohmann::json::object(),
-                                         reader.at("critical_speed"), errors);
+    plan.setup.critical_speed = critical_speed_options_from_json(
+        reader.object_or_defaults("critical_speed"), reader.at("critical_speed"), errors);
 
     // The same field twice would be one parameter with two names: the normal matrix singular.
     for (std::size_t i = 0; i < parameters.size(); ++i) {

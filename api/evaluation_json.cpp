@@ -58,14 +58,15 @@ EvaluationOptions evaluation_options_from_json(const nlohmann::json& options,
     EvaluationOptions parsed;
     const OptionsReader reader(options, pointer, evaluation_members, errors);
     if (!reader.is_object()) return parsed;
-    if (const nlohmann::json* search = reader.find(critical_speed_name)) {
-        parsed.critical_speed =
-            critical_speed_options_from_json(*search, reader.at(critical_speed_name), errors);
+    if (reader.given(critical_speed_name)) {
+        parsed.critical_speed = critical_speed_options_from_json(
+            *reader.find(critical_speed_name), reader.at(critical_speed_name), errors);
     }
-    if (const nlohmann::json* run = reader.find(amplitude_name)) {
-        parsed.amplitude = amplitude_options_from_json(*run, reader.at(amplitude_name),
-                                                       AmplitudeMembers::single_run, 0.0, errors)
-                               .run;
+    if (reader.given(amplitude_name)) {
+        parsed.amplitude =
+            amplitude_options_from_json(*reader.find(amplitude_name), reader.at(amplitude_name),
+                                        AmplitudeMembers::single_run, 0.0, errors)
+                .run;
     }
     read_detail(reader, parsed.detail);
     return parsed;

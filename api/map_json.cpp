@@ -99,10 +99,8 @@ MapPlan map_plan_from_json(const nlohmann::json& options, const std::string& poi
     const OptionsReader reader(options, pointer, map_members, errors);
     if (!reader.is_object()) return plan;
     read_axes(reader, valid_scenario, plan);
-    const nlohmann::json* search = reader.find(critical_speed_name);
-    plan.critical_speed =
-        critical_speed_options_from_json(search != nullptr ? *search : nlohmann::json::object(),
-                                         reader.at(critical_speed_name), errors);
+    plan.critical_speed = critical_speed_options_from_json(
+        reader.object_or_defaults(critical_speed_name), reader.at(critical_speed_name), errors);
 
     // The bounds, on the counts the client asked for (valid values or not).
     const long cells = static_cast<long>(axis_count(plan.axes[0].resolved)) *

@@ -24,6 +24,12 @@ const nlohmann::json* OptionsReader::find(std::string_view name) const {
     return member == object_->end() ? nullptr : &*member;
 }
 
+const nlohmann::json& OptionsReader::object_or_defaults(std::string_view name) const {
+    static const nlohmann::json empty = nlohmann::json::object();
+    const nlohmann::json* member = find(name);
+    return member == nullptr || member->is_null() ? empty : *member;
+}
+
 bool OptionsReader::number(std::string_view name, Unit unit, const Interval& range,
                            double& si_target) const {
     const nlohmann::json* value = find(name);

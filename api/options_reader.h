@@ -30,6 +30,14 @@ public:
 
     // The member, or nullptr if absent (or if the options are not an object).
     const nlohmann::json* find(std::string_view name) const;
+    // A nested options object documented "absent or null: the defaults": the member, or an
+    // empty object when it is absent or null (an echo writes null for one that does not apply).
+    const nlohmann::json& object_or_defaults(std::string_view name) const;
+    // Whether the member is present and not null.
+    bool given(std::string_view name) const {
+        const nlohmann::json* member = find(name);
+        return member != nullptr && !member->is_null();
+    }
 
     // Each returns true if the member was present and valid (and stored), false otherwise.
     // Numbers are stored in SI: `unit` is the unit of the member as the client writes it.

@@ -261,7 +261,7 @@ void build_scenarios(const ScenarioField& field, const std::vector<Point>& point
 
 void reject_other_quantity(const OptionsReader& reader, std::string_view member,
                            std::string_view quantity) {
-    if (reader.find(member) == nullptr) return;
+    if (!reader.given(member)) return;  // null: what an echo writes for the other quantity
     reader.errors().add({reader.at(member),
                          concat("applies to quantity '", member,
                                 "' only; this sweep's quantity is '", quantity, "'"),
@@ -373,16 +373,14 @@ SweepPlan sweep_plan_from_json(const nlohmann::json& options, const std::string&
     if (quantity_valid) {
         if (plan.quantity == SweepQuantity::critical_speed) {
             reject_other_quantity(reader, amplitude_name, quantity);
-            const nlohmann::json* search = reader.find(critical_speed_name);
-            plan.critical_speed = critical_speed_options_from_json(
-                search != nullptr ? *search : nlohmann::json::object(),
-                reader.at(critical_speed_name), errors);
+            plan.critical_speed =
+                critical_speed_options_from_json(reader.object_or_defaults(critical_speed_name),
+                                                 reader.at(critical_speed_name), errors);
             quantity_options = critical_speed_options_json(plan.critical_speed);
         } else {
             reject_other_quantity(reader, critical_speed_name, quantity);
-            const nlohmann::json* run = reader.find(amplitude_name);
             const AmplitudeOptions read = amplitude_options_from_json(
-                run != nullptr ? *run : nlohmann::json::object(), reader.at(amplitude_name),
+                reader.object_or_defaults(amplitude_name), reader.at(amplitude_name),
                 AmplitudeMembers::sweep_point, 0.0, errors);
             plan.amplitude = read.run;
             quantity_options = amplitude_options_json(read, AmplitudeMembers::sweep_point);

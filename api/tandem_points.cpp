@@ -393,12 +393,11 @@ void read_tandem_point_spec(const OptionsReader& reader, TandemPointSpec& spec,
                                             : TandemSweepQuantity::critical_speed;
     echo[std::string(quantity_name)] = quantity;
     if (quantity_valid && spec.quantity == TandemSweepQuantity::critical_speed) {
-        const nlohmann::json* search = reader.find(critical_speed_member);
         spec.critical_speed =
-            critical_speed_options_from_json(search != nullptr ? *search : nlohmann::json::object(),
+            critical_speed_options_from_json(reader.object_or_defaults(critical_speed_member),
                                              reader.at(critical_speed_member), reader.errors());
         echo[std::string(critical_speed_member)] = critical_speed_options_json(spec.critical_speed);
-    } else if (quantity_valid && reader.find(critical_speed_member) != nullptr) {
+    } else if (quantity_valid && reader.given(critical_speed_member)) {
         reader.errors().add({reader.at(critical_speed_member),
                              "applies to quantity 'critical_speed' only; this one's quantity is "
                              "'stability'",
