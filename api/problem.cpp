@@ -37,8 +37,6 @@ constexpr std::array kinds{
     ProblemKind{ProblemCode::request_timeout, "request_timeout", 408,
                 "Request did not arrive in time"},
     ProblemKind{ProblemCode::uri_too_long, "uri_too_long", 414, "Request line is too long"},
-    ProblemKind{ProblemCode::range_not_satisfiable, "range_not_satisfiable", 416,
-                "Range is not satisfiable"},
     ProblemKind{ProblemCode::header_fields_too_large, "header_fields_too_large", 431,
                 "Request header fields are too large"},
     ProblemKind{ProblemCode::invalid_header, "invalid_header", 400, "Request header is invalid"},

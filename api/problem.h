@@ -29,7 +29,6 @@ enum class ProblemCode {
     unsupported_media_type,   // HTTP: not application/json
     request_timeout,          // HTTP: the request did not arrive within the read deadline
     uri_too_long,             // HTTP: the request line exceeds the limit
-    range_not_satisfiable,    // HTTP: a malformed Range header (a valid one is ignored)
     header_fields_too_large,  // HTTP: the header section exceeds its size or field count limit
     invalid_header,           // HTTP: a header the server cannot take as sent (a NUL byte)
     not_acceptable,           // the result has no table in the format asked for (Accept: text/csv)

@@ -141,8 +141,8 @@ nlohmann::json partial_result_schema(std::span<const Analysis> offered) {
     nlohmann::json points = api::array_schema(std::move(entry));
     points["description"] = "The finished points in index order, each once.";
     return api::object_schema(
-        "The points a running sweep or map has finished so far; the complete result replaces it "
-        "when the job succeeds.",
+        "The points a sweep or map has finished: while it runs, and kept when it is cancelled "
+        "or fails; the complete result replaces it when the job succeeds.",
         {{"partial", partial}, {"points_total", total}, {"points_done", done}, {"points", points}},
         {"partial", "points_total", "points_done", "points"});
 }

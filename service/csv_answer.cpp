@@ -91,6 +91,10 @@ std::string no_tables(std::string_view analysis) {
 
 }  // namespace
 
+double accept_quality(std::string_view accept, std::string_view type) {
+    return quality(accept, type);
+}
+
 bool wants_csv(std::string_view accept) {
     const double csv = quality(accept, "text/csv");
     if (csv <= 0.0) return false;

@@ -16,6 +16,10 @@ inline constexpr std::string_view csv_content_type = "text/csv; charset=utf-8; h
 // application/json gets (itself, application/*, or */*). Without an Accept header: JSON.
 bool wants_csv(std::string_view accept);
 
+// The quality (0 to 1) an Accept header gives a media type: that of the most specific range
+// matching it (the type itself, type/*, */*), -1 when none does.
+double accept_quality(std::string_view accept, std::string_view type);
+
 struct CsvAnswer {
     int status = 200;  // 200, or 406 with a problem
     std::string body;

@@ -21,6 +21,7 @@
 #include "service/analyses/table.h"
 #include "service/analyses/analysis.h"
 #include "service/chunked.h"
+#include "service/openapi_http.h"
 #include "embedded/openapi_json.h"  // generated from service/openapi.json: openapi_json()
 #include "service/version.h"
 
@@ -353,6 +354,26 @@ void add_result_schemas(json& document) {
     add_csv(get_job, get_job["responses"]["200"], analyses());
 }
 
+// A job's request: each analysis' options component, required where the analysis needs
+// options (its component requires members: a sweep's parameter, a fit's observations), from
+// the rows, so an analysis added later is typed too.
+void add_analysis_request_options(json& schemas) {
+    json cases = json::array();
+    for (const Analysis& analysis : analyses()) {
+        if (analysis.options_schema.empty()) continue;
+        const std::string component(analysis.options_schema);
+        json then = {{"properties", {{"options", component_ref(component)}}}};
+        const json& options = schemas[component];
+        if (options.contains("required") && !options["required"].empty())
+            then["required"] = json::array({"options"});
+        cases.push_back({{"if",
+                          {{"properties", {{"analysis", {{"const", analysis.name}}}}},
+                           {"required", json::array({"analysis"})}}},
+                         {"then", std::move(then)}});
+    }
+    schemas["AnalysisRequest"]["allOf"] = std::move(cases);
+}
+
 // The analyses as the descriptor's rows, in order (x-rollgap-analyses): what a client such as
 // the workbench page lists without a copy of its own. `csv`: the result has CSV tables (its route
 // answers Accept: text/csv); `on_page`: the workbench offers it.
@@ -364,6 +385,7 @@ json analysis_list() {
             {"label", analysis.label},
             {"summary", analysis.summary},
             {"path", analysis.path},
+            {"options_schema", analysis.options_schema},
             {"csv", !analysis.tables().empty()},
             {"pointwise", analysis.pointwise()},
             {"on_page", analysis.on_page},
@@ -539,12 +561,28 @@ json openapi_document() {
             numeric_paths.push_back(field.path);
         }
     }
-    schemas["SweepOptions"]["properties"]["parameter"]["enum"] = std::move(numeric_paths);
+    schemas["SweepOptions"]["properties"]["parameter"]["enum"] = numeric_paths;
+    // A map's axes: any numeric field but the roll speed (the search scans it); a fit's
+    // parameters: the continuous ones.
+    json map_paths = json::array();
+    json fitted_paths = json::array();
+    for (const api::ScenarioField& field : api::scenario_fields()) {
+        if (field.kind == api::FieldKind::number) fitted_paths.push_back(field.path);
+        if ((field.kind == api::FieldKind::number || field.kind == api::FieldKind::integer) &&
+            field.path != "/rolls/speed_m_per_s")
+            map_paths.push_back(field.path);
+    }
+    schemas["MapAxis"]["properties"]["parameter"]["enum"] = std::move(map_paths);
+    schemas["CalibrateOptions"]["properties"]["parameters"]["items"]["properties"]["field"]
+           ["enum"] = std::move(fitted_paths);
+    add_analysis_request_options(schemas);
     add_base(schemas);
     add_option_members(schemas);
     add_option_defaults(schemas);
     add_result_schemas(document);
     document["x-rollgap-analyses"] = analysis_list();
+    split_request_components(document);
+    add_http_conventions(document);
     return document;
 }
 

@@ -111,6 +111,9 @@ struct HttpServer::Impl {
         }
         response.set_header("X-Request-Id", context.id);
         response.set_header("Accept-Ranges", "none");
+        // JSON or CSV by the Accept header: caches keep one answer per Accept.
+        if (context.route != nullptr && answers_csv(*context.route, request.method))
+            response.set_header("Vary", "Accept");
         // While draining, clients are sent to reconnect (to another replica).
         if (state.draining) response.set_header("Connection", "close");
     }

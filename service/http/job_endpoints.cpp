@@ -19,6 +19,10 @@ using nlohmann::json;
 
 namespace {
 
+// When to poll an unfinished job again, in seconds (Retry-After on its 202 and on a GET while
+// it is queued or running): a stand's analysis takes tens of milliseconds to seconds.
+constexpr std::string_view poll_hint_s = "1";
+
 bool valid_idempotency_key(const std::string& key) {
     return !key.empty() && key.size() <= JobEndpoints::max_idempotency_key &&
            std::all_of(key.begin(), key.end(), [](char c) { return c > ' ' && c < 0x7f; });
@@ -133,6 +137,7 @@ void JobEndpoints::create(json request, const std::string& idempotency_key,
     const store::JobRecord& record = created.value->job;
     if (created.value->created) runner_.wake();
     response.set_header("Location", concat(jobs_prefix, record.id));
+    if (created.value->created) response.set_header("Retry-After", std::string(poll_hint_s));
     set_json(response, created.value->created ? 202 : 200, full_document(*store, record),
              "application/json");
 }
@@ -153,6 +158,9 @@ void JobEndpoints::get(const httplib::Request& request, const std::string& id,
     }
     Outcome document;
     document.body = full_document(*store, *found.value);
+    if (found.value->state == store::JobState::queued ||
+        found.value->state == store::JobState::running)
+        response.set_header("Retry-After", std::string(poll_hint_s));
     set_outcome(request, document, response);
 }
 
@@ -166,8 +174,8 @@ json JobEndpoints::full_document(store::JobStore& store, const store::JobRecord&
         const Outcome assembled = assemble_points(request, document["result"]);
         document.erase("result");
         document[assembled.ok() ? "result" : "problem"] = assembled.body;
-    } else if ((job.state == store::JobState::queued || job.state == store::JobState::running) &&
-               job.points_done > 0) {
+    } else if (job.state != store::JobState::succeeded && job.points_done > 0) {
+        // Running, or ended without its whole result (cancelled, failed): the points finished.
         const auto finished = store.finished_chunks(job.id);
         state_.store.report(finished.status);
         if (finished.ok()) {
@@ -227,6 +235,13 @@ void JobEndpoints::not_found(const std::string& id, httplib::Response& response)
 void JobEndpoints::cancel(const std::string& id, httplib::Response& response) {
     auto store = store_or_503(response);
     if (!store) return;
+    // One answer for every case: 200 and the job after the request. A finished job's is its
+    // document as it was read here, marked deleted.
+    const auto before = store->get(id);
+    if (!before.ok()) {
+        store_failure(before.status, id, response);
+        return;
+    }
     const auto cancelled = store->cancel(id);
     if (!cancelled.ok()) {
         store_failure(cancelled.status, id, response);
@@ -234,7 +249,9 @@ void JobEndpoints::cancel(const std::string& id, httplib::Response& response) {
     }
     state_.store.report(cancelled.status);
     if (*cancelled.value == store::CancelResult::deleted) {
-        response.status = 204;
+        json document = full_document(*store, *before.value);
+        document["deleted"] = true;
+        set_json(response, 200, document, "application/json");
         return;
     }
     // Running: the worker hears it at its next renewal wherever it runs; here at once.
@@ -244,8 +261,7 @@ void JobEndpoints::cancel(const std::string& id, httplib::Response& response) {
         store_failure(after.status, id, response);
         return;
     }
-    set_json(response, *cancelled.value == store::CancelResult::cancelled ? 200 : 202,
-             full_document(*store, *after.value), "application/json");
+    set_json(response, 200, full_document(*store, *after.value), "application/json");
 }
 
 }  // namespace rollgap::service::http

@@ -73,7 +73,53 @@ const char* reason_phrase(int status) {
     }
 }
 
+bool named_header(std::string_view line, std::string_view lower_case_name) {
+    if (line.size() <= lower_case_name.size() || line[lower_case_name.size()] != ':') return false;
+    return std::equal(
+        lower_case_name.begin(), lower_case_name.end(), line.begin(),
+        [](char a, char b) { return a == std::tolower(static_cast<unsigned char>(b)); });
+}
+
 }  // namespace
+
+std::string one_connection_header(std::string_view head) {
+    if (!head.starts_with("HTTP/")) return std::string(head);
+    const auto says_close = [](std::string_view line) {
+        if (!named_header(line, "connection")) return false;
+        std::string value(line.substr(line.find(':') + 1));
+        std::transform(value.begin(), value.end(), value.begin(),
+                       [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+        return value.find("close") != std::string::npos;
+    };
+    bool closing = false;
+    for (std::size_t at = 0; at < head.size();) {
+        const std::size_t end = head.find("\r\n", at);
+        if (end == std::string_view::npos || end == at) break;
+        closing = closing || says_close(head.substr(at, end - at));
+        at = end + 2;
+    }
+    if (!closing) return std::string(head);
+    std::string out;
+    out.reserve(head.size());
+    bool connection_written = false;
+    std::size_t at = 0;
+    for (;;) {
+        const std::size_t end = head.find("\r\n", at);
+        if (end == std::string_view::npos || end == at) break;  // the blank line, or no end
+        const std::string_view line = head.substr(at, end - at);
+        at = end + 2;
+        if (named_header(line, "keep-alive")) continue;
+        if (named_header(line, "connection")) {
+            if (connection_written) continue;
+            connection_written = true;
+            out += "Connection: close\r\n";
+            continue;
+        }
+        out.append(line).append("\r\n");
+    }
+    out.append(head.substr(at));
+    return out;
+}
 
 // One accepted connection: a buffered stream kept for all its requests, which counts the
 // header bytes httplib reads through it and enforces the deadlines.
@@ -164,7 +210,17 @@ public:
             writing_ = true;
             phase_ = Phase::answering;
             write_deadline_ = Clock::now() + limits_.write_deadline;
+            // httplib writes the status line and headers in one piece, adding its own
+            // Connection or Keep-Alive to the handler's: one Connection: close, no Keep-Alive
+            // beside it.
+            const std::string head = one_connection_header({data, size});
+            if (head.size() != size)
+                return send_all(head.data(), head.size()) < 0 ? -1 : static_cast<ssize_t>(size);
         }
+        return send_all(data, size);
+    }
+
+    ssize_t send_all(const char* data, std::size_t size) {
         std::size_t sent = 0;
         while (sent < size) {
             const int left = milliseconds_left(write_deadline_);
@@ -233,6 +289,13 @@ private:
             if (lines_ == 1) return 1;  // the request line: httplib checks its form
             if (line_ == "\r\n") {
                 if (!check_framing()) return -1;
+                // Neither Content-Length nor Transfer-Encoding: the body is empty (RFC 9112
+                // §6.3). httplib would read a POST's body until the peer closes, and answer
+                // 408 at the read deadline: it is told the length instead.
+                if (!chunked_ && !content_length_) {
+                    content_length_ = 0;
+                    line_ = "Content-Length: 0\r\n\r\n";
+                }
                 phase_ = Phase::body;
                 return 1;
             }

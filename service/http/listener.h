@@ -121,6 +121,12 @@ private:
     std::condition_variable ready_;
 };
 
+// The status line and headers of an answer as sent: httplib adds its own Connection: close or
+// Keep-Alive to those a handler set, so a closing answer could say "Connection: close" twice
+// and keep-alive beside it. Returns `head` with one Connection: close and no Keep-Alive when any
+// Connection header says close; otherwise unchanged.
+std::string one_connection_header(std::string_view head);
+
 // The refusal of the request being read on this thread, if any (for the error handler and
 // for handlers whose body read failed).
 Refusal current_refusal();

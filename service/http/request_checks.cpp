@@ -4,11 +4,13 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "api/problem.h"
 #include "api/field_errors.h"
 #include "api/text.h"
 #include "service/analyses/table.h"
+#include "service/csv_answer.h"
 #include "service/http/responses.h"
 
 namespace rollgap::service::http {
@@ -78,6 +80,21 @@ std::optional<std::string> cross_site(const httplib::Request& request, const Ser
     if (site == "cross-site" || site == "same-site")
         return concat("Sec-Fetch-Site: ", site, ": a page of another site sent it");
     return std::nullopt;
+}
+
+// The route's media types the Accept header admits none of (q > 0), as a list for the 406;
+// nothing when it admits one, or says nothing.
+std::optional<std::string> refused_media(const Route& route, const httplib::Request& request) {
+    const std::string accept = request.get_header_value("Accept");
+    if (trim(accept).empty()) return std::nullopt;
+    const std::vector<std::string_view> types = route_media_types(route, request.method);
+    if (types.empty()) return std::nullopt;
+    std::string offered;
+    for (const std::string_view type : types) {
+        if (accept_quality(accept, type) > 0.0) return std::nullopt;
+        offered += concat(offered.empty() ? "" : " or ", type);
+    }
+    return offered;
 }
 
 }  // namespace
@@ -153,6 +170,12 @@ bool refuse(const Route* route, const httplib::Request& request, httplib::Respon
             response, api::ProblemCode::forbidden,
             concat("the client key ", identity->name, " lacks the scope ", scope_name(scope),
                    " that ", request.method, " ", route->pattern, " needs"));
+    } else if (const auto offered = refused_media(*route, request); offered) {
+        set_problem(response, api::ProblemCode::not_acceptable,
+                    concat("the Accept header ",
+                           api::quoted_for_message(request.get_header_value("Accept")),
+                           " admits none of what ", request.method, " ", route->pattern,
+                           " answers with: ", *offered));
     } else if (request.method == "PATCH" && has_body(request) &&
                !is_merge_patch_media_type(request.get_header_value("Content-Type"))) {
         // RFC 7396: a merge patch says so (application/json is taken as one too).

@@ -58,10 +58,6 @@ api::Problem problem_for_status(int status) {
                 ProblemCode::uri_too_long,
                 api::concat("the request line exceeds ",
                             std::to_string(default_max_request_line_bytes), " bytes"));
-        case 416:  // no longer reached: the connection drops Range lines before httplib
-            return api::make_problem(
-                ProblemCode::range_not_satisfiable,
-                "the Range header is malformed; no route serves partial content, send none");
         default:
             return api::make_problem(
                 ProblemCode::internal,

@@ -110,6 +110,26 @@ bool method_allowed(const Route& route, std::string_view method) {
     return false;
 }
 
+bool answers_csv(const Route& route, std::string_view method) {
+    if (route.id == RouteId::job) return method == "GET" || method == "HEAD";
+    if (route.id != RouteId::analysis || method != "POST") return false;
+    const Analysis* analysis = find_analysis(analyses(), route.analysis);
+    // A batch's route answers with the job it queued; its rows are CSV from GET /v1/jobs/{id}.
+    return analysis != nullptr && analysis->subject() != Subject::batch &&
+           !analysis->tables().empty();
+}
+
+std::vector<std::string_view> route_media_types(const Route& route, std::string_view method) {
+    switch (route.id) {
+        case RouteId::static_file: return {};
+        case RouteId::page: return {"text/html"};
+        case RouteId::metrics: return {"text/plain"};
+        default:
+            if (answers_csv(route, method)) return {"application/json", "text/csv"};
+            return {"application/json"};
+    }
+}
+
 std::string_view method_label(std::string_view method) {
     static constexpr std::array<std::string_view, 9> known{
         "GET", "HEAD", "POST", "PUT", "DELETE", "OPTIONS", "PATCH", "CONNECT", "TRACE"};

@@ -5,6 +5,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace rollgap::service::http {
 
@@ -52,6 +53,13 @@ const Route* match_route(std::string_view path);
 // "GET, HEAD, POST, OPTIONS": the Allow header of `route`.
 std::string allow_header(const Route& route);
 bool method_allowed(const Route& route, std::string_view method);
+// The media types `method` on `route` answers with besides problem details (which every route
+// may send): application/json, text/csv where a result has tables, text/plain for the
+// metrics, text/html for the page; empty for the workbench's files (each its own type).
+std::vector<std::string_view> route_media_types(const Route& route, std::string_view method);
+// Whether the answer depends on the Accept header (JSON or CSV): Vary: Accept.
+bool answers_csv(const Route& route, std::string_view method);
+
 // A closed set for the metrics label.
 std::string_view method_label(std::string_view method);
 

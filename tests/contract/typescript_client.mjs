@@ -1,5 +1,5 @@
-// Contract test: openapi-typescript turns the served /openapi.json into types and tsc (strict)
-// type-checks client.ts against them.
+// Contract test: openapi-typescript (default options) turns the served /openapi.json into types
+// and tsc (strict) type-checks client.ts (answers) and requests.ts (requests) against them.
 // usage: node typescript_client.mjs path/to/rollgap
 import { execFileSync } from 'node:child_process';
 import { copyFileSync, mkdtempSync, rmSync, writeFileSync } from 'node:fs';
@@ -25,9 +25,10 @@ try {
     stdio: 'inherit',
   });
   copyFileSync(join(here, 'client.ts'), join(work, 'client.ts'));
+  copyFileSync(join(here, 'requests.ts'), join(work, 'requests.ts'));
   execFileSync(join(bin, 'tsc'), ['--noEmit', '--strict', '--target', 'es2022', '--module', 'es2022',
-    '--moduleResolution', 'bundler', join(work, 'client.ts')], { stdio: 'inherit' });
-  console.log('client.ts type-checks against the types generated from the served document');
+    '--moduleResolution', 'bundler', join(work, 'client.ts'), join(work, 'requests.ts')], { stdio: 'inherit' });
+  console.log('client.ts (answers) and requests.ts (partial patches, a sweep, a job, a batch) type-check against the types generated from the served document');
 } finally {
   rmSync(work, { recursive: true, force: true });
 }

@@ -165,6 +165,20 @@ const cases = [
   ['mill map job', 'POST', '/v1/jobs',
     json({ analysis: 'tandem_map', tandem: twoStands, options: { quantity: 'stability', parameters: [
       { parameter: '/speed_m_per_s', values: [10, 12] }, { parameter: '/spans/length_m/0', values: [4, 6] }] } }), 202],
+  // "absent or null: the defaults" (the document's words) also for the readers
+  ['sweep critical speed null', 'POST', '/v1/sweeps',
+    json({ options: { parameter: '/lubricant/viscosity_Pa_s', values: [0.0004], critical_speed: null, amplitude: null } }), 200],
+  ['sweep amplitude null', 'POST', '/v1/sweeps',
+    json({ options: { parameter: '/rolls/speed_m_per_s', values: [10], quantity: 'amplitude', amplitude: null, critical_speed: null } }), 200],
+  ['calibrate nulls', 'POST', '/v1/calibrate',
+    json({ options: { parameters: [{ field: '/strip/flow_stress_MPa', prior: null }], joint_prior: null, observations: [
+      { scenario: null, quantity: 'roll_force_kN', value: 9000, standard_uncertainty: 60 }] } }), 200],
+  // an empty body is the request {} (the document declares the body optional where {} is valid)
+  ['empty body', 'POST', '/v1/stability', {}, 200],
+  ['empty body, options required', 'POST', '/v1/sweeps', {}, 422],
+  // strict Accept: what the route cannot answer with is a 406 problem
+  ['accept xml', 'POST', '/v1/stability', { ...json({}), accept: 'application/xml' }, 406],
+  ['job as csv', 'POST', '/v1/jobs', { ...json({ analysis: 'roll_gap' }), accept: 'text/csv' }, 406],
   ['invalid json', 'POST', '/v1/roll-gap', { body: '{', headers: { 'Content-Type': 'application/json' } }, 400],
   ['not json', 'POST', '/v1/roll-gap', { body: '{}', headers: { 'Content-Type': 'text/plain' } }, 415],
   ['invalid scenario', 'POST', '/v1/roll-gap', json({ scenario: { strip: { reduction: 25 } } }), 422,
@@ -192,7 +206,7 @@ async function jobCases(base, run) {
   if (job.state !== 'succeeded') throw new Error(`job ended ${job.state}`);
   await run(['finished job', 'GET', `/v1/jobs/${id}`, {}, 200, equals('/result/analysis', 'sweep')]);
   await run(['finished job csv', 'GET', `/v1/jobs/${id}`, { accept: 'text/csv' }, 200]);
-  await run(['delete job', 'DELETE', `/v1/jobs/${id}`, {}, 204]);
+  await run(['delete job', 'DELETE', `/v1/jobs/${id}`, {}, 200, equals('/deleted', true)]);
   await run(['deleted job', 'GET', `/v1/jobs/${id}`, {}, 404]);
   // An invalid scenario is refused at submission (422 problem), nothing stored (issue 17: it
   // used to be accepted and fail later).
@@ -205,6 +219,13 @@ async function jobCases(base, run) {
   // The list: the newest job first; a state filter.
   await run(['list jobs', 'GET', '/v1/jobs?limit=1', {}, 200, equals('/jobs/0/id', first.json.id)]);
   await run(['list succeeded jobs', 'GET', '/v1/jobs?state=succeeded', {}, 200]);
+  // every answer's echo is a request the same route takes (calibrate's holds "prior": null)
+  const calibrated = await run(['calibrate to echo', 'POST', '/v1/calibrate',
+    json({ options: { parameters: [{ field: '/strip/flow_stress_MPa' }], observations: [
+      { quantity: 'roll_force_kN', value: 9000, standard_uncertainty: 60 }] } }), 200]);
+  await run(['calibrate echo', 'POST', '/v1/calibrate',
+    json({ scenario: calibrated.json.scenario, options: calibrated.json.options }), 200,
+    equals('/result/parameters/0/value', calibrated.json.result.parameters[0].value)]);
 }
 
 // The stored scenarios on the service's own fresh store: create, read, list, the
@@ -266,6 +287,7 @@ try {
     const headers = { ...(request.headers || {}) };
     if (request.accept) headers.Accept = request.accept;
     const response = await fetch(`${base}${path}`, { method, headers, body: request.body });
+    const header = (name) => response.headers.get(name);
     const text = await response.text();
     const type = (response.headers.get('content-type') || '').split(';')[0].trim();
     const outcome = { text, json: undefined };
@@ -291,6 +313,36 @@ try {
         declared = { $ref: '#/components/responses/NotFound' };
       }
       if (!declared) throw new Error(`status ${response.status} is not declared for ${method} ${template}`);
+      const operation = template ? document.paths[template][method.toLowerCase()] : undefined;
+      // A request the service answered 2xx is one the document admits: its body validates
+      // against the declared request schema, and a missing body is declared optional.
+      if (operation && response.status < 300 && (method === 'POST' || method === 'PUT' || method === 'PATCH')) {
+        const body = operation.requestBody;
+        if (request.body === undefined) {
+          if (body?.required) throw new Error('answered without a body, but the document requires one');
+        } else {
+          const media = Object.keys(body?.content || {})[0];
+          const check = ajv.getSchema(`openapi#/paths/${escape(template)}/${method.toLowerCase()}/requestBody/content/${escape(media)}/schema`);
+          if (!check(JSON.parse(request.body))) {
+            throw new Error(`the request was answered ${response.status} but the document refuses it: ${ajv.errorsText(check.errors)}`);
+          }
+        }
+      }
+      // Headers: the request id on every answer, declared; the poll hint on every 202; Vary on
+      // what answers JSON or CSV.
+      let resolvedResponse = declared;
+      while (resolvedResponse.$ref) resolvedResponse = resolvedResponse.$ref.split('/').slice(1).reduce((node, key) => node[key], document);
+      if (!header('x-request-id')) throw new Error('no X-Request-Id');
+      if (operation && !resolvedResponse.headers?.['X-Request-Id']) throw new Error(`X-Request-Id not declared for ${response.status}`);
+      if (response.status === 202) {
+        if (!header('retry-after')) throw new Error('a 202 without Retry-After');
+        if (!resolvedResponse.headers?.['Retry-After']) throw new Error('Retry-After not declared on the 202');
+      }
+      const csvDeclared = Boolean(operation?.responses?.['200']?.content?.['text/csv']);
+      if (csvDeclared !== ((header('vary') || '').includes('Accept'))) {
+        throw new Error(`Vary: ${header('vary')} where the operation ${csvDeclared ? 'answers' : 'does not answer'} CSV`);
+      }
+      if ((header('connection') || '').split(',').length > 1) throw new Error(`Connection: ${header('connection')}`);
       while (declared.$ref) {
         pointer = declared.$ref;
         declared = declared.$ref.split('/').slice(1).reduce((node, key) => node[key.replace(/~1/g, '/').replace(/~0/g, '~')], document);

@@ -360,8 +360,15 @@ TEST_CASE("scenarios: the OpenAPI document types the routes, the headers and bas
         CHECK(named["delete"]["responses"].contains(status));
     }
     CHECK(named["get"]["responses"]["200"]["headers"].contains("ETag"));
+    // a request's patch has no defaults (a generated client would require them); the answers'
+    // component keeps them
     CHECK(named["put"]["requestBody"]["content"]["application/json"]["schema"]["$ref"] ==
-          "#/components/schemas/ScenarioPatch");
+          "#/components/schemas/ScenarioPatchInput");
+    CHECK(document["components"]["schemas"]["ScenarioPatchInput"].dump().find("\"default\"") ==
+          std::string::npos);
+    CHECK(document["components"]["schemas"]["ScenarioPatch"]["properties"]["rolls"]["properties"]
+                  ["speed_m_per_s"]
+                      .contains("default"));
     const json& schemas = document["components"]["schemas"];
     CHECK(schemas["ScenarioName"]["pattern"] == std::string(api::stored_scenario_name_pattern));
     // Every request that carries a scenario patch may name a base; every answer may echo it.

@@ -160,8 +160,11 @@ TEST_CASE("the document's analysis list (x-rollgap-analyses) is the rows, in ord
         const service::Analysis& analysis = rows[i];
         const json& entry = listed[i];
         CAPTURE(analysis.name);
-        CHECK(entry.size() == 8);
+        CHECK(entry.size() == 9);
         CHECK(entry.value("name", "") == analysis.name);
+        // the options component with the defaults, which the page's options form shows
+        CHECK(entry.value("options_schema", "") == analysis.options_schema);
+        CHECK(document["components"]["schemas"][std::string(analysis.options_schema)].is_object());
         CHECK(entry.value("label", "") == analysis.label);
         CHECK(!analysis.label.empty());
         CHECK(entry.value("summary", "") == analysis.summary);

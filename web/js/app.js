@@ -22,7 +22,10 @@ const analysisNamed = (name) => app.analyses.find((row) => row.name === name) ||
 // An analysis of the tandem mill (x-rollgap-analyses' subject): the mill editor replaces the scenario's.
 const ofMill = (row) => Boolean(row) && row.subject === 'tandem';
 
+// The analysis' options component with its defaults (the request body's copy has none, so that
+// generated clients may leave members out): the form shows them as placeholders.
 function optionsSchema(analysis) {
+  if (analysis.options_schema) return { $ref: `#/components/schemas/${analysis.options_schema}` };
   const request = resolve(app.doc, app.doc.paths[analysis.path].post.requestBody.content['application/json'].schema);
   return request.properties.options;
 }
