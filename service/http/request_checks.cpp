@@ -97,6 +97,44 @@ std::optional<std::string> refused_media(const Route& route, const httplib::Requ
     return offered;
 }
 
+// A header value listed once in Vary (merged into the Vary the answer already has).
+void add_vary(httplib::Response& response, std::string_view token) {
+    const auto found = response.headers.find("Vary");
+    if (found == response.headers.end()) {
+        response.set_header("Vary", std::string(token));
+    } else if (found->second.find(token) == std::string::npos) {
+        found->second = concat(found->second, ", ", token);
+    }
+}
+
+// The headers a request from a browser page is allowed to send and to read (CORS).
+constexpr std::string_view cors_request_headers =
+    "Authorization, Content-Type, If-Match, If-None-Match, Idempotency-Key, X-Request-Id";
+constexpr std::string_view cors_exposed_headers =
+    "Location, ETag, Retry-After, X-Request-Id, Content-Disposition";
+
+// CORS for the origins of --allowed-origins (none by default): the answer names the origin
+// it may be read by and the headers the page may read; a preflight (OPTIONS with
+// Access-Control-Request-Method) is told the route's methods and the request headers it may
+// send. An origin not listed gets no CORS header: the browser keeps the answer from it.
+void add_cors(const Route* route, const httplib::Request& request, httplib::Response& response,
+              const ServerConfig& config) {
+    if (config.allowed_origins.empty()) return;
+    add_vary(response, "Origin");
+    const std::string origin = lower(request.get_header_value("Origin"));
+    if (origin.empty() || std::find(config.allowed_origins.begin(), config.allowed_origins.end(),
+                                    origin) == config.allowed_origins.end())
+        return;
+    response.set_header("Access-Control-Allow-Origin", request.get_header_value("Origin"));
+    response.set_header("Access-Control-Expose-Headers", std::string(cors_exposed_headers));
+    if (request.method != "OPTIONS" || !request.has_header("Access-Control-Request-Method") ||
+        route == nullptr)
+        return;
+    response.set_header("Access-Control-Allow-Methods", allow_header(*route));
+    response.set_header("Access-Control-Allow-Headers", std::string(cors_request_headers));
+    response.set_header("Access-Control-Max-Age", "600");
+}
+
 }  // namespace
 
 Scope route_scope(const Route& route, std::string_view method) {
@@ -108,7 +146,8 @@ Scope route_scope(const Route& route, std::string_view method) {
         case RouteId::mill:
         case RouteId::scenario_calibrate: return reads ? scope_read : scope_write;
         case RouteId::jobs:
-        case RouteId::job: return reads ? scope_read : scope_compute;
+        case RouteId::job:
+        case RouteId::job_events: return reads ? scope_read : scope_compute;
         default: return scope_compute;
     }
 }
@@ -126,6 +165,7 @@ bool refuse(const Route* route, const httplib::Request& request, httplib::Respon
             const ServerConfig& config, KeyRing& keys, bool on_admin, std::string& client) {
     bool refused = true;
     client = "anonymous";
+    if (!on_admin) add_cors(route, request, response, config);
     std::optional<ClientIdentity> identity;
     const bool needs_key = route != nullptr && route->compute && keys.enabled() &&
                            request.method != "OPTIONS" && method_allowed(*route, request.method);
