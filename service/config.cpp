@@ -55,9 +55,21 @@ constexpr std::array settings{
     ConfigSetting{"--job-deadline-ms", "ROLLGAP_JOB_DEADLINE_MS", "MS",
                   "time budget of an asynchronous job (default 600000)"},
     ConfigSetting{"--job-retention-ms", "ROLLGAP_JOB_RETENTION_MS", "MS",
-                  "how long a finished job is kept for polling (default 600000)"},
+                  "how long a finished job is kept for polling, unless the job asks for another "
+                  "retention_s (default 600000)"},
+    ConfigSetting{"--max-job-retention-ms", "ROLLGAP_MAX_JOB_RETENTION_MS", "MS",
+                  "the longest retention a job may ask for (retention_s); above: 422 (default "
+                  "86400000)"},
     ConfigSetting{"--max-jobs", "ROLLGAP_MAX_JOBS", "N",
-                  "jobs stored at once, in any state; beyond: 503 (default 256)"},
+                  "jobs queued or running at once; beyond: 503 (default 256)"},
+    ConfigSetting{"--max-finished-jobs", "ROLLGAP_MAX_FINISHED_JOBS", "N",
+                  "finished jobs kept at once; beyond, the oldest finished go first, whatever "
+                  "their retention (default 1000)"},
+    ConfigSetting{"--max-event-streams", "ROLLGAP_MAX_EVENT_STREAMS", "N",
+                  "GET /v1/jobs/{id}/events streams open at once; beyond: 503 (default 32)"},
+    ConfigSetting{"--event-heartbeat-ms", "ROLLGAP_EVENT_HEARTBEAT_MS", "MS",
+                  "longest silence on an event stream: a comment line is sent then (default "
+                  "10000; proxies time out after 60 s)"},
     ConfigSetting{"--job-workers", "ROLLGAP_JOB_WORKERS", "N",
                   "workers that jobs may occupy at once (default max(1, workers/2))"},
     ConfigSetting{"--retry-after", "ROLLGAP_RETRY_AFTER", "S",
@@ -85,8 +97,9 @@ constexpr std::array settings{
                   "comma-separated Host names served, * for any; others: 421 (default: when bound "
                   "to loopback, the bind address, localhost, 127.0.0.1 and ::1; else any)"},
     ConfigSetting{"--allowed-origins", "ROLLGAP_ALLOWED_ORIGINS", "ORIGINS",
-                  "comma-separated browser origins (scheme://host[:port]) allowed to POST, PUT, "
-                  "PATCH or DELETE besides the service's own; others: 403 (default none)"},
+                  "comma-separated browser origins (scheme://host[:port]) allowed to call the "
+                  "API besides the service's own: CORS answers them (a browser HMI on another "
+                  "origin), and they may POST, PUT, PATCH or DELETE; others: 403 (default none)"},
     ConfigSetting{"--max-scenarios", "ROLLGAP_MAX_SCENARIOS", "N",
                   "stored scenarios at once; a new name beyond: 507 (default 1000)"},
     ConfigSetting{"--instance", "ROLLGAP_INSTANCE", "NAME",
@@ -149,8 +162,18 @@ constexpr std::array integer_settings{
                    [](ServerConfig& c, long long n) { c.job_deadline = milliseconds(n); }},
     IntegerSetting{"ROLLGAP_JOB_RETENTION_MS", 0, 604'800'000, "0..604800000 ms",
                    [](ServerConfig& c, long long n) { c.job_retention = milliseconds(n); }},
+    IntegerSetting{"ROLLGAP_MAX_JOB_RETENTION_MS", 1000, 604'800'000, "1000..604800000 ms",
+                   [](ServerConfig& c, long long n) { c.max_job_retention = milliseconds(n); }},
     IntegerSetting{"ROLLGAP_MAX_JOBS", 0, 1'000'000, "0..1000000",
                    [](ServerConfig& c, long long n) { c.max_jobs = static_cast<std::size_t>(n); }},
+    IntegerSetting{
+        "ROLLGAP_MAX_FINISHED_JOBS", 1, 1'000'000, "1..1000000",
+        [](ServerConfig& c, long long n) { c.max_finished_jobs = static_cast<std::size_t>(n); }},
+    IntegerSetting{
+        "ROLLGAP_MAX_EVENT_STREAMS", 0, 4096, "0..4096",
+        [](ServerConfig& c, long long n) { c.max_event_streams = static_cast<std::size_t>(n); }},
+    IntegerSetting{"ROLLGAP_EVENT_HEARTBEAT_MS", 100, 15'000, "100..15000 ms",
+                   [](ServerConfig& c, long long n) { c.event_heartbeat = milliseconds(n); }},
     IntegerSetting{
         "ROLLGAP_MAX_SCENARIOS", 1, 1'000'000, "1..1000000",
         [](ServerConfig& c, long long n) { c.max_scenarios = static_cast<std::size_t>(n); }},
@@ -416,7 +439,11 @@ std::string describe(const ServerConfig& config) {
          << " deadline_ms=" << config.deadline.count()
          << " read_deadline_ms=" << config.read_deadline.count()
          << " job_deadline_ms=" << config.job_deadline.count()
-         << " job_retention_ms=" << config.job_retention.count() << " max_jobs=" << config.max_jobs
+         << " job_retention_ms=" << config.job_retention.count()
+         << " max_job_retention_ms=" << config.max_job_retention.count()
+         << " max_jobs=" << config.max_jobs << " max_finished_jobs=" << config.max_finished_jobs
+         << " max_event_streams=" << config.max_event_streams
+         << " event_heartbeat_ms=" << config.event_heartbeat.count()
          << " job_workers=" << config.job_workers << " max_body_bytes=" << config.max_body_bytes
          << " max_batch_body_bytes=" << config.max_batch_body_bytes
          << " log_level=" << config.log_level << " instance=" << config.instance

@@ -38,7 +38,14 @@ struct ServerConfig {
         10'000};  // a request's headers and body, from its first byte
     std::chrono::milliseconds job_deadline{600'000};   // asynchronous jobs, from creation
     std::chrono::milliseconds job_retention{600'000};  // finished jobs are kept this long
-    std::size_t max_jobs = 256;                        // stored jobs, whatever their state
+    // The longest retention a job may ask for (its retention_s).
+    std::chrono::milliseconds max_job_retention{86'400'000};
+    std::size_t max_jobs = 256;            // jobs queued or running at once
+    std::size_t max_finished_jobs = 1000;  // finished jobs kept; the oldest go first
+    // Server-sent event streams of jobs open at once (each holds a connection thread), and the
+    // longest silence on one: a comment line keeps proxies and clients from timing it out.
+    std::size_t max_event_streams = 32;
+    std::chrono::milliseconds event_heartbeat{10'000};
     std::size_t job_workers = 0;          // workers jobs may occupy at once; 0: max(1, workers/2)
     std::chrono::seconds retry_after{1};  // the Retry-After of 503 answers
     std::chrono::milliseconds drain_timeout{25'000};  // SIGTERM: how long in-flight work may take

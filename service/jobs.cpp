@@ -6,6 +6,8 @@
 
 #include <spdlog/fmt/fmt.h>
 
+#include "service/job_settings.h"
+
 namespace rollgap::service {
 
 using nlohmann::json;
@@ -38,9 +40,18 @@ std::string body_hash(std::string_view text) {
     return fmt::format("{:016x}", hash);
 }
 
+namespace {
+
+// The job's own retention, or the server's.
+store::Millis retention_of(const store::JobRecord& job, std::chrono::milliseconds retention) {
+    return job.retention_ms.value_or(retention.count());
+}
+
+}  // namespace
+
 bool job_expired(const store::JobRecord& job, std::chrono::milliseconds retention,
                  store::Millis now_ms) {
-    return job.finished_ms && *job.finished_ms + retention.count() <= now_ms;
+    return job.finished_ms && *job.finished_ms + retention_of(job, retention) <= now_ms;
 }
 
 json job_document(const store::JobRecord& job, std::chrono::milliseconds retention,
@@ -57,8 +68,10 @@ json job_document(const store::JobRecord& job, std::chrono::milliseconds retenti
     if (job.started_ms) document["started_at"] = rfc3339(*job.started_ms);
     if (job.finished_ms) {
         document["finished_at"] = rfc3339(*job.finished_ms);
-        document["expires_at"] = rfc3339(*job.finished_ms + retention.count());
+        document["expires_at"] = rfc3339(*job.finished_ms + retention_of(job, retention));
     }
+    if (!job.labels.empty()) document["labels"] = labels_json(job.labels);
+    if (job.retention_ms) document["retention_s"] = *job.retention_ms / 1000;
     if (job.cancel_requested) document["cancel_requested"] = true;
     if (job.points > 0) {
         document["points_total"] = job.points;

@@ -216,6 +216,12 @@ struct HttpServer::Impl {
                 }
                 return;
             case RouteId::jobs: job_endpoints.list(request, response); return;
+            case RouteId::job_events:
+                job_endpoints.events(request.path.substr(jobs_prefix.size(),
+                                                         request.path.size() - jobs_prefix.size() -
+                                                             events_suffix.size()),
+                                     response);
+                return;
             case RouteId::job: {
                 const std::string id = request.path.substr(jobs_prefix.size());
                 if (request.method == "DELETE") {

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <charconv>
+#include <chrono>
+#include <thread>
 
 #include "api/text.h"
 #include "service/analyses/table.h"
@@ -9,7 +11,9 @@
 #include "service/evaluate.h"
 #include "service/http/responses.h"
 #include "service/http/routes.h"
+#include "service/http/listener.h"
 #include "service/http/scenario_base.h"
+#include "service/job_settings.h"
 #include "service/jobs.h"
 
 namespace rollgap::service::http {
@@ -54,6 +58,20 @@ void JobEndpoints::store_failure(store::StoreStatus status, const std::string& i
 
 void JobEndpoints::create(json request, const std::string& idempotency_key,
                           httplib::Response& response) {
+    // The job's own members (labels, retention_s) are the job's, not the analysis': taken out
+    // first; the hash below is of the body as sent, so they are part of the submission.
+    const std::string sent = request.dump();  // object keys sorted: the canonical text
+    api::FieldErrors job_errors;
+    const JobSettings settings =
+        take_job_settings(request, state_.config.max_job_retention, job_errors);
+    if (!job_errors.empty()) {
+        set_problem(response,
+                    job_errors.to_problem(api::ProblemCode::invalid_request,
+                                          concat(std::to_string(job_errors.size()), " violation",
+                                                 job_errors.size() == 1 ? "" : "s",
+                                                 " in the job's labels or retention")));
+        return;
+    }
     if (auto problem = check_envelope(request)) {
         set_json(response, problem->http_status, problem->body, problem->media_type());
         return;
@@ -72,7 +90,6 @@ void JobEndpoints::create(json request, const std::string& idempotency_key,
     if (!store) return;
     // The idempotency hash is of the body as sent: a retry after the stored scenario changed
     // is still the same submission (it returns the job made from the first).
-    const std::string sent = request.dump();  // object keys sorted: the canonical text
     // A "base" is resolved now, so the stored request is self-contained: any replica, at any
     // time, computes it against the version the client was answered with.
     if (auto refused = resolve_base(request, state_)) {
@@ -97,6 +114,9 @@ void JobEndpoints::create(json request, const std::string& idempotency_key,
     job.instance = state_.config.instance;
     if (!idempotency_key.empty()) job.idempotency_key = idempotency_key;
     job.body_hash = body_hash(sent);
+    job.labels = settings.labels;
+    std::sort(job.labels.begin(), job.labels.end());
+    if (settings.retention) job.retention_ms = settings.retention->count();
     // A sweep or map is stored as chunks of points that workers on any replica claim.
     if (ready.prepared.points && ready.prepared.points->count > 0) {
         job.points = ready.prepared.points->count;
@@ -200,6 +220,16 @@ void JobEndpoints::list(const httplib::Request& request, httplib::Response& resp
             return;
         }
     }
+    for (std::size_t i = 0; i < request.get_param_value_count("label"); ++i) {
+        const auto filter = label_filter(request.get_param_value("label", i));
+        if (!filter) {
+            invalid_parameter(response, "label",
+                              "name:value, the name 1 to 63 of [A-Za-z0-9._-] (repeat for all of "
+                              "several labels)");
+            return;
+        }
+        query.labels.push_back(*filter);
+    }
     if (!read_page_limit(request, response, max_page, query.limit)) return;
     if (request.has_param("cursor")) query.cursor = request.get_param_value("cursor");
     auto store = store_or_503(response);
@@ -262,6 +292,92 @@ void JobEndpoints::cancel(const std::string& id, httplib::Response& response) {
         return;
     }
     set_json(response, 200, full_document(*store, *after.value), "application/json");
+}
+
+// How often an event stream looks at its job in the store.
+constexpr std::chrono::milliseconds event_poll{250};
+
+void JobEndpoints::events(const std::string& id, httplib::Response& response) {
+    auto store = store_or_503(response);
+    if (!store) return;
+    const auto found = store->get(id);
+    if (!found.ok()) {
+        store_failure(found.status, id, response);
+        return;
+    }
+    state_.store.report(found.status);
+    if (job_expired(*found.value, state_.config.job_retention, store::system_millis())) {
+        not_found(id, response);
+        return;
+    }
+    // Each stream holds a connection thread for as long as it lasts: a bounded number.
+    if (open_streams_->fetch_add(1) >= state_.config.max_event_streams) {
+        open_streams_->fetch_sub(1);
+        state_.overloaded(response,
+                          concat("already ", std::to_string(state_.config.max_event_streams),
+                                 " event streams open; poll GET /v1/jobs/{id} instead"));
+        return;
+    }
+    struct Stream {
+        std::string last;  // the last document sent
+        bool ended = false;
+    };
+    auto stream = std::make_shared<Stream>();
+    response.status = 200;
+    response.set_header("Cache-Control", "no-cache");
+    response.set_header("X-Accel-Buffering", "no");  // nginx passes each event at once
+    const auto heartbeat = state_.config.event_heartbeat;
+    response.set_chunked_content_provider(
+        "text/event-stream",
+        [this, id, stream, heartbeat](std::size_t, httplib::DataSink& sink) {
+            const auto send = [&](const std::string& text) {
+                restart_write_deadline();
+                return sink.write(text.data(), text.size());
+            };
+            if (stream->ended) {
+                sink.done();
+                return true;
+            }
+            const auto quiet_until = std::chrono::steady_clock::now() + heartbeat;
+            for (;;) {
+                if (state_.draining) {  // the replica stops: the client reconnects elsewhere
+                    stream->ended = true;
+                    if (!send("event: end\ndata: {\"reason\": \"draining\"}\n\n")) return false;
+                    sink.done();
+                    return true;
+                }
+                auto current = state_.store.get();
+                const auto read = current ? current->get(id)
+                                          : store::Result<store::JobRecord>::failure(
+                                                store::StoreStatus::unavailable, "");
+                if (read.status == store::StoreStatus::not_found) {
+                    stream->ended = true;
+                    if (!send("event: end\ndata: {\"reason\": \"deleted\"}\n\n")) return false;
+                    sink.done();
+                    return true;
+                }
+                if (read.ok()) {
+                    const json document =
+                        job_document(*read.value, state_.config.job_retention, JobDetail::summary);
+                    std::string text =
+                        document.dump(-1, ' ', false, json::error_handler_t::replace);
+                    if (text != stream->last) {
+                        stream->last = text;
+                        const bool finished = read.value->finished_ms.has_value();
+                        std::string event = concat("event: job\ndata: ", text, "\n\n");
+                        if (finished) {
+                            stream->ended = true;
+                            event += "event: end\ndata: {\"reason\": \"finished\"}\n\n";
+                        }
+                        return send(event);
+                    }
+                }
+                if (std::chrono::steady_clock::now() >= quiet_until)
+                    return send(": keep-alive\n\n");
+                std::this_thread::sleep_for(event_poll);
+            }
+        },
+        [streams = open_streams_](bool) { streams->fetch_sub(1); });
 }
 
 }  // namespace rollgap::service::http

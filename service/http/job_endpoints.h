@@ -3,7 +3,9 @@
 // row in the store), GET /v1/jobs (a page of jobs), GET and DELETE /v1/jobs/{id} on any
 // replica. A job's scenario and options are checked when it runs.
 
+#include <atomic>
 #include <cstdint>
+#include <memory>
 #include <string>
 
 #include <httplib.h>
@@ -26,6 +28,9 @@ public:
     void get(const httplib::Request& request, const std::string& id, httplib::Response& response);
     void list(const httplib::Request& request, httplib::Response& response);
     void cancel(const std::string& id, httplib::Response& response);
+    // GET /v1/jobs/{id}/events: the job's document (summary) as a server-sent event each time
+    // it changes, then `end`; a comment line at least every event_heartbeat.
+    void events(const std::string& id, httplib::Response& response);
 
     static constexpr std::size_t max_idempotency_key = 200;
     static constexpr std::size_t default_page = 20;
@@ -46,6 +51,8 @@ private:
 
     ServiceState& state_;
     JobRunner& runner_;
+    std::shared_ptr<std::atomic<std::size_t>> open_streams_ =
+        std::make_shared<std::atomic<std::size_t>>(0);
 };
 
 }  // namespace rollgap::service::http

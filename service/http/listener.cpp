@@ -157,6 +157,7 @@ public:
     Refusal refusal() const { return refusal_; }
     std::size_t written() const { return written_; }
     void request_close() { close_requested_ = true; }
+    void restart_write_deadline() { write_deadline_ = Clock::now() + limits_.write_deadline; }
     bool close_requested() const { return close_requested_; }
     void shut_down() { ::shutdown(fd_, SHUT_RDWR); }
 
@@ -464,6 +465,10 @@ void* StackBoundedPool::run(void* self) {
         }
         task();
     }
+}
+
+void restart_write_deadline() {
+    if (t_connection != nullptr) t_connection->restart_write_deadline();
 }
 
 Refusal current_refusal() {

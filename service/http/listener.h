@@ -127,6 +127,10 @@ private:
 // Connection header says close; otherwise unchanged.
 std::string one_connection_header(std::string_view head);
 
+// A stream's answer (server-sent events) is written piece by piece for as long as it lasts:
+// each piece gets the write deadline anew, from now, instead of the whole answer once.
+void restart_write_deadline();
+
 // The refusal of the request being read on this thread, if any (for the error handler and
 // for handlers whose body read failed).
 Refusal current_refusal();

@@ -28,6 +28,7 @@ constexpr std::array scenario_routes{
 constexpr std::array other_routes{
     Route{RouteId::jobs, "/v1/jobs", get | post, true, "", false},
     Route{RouteId::job, "/v1/jobs/{id}", get | del, true, "", false},
+    Route{RouteId::job_events, "/v1/jobs/{id}/events", get, true, "", false},
     Route{RouteId::openapi, "/openapi.json", get, false, "", false},
     Route{RouteId::livez, "/livez", get, false, "", true},
     Route{RouteId::readyz, "/readyz", get, false, "", true},
@@ -66,6 +67,13 @@ const Route* match_route(std::string_view path) {
                     path.substr(scenario_prefix.size(),
                                 path.size() - scenario_prefix.size() - calibrate_suffix.size());
                 if (name.find('/') == std::string_view::npos) return &route;
+            }
+        } else if (route.id == RouteId::job_events) {
+            if (path.starts_with(jobs_prefix) && path.ends_with(events_suffix) &&
+                path.size() > jobs_prefix.size() + events_suffix.size()) {
+                const std::string_view id = path.substr(
+                    jobs_prefix.size(), path.size() - jobs_prefix.size() - events_suffix.size());
+                if (id.find('/') == std::string_view::npos) return &route;
             }
         } else if (route.id == RouteId::job || route.id == RouteId::scenario ||
                    route.id == RouteId::mill) {
@@ -124,6 +132,7 @@ std::vector<std::string_view> route_media_types(const Route& route, std::string_
         case RouteId::static_file: return {};
         case RouteId::page: return {"text/html"};
         case RouteId::metrics: return {"text/plain"};
+        case RouteId::job_events: return {"text/event-stream"};
         default:
             if (answers_csv(route, method)) return {"application/json", "text/csv"};
             return {"application/json"};

@@ -22,6 +22,7 @@ enum class RouteId {
     analysis,  // the synchronous route of an analysis (Route::analysis names it)
     jobs,
     job,
+    job_events,  // GET: the job's progress as server-sent events
     openapi,
     livez,
     readyz,
@@ -44,6 +45,7 @@ inline constexpr std::string_view jobs_prefix = "/v1/jobs/";
 inline constexpr std::string_view scenario_prefix = "/v1/scenarios/";
 inline constexpr std::string_view mill_prefix = "/v1/mills/";
 inline constexpr std::string_view calibrate_suffix = "/calibrate";
+inline constexpr std::string_view events_suffix = "/events";
 
 std::span<const Route> all_routes();
 

@@ -8,7 +8,9 @@ namespace {
 store::StoreLimits store_limits(const ServerConfig& config) {
     store::StoreLimits limits;
     limits.max_jobs = config.max_jobs;
+    limits.max_finished_jobs = config.max_finished_jobs;
     limits.retention = config.job_retention;
+    limits.max_retention = config.max_job_retention;
     limits.max_scenarios = config.max_scenarios;
     limits.connections = config.store_connections;
     limits.deadline = config.store_deadline;

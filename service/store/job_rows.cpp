@@ -52,6 +52,26 @@ std::string random_hex() {
     return text;
 }
 
+std::string labels_text(const std::vector<std::pair<std::string, std::string>>& labels) {
+    std::string text;
+    for (const auto& [name, value] : labels) text += name + "=" + value + "\n";
+    return text;
+}
+
+std::vector<std::pair<std::string, std::string>> labels_from_text(std::string_view text) {
+    std::vector<std::pair<std::string, std::string>> labels;
+    while (!text.empty()) {
+        const std::size_t end = text.find('\n');
+        const std::string_view line = text.substr(0, end);
+        text = end == std::string_view::npos ? std::string_view() : text.substr(end + 1);
+        const std::size_t equals = line.find('=');
+        if (equals == std::string_view::npos) continue;
+        labels.emplace_back(std::string(line.substr(0, equals)),
+                            std::string(line.substr(equals + 1)));
+    }
+    return labels;
+}
+
 JobRecord job_from_row(const Row& r) {
     JobRecord job;
     job.id = r.at(0).value_or("");
@@ -71,6 +91,10 @@ JobRecord job_from_row(const Row& r) {
     job.chunks_done = to_int(r.at(16));
     job.points_done = to_int(r.at(17));
     job.worker = r.at(18);
+    if (r.size() > 20) {
+        job.labels = labels_from_text(r.at(19).value_or(""));
+        job.retention_ms = to_optional_int(r.at(20));
+    }
     if (job.state == JobState::succeeded) {
         job.progress = 1.0;
     } else if (job.points > 0) {

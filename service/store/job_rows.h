@@ -15,7 +15,13 @@ inline constexpr std::string_view job_columns =
     "j.id, j.analysis, j.request, j.state, j.progress, j.result, j.problem, j.instance, j.created_ms, "
     "j.started_ms, j.finished_ms, j.deadline_ms, j.cancel_requested, j.points, j.chunks, j.seq, "
     "(SELECT COUNT(*) FROM chunks c WHERE c.job_id = j.id AND c.state = 'done'), "
-    "(SELECT COALESCE(SUM(c.end_point - c.begin_point), 0) FROM chunks c WHERE c.job_id = j.id AND c.state = 'done'), j.worker";
+    "(SELECT COALESCE(SUM(c.end_point - c.begin_point), 0) FROM chunks c WHERE c.job_id = j.id AND c.state = 'done'), j.worker, "
+    "j.labels, j.retention_ms";
+
+// Labels as the jobs.labels column keeps them: "name=value" lines, by name (names and values
+// hold no line break; the service checks them).
+std::string labels_text(const std::vector<std::pair<std::string, std::string>>& labels);
+std::vector<std::pair<std::string, std::string>> labels_from_text(std::string_view text);
 
 JobRecord job_from_row(const Row& r);
 

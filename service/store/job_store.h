@@ -62,6 +62,11 @@ struct NewJob {
     // job's result is their concatenation in point order.
     std::int64_t points = 0;
     std::int64_t chunk_size = 0;
+    // The client's labels (name, value), names unique: a coil id, a line, an order; listed by
+    // name. Kept as given and filterable (ListQuery::labels).
+    std::vector<std::pair<std::string, std::string>> labels;
+    // How long the job is kept once finished; nothing: the store's retention (StoreLimits).
+    std::optional<Millis> retention_ms;
 };
 
 struct JobRecord {
@@ -83,6 +88,8 @@ struct JobRecord {
     std::int64_t points_done = 0;
     std::int64_t chunks = 1;
     std::int64_t chunks_done = 0;
+    std::vector<std::pair<std::string, std::string>> labels;  // by name
+    std::optional<Millis> retention_ms;                       // nothing: the store's
 };
 
 struct JobCounts {
@@ -100,6 +107,8 @@ struct ListQuery {
     std::optional<JobState> state;
     std::size_t limit = 50;
     std::optional<std::string> cursor;  // next_cursor of the previous page
+    // Only jobs carrying every one of these labels (name and value).
+    std::vector<std::pair<std::string, std::string>> labels = {};
 };
 
 struct JobPage {
@@ -175,10 +184,15 @@ struct ScenarioPage {
 };
 
 struct StoreLimits {
-    std::size_t max_jobs = 1000;                     // jobs in any state
+    std::size_t max_jobs = 1000;  // jobs queued or running; beyond: full
+    // Finished jobs kept at most; beyond, the oldest finished are removed first (whatever
+    // their retention): the store's size is bounded by max_jobs + max_finished_jobs.
+    std::size_t max_finished_jobs = 1000;
     std::chrono::milliseconds retention{3'600'000};  // a finished job is kept this long
-    std::size_t max_scenarios = 1000;                // stored scenarios (names not deleted)
-    std::size_t scenario_history = 20;               // versions kept per name, newest first
+    // The longest retention a job may ask for (NewJob::retention_ms).
+    std::chrono::milliseconds max_retention{86'400'000};
+    std::size_t max_scenarios = 1000;   // stored scenarios (names not deleted)
+    std::size_t scenario_history = 20;  // versions kept per name, newest first
     // Deleted names whose marker row is kept (it holds the name's version counter); beyond it
     // the oldest markers go and their versions raise a floor that every new name starts above.
     std::size_t deleted_names = 1000;

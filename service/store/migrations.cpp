@@ -83,6 +83,19 @@ constexpr std::array<std::string_view, 1> version_3 = {
     "ALTER TABLE scenario_versions ADD COLUMN posterior TEXT",
 };
 
+// Jobs for an MES (issue 21): the client's labels (also a table of their own, indexed for the
+// list's filter) and a retention chosen per job.
+constexpr std::array<std::string_view, 4> version_4 = {
+    "ALTER TABLE jobs ADD COLUMN labels TEXT",
+    "ALTER TABLE jobs ADD COLUMN retention_ms BIGINT",
+    R"(CREATE TABLE job_labels (
+        job_id TEXT NOT NULL,
+        name TEXT NOT NULL,
+        value TEXT NOT NULL,
+        PRIMARY KEY (job_id, name)))",
+    "CREATE INDEX job_labels_value ON job_labels (name, value)",
+};
+
 std::string dialect_sql(std::string_view sql, Dialect dialect) {
     std::string text(sql);
     const std::string_view key = "{SEQ}";
@@ -127,6 +140,11 @@ StoreStatus migrate(Backend& backend, std::string& detail) {
                 for (std::string_view statement : version_3) s.exec(statement);
                 s.exec("INSERT INTO schema_migrations (version, applied_ms) VALUES ($1, $2)",
                        {std::int64_t{3}, system_millis()});
+            }
+            if (current < 4) {
+                for (std::string_view statement : version_4) s.exec(statement);
+                s.exec("INSERT INTO schema_migrations (version, applied_ms) VALUES ($1, $2)",
+                       {std::int64_t{4}, system_millis()});
             }
         },
         {}, detail);

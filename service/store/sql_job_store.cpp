@@ -27,19 +27,26 @@ Result<Created> SqlJobStore::create(const NewJob& spec) {
                 existing = earlier_job(s, *spec.idempotency_key, spec.body_hash);
                 if (existing) return;
             }
-            const auto count = to_int(s.exec("SELECT COUNT(*) FROM jobs").at(0).at(0));
-            if (count >= static_cast<std::int64_t>(limits_.max_jobs) && !evict_cancelled(s))
+            const auto active =
+                to_int(s.exec("SELECT COUNT(*) FROM jobs WHERE state IN ('queued', 'running')")
+                           .at(0)
+                           .at(0));
+            if (active >= static_cast<std::int64_t>(limits_.max_jobs))
                 throw Abort{StoreStatus::full, "max_jobs"};
+            evict_finished(s);
             const std::int64_t chunks =
                 spec.points > 0 ? (spec.points + spec.chunk_size - 1) / spec.chunk_size : 1;
             const Param key = spec.idempotency_key ? Param{*spec.idempotency_key} : Param{nullptr};
+            const Param labels =
+                spec.labels.empty() ? Param{nullptr} : Param{labels_text(spec.labels)};
+            const Param retention = spec.retention_ms ? Param{*spec.retention_ms} : Param{nullptr};
             const Rows inserted = s.exec(
                 "INSERT INTO jobs (id, analysis, request, state, instance, created_ms, deadline_ms, "
-                "idempotency_key, body_hash, points, chunk_size, chunks) "
-                "VALUES ($1, $2, $3, 'queued', $4, $5, $6, $7, $8, $9, $10, $11) "
+                "idempotency_key, body_hash, points, chunk_size, chunks, labels, retention_ms) "
+                "VALUES ($1, $2, $3, 'queued', $4, $5, $6, $7, $8, $9, $10, $11, $12, $13) "
                 "ON CONFLICT (idempotency_key) DO NOTHING RETURNING seq",
                 {id, spec.analysis, spec.request, spec.instance, now, spec.deadline_ms, key,
-                 spec.body_hash, spec.points, spec.chunk_size, chunks});
+                 spec.body_hash, spec.points, spec.chunk_size, chunks, labels, retention});
             if (inserted.empty()) {
                 // Another replica inserted the same key meanwhile (it is committed now).
                 existing = earlier_job(s, *spec.idempotency_key, spec.body_hash);
@@ -47,6 +54,10 @@ Result<Created> SqlJobStore::create(const NewJob& spec) {
                 return;
             }
             const std::int64_t seq = to_int(inserted.at(0).at(0));
+            for (const auto& [name, value] : spec.labels) {
+                s.exec("INSERT INTO job_labels (job_id, name, value) VALUES ($1, $2, $3)",
+                       {id, name, value});
+            }
             for (std::int64_t i = 0; i < chunks; ++i) {
                 const std::int64_t begin = spec.points > 0 ? i * spec.chunk_size : 0;
                 const std::int64_t end =
@@ -84,6 +95,13 @@ Result<JobPage> SqlJobStore::list(const ListQuery& query) {
     if (query.state) {
         params.emplace_back(std::string(job_state_name(*query.state)));
         sql += " AND j.state = $" + std::to_string(params.size());
+    }
+    for (const auto& [name, value] : query.labels) {
+        params.emplace_back(name);
+        params.emplace_back(value);
+        sql += " AND EXISTS (SELECT 1 FROM job_labels l WHERE l.job_id = j.id AND l.name = $" +
+               std::to_string(params.size() - 1) + " AND l.value = $" +
+               std::to_string(params.size()) + ")";
     }
     if (query.cursor) {
         const auto& c = *query.cursor;
@@ -148,8 +166,7 @@ Result<CancelResult> SqlJobStore::cancel(const std::string& id) {
                     result = CancelResult::cancelled;
                 }
             } else {
-                s.exec("DELETE FROM chunks WHERE job_id = $1", {id});
-                s.exec("DELETE FROM jobs WHERE id = $1", {id});
+                delete_job(s, id);
                 result = CancelResult::deleted;
             }
         },
@@ -195,21 +212,38 @@ std::optional<std::string> SqlJobStore::earlier_job(Session& s, const std::strin
     return rows.at(0).at(0);
 }
 
-bool SqlJobStore::evict_cancelled(Session& s) {
-    const Rows oldest =
-        s.exec("SELECT id FROM jobs WHERE state = 'cancelled' ORDER BY finished_ms, seq LIMIT 1");
-    if (oldest.empty()) return false;
-    const Param id{oldest.at(0).at(0).value_or("")};
+void SqlJobStore::delete_job(Session& s, const Param& id) {
     s.exec("DELETE FROM chunks WHERE job_id = $1", {id});
+    s.exec("DELETE FROM job_labels WHERE job_id = $1", {id});
     s.exec("DELETE FROM jobs WHERE id = $1", {id});
-    return true;
+}
+
+void SqlJobStore::evict_finished(Session& s) {
+    const auto finished =
+        to_int(s.exec("SELECT COUNT(*) FROM jobs WHERE finished_ms IS NOT NULL").at(0).at(0));
+    const std::int64_t excess = finished - static_cast<std::int64_t>(limits_.max_finished_jobs);
+    if (excess <= 0) return;
+    for (const Row& row :
+         s.exec("SELECT id FROM jobs WHERE finished_ms IS NOT NULL ORDER BY finished_ms, seq "
+                "LIMIT $1",
+                {excess}))
+        delete_job(s, Param{row.at(0).value_or("")});
 }
 
 std::size_t SqlJobStore::purge_in(Session& s, Millis now) {
-    const Millis cutoff = now - limits_.retention.count();
-    s.exec("DELETE FROM chunks WHERE job_id IN (SELECT id FROM jobs WHERE finished_ms < $1)",
-           {cutoff});
-    return s.exec("DELETE FROM jobs WHERE finished_ms < $1 RETURNING id", {cutoff}).size();
+    // A job's own retention, or the store's.
+    const std::string expired =
+        "SELECT id FROM jobs WHERE finished_ms < CAST($1 AS BIGINT) - COALESCE(retention_ms, "
+        "CAST($2 AS BIGINT))";
+    const std::vector<Param> at{now, static_cast<std::int64_t>(limits_.retention.count())};
+    s.exec("DELETE FROM chunks WHERE job_id IN (" + expired + ")", at);
+    s.exec("DELETE FROM job_labels WHERE job_id IN (" + expired + ")", at);
+    return s
+        .exec(
+            "DELETE FROM jobs WHERE finished_ms < CAST($1 AS BIGINT) - COALESCE(retention_ms, "
+            "CAST($2 AS BIGINT)) RETURNING id",
+            at)
+        .size();
 }
 
 std::shared_ptr<JobStore> make_sql_job_store(std::unique_ptr<Backend> backend, StoreLimits limits,

@@ -105,7 +105,10 @@ private:
 
     // A client that cancelled a job gave up its slot: when the store is full, the cancelled
     // job that finished first makes room. False if there is none.
-    static bool evict_cancelled(Session& s);
+    // Removes a job, its chunks and its labels.
+    static void delete_job(Session& s, const Param& id);
+    // Keeps the finished jobs within max_finished_jobs: the oldest finished go first.
+    void evict_finished(Session& s);
 
     std::size_t purge_in(Session& s, Millis now);
 

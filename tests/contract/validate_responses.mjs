@@ -206,6 +206,7 @@ async function jobCases(base, run) {
   if (job.state !== 'succeeded') throw new Error(`job ended ${job.state}`);
   await run(['finished job', 'GET', `/v1/jobs/${id}`, {}, 200, equals('/result/analysis', 'sweep')]);
   await run(['finished job csv', 'GET', `/v1/jobs/${id}`, { accept: 'text/csv' }, 200]);
+  await run(['finished job events', 'GET', `/v1/jobs/${id}/events`, { accept: 'text/event-stream' }, 200]);
   await run(['delete job', 'DELETE', `/v1/jobs/${id}`, {}, 200, equals('/deleted', true)]);
   await run(['deleted job', 'GET', `/v1/jobs/${id}`, {}, 404]);
   // An invalid scenario is refused at submission (422 problem), nothing stored (issue 17: it
@@ -216,8 +217,15 @@ async function jobCases(base, run) {
   const first = await run(['keyed job', 'POST', '/v1/jobs', keyed({ analysis: 'roll_gap' }), 202]);
   await run(['keyed job again', 'POST', '/v1/jobs', keyed({ analysis: 'roll_gap' }), 200, equals('/id', first.json.id)]);
   await run(['keyed job other body', 'POST', '/v1/jobs', keyed({ analysis: 'stability' }), 409]);
+  // Labels and a retention of its own; the list filtered by a label.
+  const labelled = await run(['labelled job', 'POST', '/v1/jobs',
+    json({ analysis: 'roll_gap', labels: { coil: 'C-4711' }, retention_s: 3600 }), 202,
+    every(equals('/labels/coil', 'C-4711'), equals('/retention_s', 3600))]);
+  await run(['jobs by label', 'GET', '/v1/jobs?label=coil:C-4711', {}, 200, equals('/jobs/0/labels/coil', 'C-4711')]);
+  await run(['bad label', 'POST', '/v1/jobs', json({ analysis: 'roll_gap', labels: { '-x': 'y' } }), 422,
+    equals('/errors/0/pointer', '/labels/-x')]);
   // The list: the newest job first; a state filter.
-  await run(['list jobs', 'GET', '/v1/jobs?limit=1', {}, 200, equals('/jobs/0/id', first.json.id)]);
+  await run(['list jobs', 'GET', '/v1/jobs?limit=1', {}, 200, equals('/jobs/0/id', labelled.json.id)]);
   await run(['list succeeded jobs', 'GET', '/v1/jobs?state=succeeded', {}, 200]);
   // every answer's echo is a request the same route takes (calibrate's holds "prior": null)
   const calibrated = await run(['calibrate to echo', 'POST', '/v1/calibrate',

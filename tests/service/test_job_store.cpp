@@ -109,7 +109,7 @@ std::string points_of(const WorkItem& item) {
 }
 
 std::size_t store_count(JobStore& store, JobState state) {
-    auto listed = store.list({state, 1000, std::nullopt});
+    auto listed = store.list({state, 1000, std::nullopt, {}});
     REQUIRE(listed.ok());
     return listed.value->jobs.size();
 }
@@ -157,7 +157,7 @@ TEST_CASE_TEMPLATE("job store: list is newest first, filtered by state, paged by
     std::optional<std::string> cursor;
     std::vector<std::size_t> page_sizes;
     for (int page = 0; page < 10; ++page) {
-        auto listed = store->list({std::nullopt, 3, cursor});
+        auto listed = store->list({std::nullopt, 3, cursor, {}});
         REQUIRE(listed.ok());
         page_sizes.push_back(listed.value->jobs.size());
         for (const auto& job : listed.value->jobs) seen.push_back(job.id);
@@ -169,15 +169,15 @@ TEST_CASE_TEMPLATE("job store: list is newest first, filtered by state, paged by
 
     REQUIRE(store->cancel(ids[1]).value == CancelResult::cancelled);
     REQUIRE(store->cancel(ids[4]).value == CancelResult::cancelled);
-    auto cancelled = store->list({JobState::cancelled, 10, std::nullopt});
+    auto cancelled = store->list({JobState::cancelled, 10, std::nullopt, {}});
     REQUIRE(cancelled.ok());
     REQUIRE(cancelled.value->jobs.size() == 2);
     CHECK(cancelled.value->jobs[0].id == ids[4]);
     CHECK(cancelled.value->jobs[1].id == ids[1]);
     CHECK_FALSE(cancelled.value->next_cursor);
-    CHECK(store->list({JobState::queued, 10, std::nullopt}).value->jobs.size() == 5);
+    CHECK(store->list({JobState::queued, 10, std::nullopt, {}}).value->jobs.size() == 5);
 
-    CHECK(store->list({std::nullopt, 3, std::string("not-a-cursor")}).status ==
+    CHECK(store->list({std::nullopt, 3, std::string("not-a-cursor"), {}}).status ==
           StoreStatus::invalid);
 }
 
@@ -449,18 +449,103 @@ TEST_CASE_TEMPLATE("job store: retention purges finished jobs, the size bound re
     const std::string a = create_id(*store);
     create_id(*store);
     create_id(*store);
-    CHECK(store->create(job_spec()).status == StoreStatus::full);
+    CHECK(store->create(job_spec()).status == StoreStatus::full);  // three queued
 
     const WorkItem item = claim_one(*store, "replica-a");
     REQUIRE(item.lease.job_id == a);
     REQUIRE(store->complete(item.lease, FinalState::succeeded, "{}").ok());
+    // a finished job holds no slot of max_jobs (finished jobs are bounded apart)
+    const std::string d = create_id(*store);
+    CHECK(store->create(job_spec()).status == StoreStatus::full);
     clock.advance(59s);
-    CHECK(store->create(job_spec()).status == StoreStatus::full);  // still retained
-    CHECK(store->get(a).ok());
+    CHECK(store->get(a).ok());  // still retained
     clock.advance(2s);
-    CHECK(store->create(job_spec()).ok());  // the finished job expired and made room
+    CHECK(store->purge().value == 1);  // the finished job expired
     CHECK(store->get(a).status == StoreStatus::not_found);
+    CHECK(store->get(d).ok());
     CHECK(store->purge().value == 0);
+}
+
+TEST_CASE_TEMPLATE("job store: a job's own retention, and finished jobs bounded oldest first", Db,
+                   STORE_BACKENDS) {
+    Db db;
+    ManualClock clock;
+    StoreLimits limits;
+    limits.retention = 60s;
+    limits.max_finished_jobs = 2;
+    auto store = open(db, clock, limits);
+    NewJob brief = job_spec();
+    brief.retention_ms = 10'000;
+    NewJob long_kept = job_spec();
+    long_kept.retention_ms = 3'600'000;
+    const std::string a = create_id(*store, brief);
+    const std::string b = create_id(*store, long_kept);
+    const std::string c = create_id(*store);
+    CHECK(store->get(a).value->retention_ms == 10'000);
+    CHECK_FALSE(store->get(c).value->retention_ms.has_value());
+    for (int i = 0; i < 3; ++i) {
+        const WorkItem item = claim_one(*store, "replica-a");
+        REQUIRE(store->complete(item.lease, FinalState::succeeded, "{}").ok());
+        clock.advance(1s);
+    }
+    clock.advance(10s);  // a: 13 s after it finished, past its 10 s
+    CHECK(store->purge().value == 1);
+    CHECK(store->get(a).status == StoreStatus::not_found);
+    clock.advance(60s);  // c: past the store's 60 s; b keeps its hour
+    CHECK(store->purge().value == 1);
+    CHECK(store->get(c).status == StoreStatus::not_found);
+    CHECK(store->get(b).ok());
+    // Three more finish: beyond max_finished_jobs (2) the oldest finished go first, b with them
+    // whatever its retention.
+    std::vector<std::string> later;
+    for (int i = 0; i < 3; ++i) {
+        later.push_back(create_id(*store));
+        const WorkItem item = claim_one(*store, "replica-a");
+        REQUIRE(store->complete(item.lease, FinalState::succeeded, "{}").ok());
+        clock.advance(1s);
+    }
+    create_id(*store);  // the bound is kept when a job is created
+    CHECK(store->get(b).status == StoreStatus::not_found);
+    CHECK(store->get(later[0]).status == StoreStatus::not_found);
+    CHECK(store->get(later[1]).ok());
+    CHECK(store->get(later[2]).ok());
+}
+
+TEST_CASE_TEMPLATE("job store: labels are kept and filter the list, every one of them", Db,
+                   STORE_BACKENDS) {
+    Db db;
+    ManualClock clock;
+    auto store = open(db, clock);
+    const auto labelled = [&](std::vector<std::pair<std::string, std::string>> labels) {
+        NewJob spec = job_spec();
+        spec.labels = std::move(labels);
+        return create_id(*store, spec);
+    };
+    const std::string c1 = labelled({{"coil", "C-1"}, {"line", "TCM2"}});
+    const std::string c2 = labelled({{"coil", "C-2"}, {"line", "TCM2"}});
+    const std::string other = labelled({{"coil", "C-1"}, {"line", "TCM1"}});
+    create_id(*store);
+    CHECK(store->get(c1).value->labels ==
+          std::vector<std::pair<std::string, std::string>>{{"coil", "C-1"}, {"line", "TCM2"}});
+    const auto ids = [&](std::vector<std::pair<std::string, std::string>> labels) {
+        ListQuery query;
+        query.labels = std::move(labels);
+        const auto page = store->list(query);
+        REQUIRE(page.ok());
+        std::vector<std::string> found;
+        for (const JobRecord& job : page.value->jobs) found.push_back(job.id);
+        return found;
+    };
+    CHECK(ids({{"line", "TCM2"}}) == std::vector<std::string>{c2, c1});  // newest first
+    CHECK(ids({{"coil", "C-1"}}) == std::vector<std::string>{other, c1});
+    CHECK(ids({{"coil", "C-1"}, {"line", "TCM2"}}) == std::vector<std::string>{c1});
+    CHECK(ids({{"coil", "C-9"}}).empty());
+    CHECK(ids({}).size() == 4);
+    // a deleted job's labels go with it
+    const WorkItem item = claim_one(*store, "replica-a");
+    REQUIRE(store->complete(item.lease, FinalState::succeeded, "{}").ok());
+    REQUIRE(store->cancel(c1).ok());
+    CHECK(ids({{"coil", "C-1"}}) == std::vector<std::string>{other});
 }
 
 TEST_CASE_TEMPLATE(
