@@ -162,24 +162,31 @@ void JobEndpoints::create(json request, const std::string& idempotency_key,
              "application/json");
 }
 
-void JobEndpoints::get(const httplib::Request& request, const std::string& id,
-                       httplib::Response& response) {
-    auto store = store_or_503(response);
-    if (!store) return;
-    const auto found = store->get(id);
+std::optional<store::JobRecord> JobEndpoints::live_job(store::JobStore& store,
+                                                       const std::string& id,
+                                                       httplib::Response& response) {
+    auto found = store.get(id);
     if (!found.ok()) {
         store_failure(found.status, id, response);
-        return;
+        return std::nullopt;
     }
     state_.store.report(found.status);
     if (job_expired(*found.value, state_.config.job_retention, store::system_millis())) {
         not_found(id, response);
-        return;
+        return std::nullopt;
     }
+    return std::move(*found.value);
+}
+
+void JobEndpoints::get(const httplib::Request& request, const std::string& id,
+                       httplib::Response& response) {
+    auto store = store_or_503(response);
+    if (!store) return;
+    const auto found = live_job(*store, id, response);
+    if (!found) return;
     Outcome document;
-    document.body = full_document(*store, *found.value);
-    if (found.value->state == store::JobState::queued ||
-        found.value->state == store::JobState::running)
+    document.body = full_document(*store, *found);
+    if (found->state == store::JobState::queued || found->state == store::JobState::running)
         response.set_header("Retry-After", std::string(poll_hint_s));
     set_outcome(request, document, response);
 }
@@ -219,6 +226,13 @@ void JobEndpoints::list(const httplib::Request& request, httplib::Response& resp
                               "one of queued, running, succeeded, failed, cancelled");
             return;
         }
+    }
+    // A job carries at most max_job_labels labels: more filters cannot all match.
+    if (request.get_param_value_count("label") > max_job_labels) {
+        invalid_parameter(response, "label",
+                          concat("at most ", std::to_string(max_job_labels),
+                                 " label filters (a job carries at most as many labels)"));
+        return;
     }
     for (std::size_t i = 0; i < request.get_param_value_count("label"); ++i) {
         const auto filter = label_filter(request.get_param_value("label", i));
@@ -300,16 +314,8 @@ constexpr std::chrono::milliseconds event_poll{250};
 void JobEndpoints::events(const std::string& id, httplib::Response& response) {
     auto store = store_or_503(response);
     if (!store) return;
-    const auto found = store->get(id);
-    if (!found.ok()) {
-        store_failure(found.status, id, response);
-        return;
-    }
-    state_.store.report(found.status);
-    if (job_expired(*found.value, state_.config.job_retention, store::system_millis())) {
-        not_found(id, response);
-        return;
-    }
+    const auto found = live_job(*store, id, response);
+    if (!found) return;
     // Each stream holds a connection thread for as long as it lasts: a bounded number.
     if (open_streams_->fetch_add(1) >= state_.config.max_event_streams) {
         open_streams_->fetch_sub(1);

@@ -6,6 +6,7 @@
 #include <atomic>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include <httplib.h>
@@ -45,6 +46,10 @@ private:
     void store_failure(store::StoreStatus status, const std::string& id,
                        httplib::Response& response);
     void not_found(const std::string& id, httplib::Response& response);
+    // The job, or nothing after answering 404 (absent or past its retention) or the store's
+    // failure.
+    std::optional<store::JobRecord> live_job(store::JobStore& store, const std::string& id,
+                                             httplib::Response& response);
     // The job document with what needs the store or the request: a chunked job's result
     // assembled from its points, or its partial result while it runs.
     nlohmann::json full_document(store::JobStore& store, const store::JobRecord& job);
