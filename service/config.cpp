@@ -100,6 +100,17 @@ constexpr std::array settings{
                   "comma-separated browser origins (scheme://host[:port]) allowed to call the "
                   "API besides the service's own: CORS answers them (a browser HMI on another "
                   "origin), and they may POST, PUT, PATCH or DELETE; others: 403 (default none)"},
+    ConfigSetting{"--webhook-allow", "ROLLGAP_WEBHOOK_ALLOW", "PREFIXES",
+                  "comma-separated URL prefixes (https://host[:port]/path) a job's callback_url "
+                  "may lie under; others: 422 (default none: no callbacks)"},
+    ConfigSetting{"--webhook-secret-file", "ROLLGAP_WEBHOOK_SECRET_FILE", "PATH",
+                  "file holding the secret that signs callbacks (HMAC-SHA256, Rollgap-Signature); "
+                  "required with --webhook-allow"},
+    ConfigSetting{"--webhook-backoff-ms", "ROLLGAP_WEBHOOK_BACKOFF_MS", "MS",
+                  "wait after a callback's first failed attempt, doubling after each, at most 5 "
+                  "min (default 1000)"},
+    ConfigSetting{"--webhook-max-attempts", "ROLLGAP_WEBHOOK_MAX_ATTEMPTS", "N",
+                  "attempts at a callback before it is given up (default 10)"},
     ConfigSetting{"--max-scenarios", "ROLLGAP_MAX_SCENARIOS", "N",
                   "stored scenarios at once; a new name beyond: 507 (default 1000)"},
     ConfigSetting{"--instance", "ROLLGAP_INSTANCE", "NAME",
@@ -174,6 +185,11 @@ constexpr std::array integer_settings{
         [](ServerConfig& c, long long n) { c.max_event_streams = static_cast<std::size_t>(n); }},
     IntegerSetting{"ROLLGAP_EVENT_HEARTBEAT_MS", 100, 15'000, "100..15000 ms",
                    [](ServerConfig& c, long long n) { c.event_heartbeat = milliseconds(n); }},
+    IntegerSetting{"ROLLGAP_WEBHOOK_BACKOFF_MS", 10, 300'000, "10..300000 ms",
+                   [](ServerConfig& c, long long n) { c.webhook_backoff = milliseconds(n); }},
+    IntegerSetting{
+        "ROLLGAP_WEBHOOK_MAX_ATTEMPTS", 1, 100, "1..100",
+        [](ServerConfig& c, long long n) { c.webhook_max_attempts = static_cast<std::size_t>(n); }},
     IntegerSetting{
         "ROLLGAP_MAX_SCENARIOS", 1, 1'000'000, "1..1000000",
         [](ServerConfig& c, long long n) { c.max_scenarios = static_cast<std::size_t>(n); }},
@@ -268,6 +284,30 @@ std::optional<std::string> apply(ServerConfig& config, const ConfigSetting& sett
             std::string(std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>()));
         if (token.empty()) return concat("the token file named by ", source, " is empty");
         config.token = std::move(token);
+    } else if (env == "ROLLGAP_WEBHOOK_SECRET_FILE") {
+        std::ifstream file(value, std::ios::binary);
+        if (!file) return concat("cannot read the webhook secret file named by ", source);
+        std::string secret = trim_trailing_newlines(
+            std::string(std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>()));
+        if (secret.size() < 16)
+            return concat("the webhook secret in the file named by ", source,
+                          " must be at least 16 characters");
+        config.webhook_secret = std::move(secret);
+    } else if (env == "ROLLGAP_WEBHOOK_ALLOW") {
+        config.webhook_allow.clear();
+        std::string_view rest = value;
+        while (!rest.empty()) {
+            const auto comma = rest.find(',');
+            const std::string_view item = trimmed_view(rest.substr(0, comma));
+            rest = comma == std::string_view::npos ? std::string_view() : rest.substr(comma + 1);
+            if (item.empty()) continue;
+            const auto prefix = parse_webhook_url(item);
+            if (!prefix || !prefix->query.empty())
+                return concat("invalid ", source, " entry '", item,
+                              "': expected URL prefixes like https://host[:port]/path, "
+                              "comma-separated (no query, user information or dot segments)");
+            config.webhook_allow.push_back(*prefix);
+        }
     } else if (env == "ROLLGAP_KEY_FILE") {
         if (value.empty()) return bad("a file");
         config.key_file = value;
@@ -382,6 +422,10 @@ std::optional<std::string> finish_server_config(const CLI::App& command, ServerC
         return concat("unknown option '", name, "'", api::did_you_mean(name, flags),
                       " (rollgap serve --help)");
     }
+    if (!config.webhook_allow.empty() && !config.webhook_secret)
+        return std::string(
+            "--webhook-allow needs --webhook-secret-file (or ROLLGAP_WEBHOOK_SECRET_FILE): "
+            "callbacks are always signed");
     // The token: a file (--token-file or ROLLGAP_TOKEN_FILE) wins over ROLLGAP_TOKEN, which has
     // no flag because a secret on the command line shows in ps.
     if (config.token) return std::nullopt;
@@ -453,6 +497,10 @@ std::string describe(const ServerConfig& config) {
          << " store_deadline_ms=" << config.store_deadline.count()
          << " token=" << (config.token ? "set" : "unset")
          << " key_file=" << (config.key_file.empty() ? "unset" : config.key_file)
+         << " webhook_allow=" << config.webhook_allow.size()
+         << " webhook_secret=" << (config.webhook_secret ? "set" : "unset")
+         << " webhook_backoff_ms=" << config.webhook_backoff.count()
+         << " webhook_max_attempts=" << config.webhook_max_attempts
          << " max_scenarios=" << config.max_scenarios << " allowed_hosts="
          << (config.allowed_hosts.empty() ? std::string("any") : join(config.allowed_hosts))
          << " allowed_origins="

@@ -12,8 +12,10 @@
 #include <string_view>
 #include <variant>
 
-#include "service/store/dsn_redaction.h"
 #include <vector>
+
+#include "service/store/dsn_redaction.h"
+#include "service/webhooks.h"
 
 namespace CLI {  // NOLINT(readability-identifier-naming): CLI11's namespace
 class App;
@@ -65,6 +67,14 @@ struct ServerConfig {
     // Browser origins (scheme://host[:port]) whose unsafe requests are accepted besides the
     // service's own origin.
     std::vector<std::string> allowed_origins;
+    // Completion callbacks (docs/http-api.md): the URL prefixes a job's callback_url may name
+    // (none: callbacks refused), the HMAC secret that signs them (from a file, like the DSN;
+    // never logged), the wait after the first failed attempt (doubling, at most 5 min) and
+    // the attempts made before a delivery is given up.
+    std::vector<WebhookUrl> webhook_allow;
+    std::optional<std::string> webhook_secret;
+    std::chrono::milliseconds webhook_backoff{1000};
+    std::size_t webhook_max_attempts = 10;
     std::size_t max_scenarios = 1000;  // stored scenarios (names), beyond: 507
     std::string instance;              // names this replica in job documents; default: host name
     // The job store (docs/job-store.md). `store` empty: sqlite:<data_dir>/jobs.db, so one

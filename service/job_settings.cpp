@@ -30,9 +30,41 @@ bool valid_value(std::string_view value) {
            });
 }
 
+void take_callback(const nlohmann::json& url, const JobRules& rules, JobSettings& settings,
+                   api::FieldErrors& errors) {
+    const std::string bound =
+        concat("an http(s) URL of at most ", std::to_string(max_callback_url), " characters");
+    if (rules.webhook_allow.empty()) {
+        errors.add({"/callback_url",
+                    "this server sends no completion callbacks (its operator allows none: "
+                    "--webhook-allow); poll the job or follow GET /v1/jobs/{id}/events",
+                    std::nullopt, std::nullopt});
+        return;
+    }
+    const auto parsed =
+        url.is_string() ? parse_webhook_url(url.get_ref<const std::string&>()) : std::nullopt;
+    if (!parsed) {
+        errors.add(
+            {"/callback_url",
+             concat("must be ", bound, ", without user information, fragment or dot segments"),
+             bound, std::nullopt});
+        return;
+    }
+    if (!webhook_allowed(*parsed, rules.webhook_allow)) {
+        std::string allowed;
+        for (const WebhookUrl& prefix : rules.webhook_allow)
+            allowed += (allowed.empty() ? "" : ", ") + prefix.origin() + prefix.path;
+        errors.add({"/callback_url",
+                    concat("is not under a prefix this server may call (", allowed, ")"), allowed,
+                    std::nullopt});
+        return;
+    }
+    settings.callback_url = url.get<std::string>();
+}
+
 }  // namespace job_settings_detail
 
-JobSettings take_job_settings(nlohmann::json& request, std::chrono::milliseconds max_retention,
+JobSettings take_job_settings(nlohmann::json& request, const JobRules& rules,
                               api::FieldErrors& errors) {
     namespace jd = job_settings_detail;
     using api::concat;
@@ -74,7 +106,7 @@ JobSettings take_job_settings(nlohmann::json& request, std::chrono::milliseconds
     if (const auto found = request.find("retention_s"); found != request.end()) {
         const nlohmann::json retention = std::move(*found);
         request.erase("retention_s");
-        const long long max_s = max_retention.count() / 1000;
+        const long long max_s = rules.max_retention.count() / 1000;
         const std::string bound = concat("[1, ", std::to_string(max_s), "]");
         if (!retention.is_null()) {
             if (!retention.is_number_integer() || retention.get<long long>() < 1 ||
@@ -87,6 +119,11 @@ JobSettings take_job_settings(nlohmann::json& request, std::chrono::milliseconds
                 settings.retention = std::chrono::seconds(retention.get<long long>());
             }
         }
+    }
+    if (const auto found = request.find("callback_url"); found != request.end()) {
+        const nlohmann::json url = std::move(*found);
+        request.erase("callback_url");
+        if (!url.is_null()) jd::take_callback(url, rules, settings, errors);
     }
     return settings;
 }

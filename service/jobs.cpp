@@ -72,6 +72,12 @@ json job_document(const store::JobRecord& job, std::chrono::milliseconds retenti
     }
     if (!job.labels.empty()) document["labels"] = labels_json(job.labels);
     if (job.retention_ms) document["retention_s"] = *job.retention_ms / 1000;
+    if (job.callback) {
+        document["callback_url"] = job.callback->url;
+        json callback = {{"state", job.callback->state}, {"attempts", job.callback->attempts}};
+        if (job.callback->last_error) callback["last_error"] = *job.callback->last_error;
+        document["callback"] = std::move(callback);
+    }
     if (job.cancel_requested) document["cancel_requested"] = true;
     if (job.points > 0) {
         document["points_total"] = job.points;

@@ -125,6 +125,11 @@ void Metrics::count_work_item(std::string_view outcome) {
     ++work_items_[std::string(outcome)];
 }
 
+void Metrics::count_webhook_delivery(std::string_view outcome) {
+    std::lock_guard lock(mutex_);
+    ++webhook_deliveries_[std::string(outcome)];
+}
+
 std::uint64_t Metrics::request_count(std::string_view method, std::string_view route,
                                      int status) const {
     std::lock_guard lock(mutex_);
@@ -188,6 +193,14 @@ std::string Metrics::render(std::span<const GaugeSample> gauges) const {
                "# TYPE rollgap_work_items_total counter\n";
         for (const auto& [outcome, count] : work_items_) {
             out << "rollgap_work_items_total{" << label("outcome", outcome) << "} " << count
+                << '\n';
+        }
+
+        out << "# HELP rollgap_webhook_deliveries_total Attempts at completion callbacks this "
+               "replica made, by outcome (delivered, retried, failed: given up).\n"
+               "# TYPE rollgap_webhook_deliveries_total counter\n";
+        for (const auto& [outcome, count] : webhook_deliveries_) {
+            out << "rollgap_webhook_deliveries_total{" << label("outcome", outcome) << "} " << count
                 << '\n';
         }
     }

@@ -67,6 +67,9 @@ public:
     // unstored (the store did not take the result).
     void count_work_item(std::string_view outcome);
 
+    // An attempt at a completion callback; `outcome`: delivered, retried, failed (given up).
+    void count_webhook_delivery(std::string_view outcome);
+
     // Everything, plus `gauges`, plus rollgap_build_info.
     std::string render(std::span<const GaugeSample> gauges) const;
 
@@ -83,6 +86,7 @@ private:
     std::map<AnalysisKey, std::uint64_t> solver_failures_;  // analysis, reason
     std::map<std::string, std::uint64_t> skipped_;
     std::map<std::string, std::uint64_t> work_items_;
+    std::map<std::string, std::uint64_t> webhook_deliveries_;
 };
 
 // Escapes a label value (backslash, double quote, newline).

@@ -14,6 +14,7 @@
 #include "service/http/scenario_endpoints.h"
 #include "service/http/service_state.h"
 #include "service/http/sync_dispatch.h"
+#include "service/http/webhook_deliverer.h"
 #include "service/openapi.h"
 #include "service/request_log.h"
 #include "service/http/static_files.h"
@@ -74,6 +75,7 @@ struct HttpServer::Impl {
     ServiceState state;
     SyncDispatch sync{state};
     JobRunner runner{state};
+    WebhookDeliverer deliverer{state};
     JobEndpoints job_endpoints{state, runner};
     ScenarioEndpoints scenario_endpoints{state, store::StoredKind::stand};
     ScenarioEndpoints mill_endpoints{state, store::StoredKind::mill};
@@ -483,6 +485,7 @@ struct HttpServer::Impl {
         if (!server.raise_backlog(SOMAXCONN))
             spdlog::warn("cannot raise the listen backlog; keeping httplib's");
         runner.start();
+        deliverer.start();
         server_thread = std::thread([this] { server.listen_after_bind(); });
         admin_thread = std::thread([this] { admin.listen_after_bind(); });
         // httplib's stop() does nothing until listen_after_bind() has marked its server
@@ -522,6 +525,7 @@ struct HttpServer::Impl {
             if (admin_thread.joinable()) admin_thread.join();
         }
         runner.stop();
+        deliverer.stop();
         state.pool.shutdown();
         stopped = true;
     }

@@ -62,14 +62,14 @@ void JobEndpoints::create(json request, const std::string& idempotency_key,
     // first; the hash below is of the body as sent, so they are part of the submission.
     const std::string sent = request.dump();  // object keys sorted: the canonical text
     api::FieldErrors job_errors;
-    const JobSettings settings =
-        take_job_settings(request, state_.config.max_job_retention, job_errors);
+    const JobSettings settings = take_job_settings(
+        request, {state_.config.max_job_retention, state_.config.webhook_allow}, job_errors);
     if (!job_errors.empty()) {
         set_problem(response,
                     job_errors.to_problem(api::ProblemCode::invalid_request,
                                           concat(std::to_string(job_errors.size()), " violation",
                                                  job_errors.size() == 1 ? "" : "s",
-                                                 " in the job's labels or retention")));
+                                                 " in the job's labels, retention or callback")));
         return;
     }
     if (auto problem = check_envelope(request)) {
@@ -117,6 +117,7 @@ void JobEndpoints::create(json request, const std::string& idempotency_key,
     job.labels = settings.labels;
     std::sort(job.labels.begin(), job.labels.end());
     if (settings.retention) job.retention_ms = settings.retention->count();
+    job.callback_url = settings.callback_url;
     // A sweep or map is stored as chunks of points that workers on any replica claim.
     if (ready.prepared.points && ready.prepared.points->count > 0) {
         job.points = ready.prepared.points->count;

@@ -95,6 +95,14 @@ JobRecord job_from_row(const Row& r) {
         job.labels = labels_from_text(r.at(19).value_or(""));
         job.retention_ms = to_optional_int(r.at(20));
     }
+    if (r.size() > 24 && r.at(21)) {
+        CallbackStatus callback;
+        callback.url = *r.at(21);
+        if (r.at(22)) callback.state = *r.at(22);
+        callback.attempts = to_int(r.at(23));
+        callback.last_error = r.at(24);
+        job.callback = std::move(callback);
+    }
     if (job.state == JobState::succeeded) {
         job.progress = 1.0;
     } else if (job.points > 0) {

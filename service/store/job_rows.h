@@ -16,7 +16,10 @@ inline constexpr std::string_view job_columns =
     "j.started_ms, j.finished_ms, j.deadline_ms, j.cancel_requested, j.points, j.chunks, j.seq, "
     "(SELECT COUNT(*) FROM chunks c WHERE c.job_id = j.id AND c.state = 'done'), "
     "(SELECT COALESCE(SUM(c.end_point - c.begin_point), 0) FROM chunks c WHERE c.job_id = j.id AND c.state = 'done'), j.worker, "
-    "j.labels, j.retention_ms";
+    "j.labels, j.retention_ms, j.callback_url, "
+    "(SELECT w.state FROM webhook_deliveries w WHERE w.job_id = j.id), "
+    "(SELECT w.attempts FROM webhook_deliveries w WHERE w.job_id = j.id), "
+    "(SELECT w.last_error FROM webhook_deliveries w WHERE w.job_id = j.id)";
 
 // Labels as the jobs.labels column keeps them: "name=value" lines, by name (names and values
 // hold no line break; the service checks them).

@@ -67,6 +67,19 @@ struct NewJob {
     std::vector<std::pair<std::string, std::string>> labels;
     // How long the job is kept once finished; nothing: the store's retention (StoreLimits).
     std::optional<Millis> retention_ms;
+    // Where the job's completion is announced (a webhook): when the job finishes, a delivery
+    // is queued in the same transaction (claim_delivery).
+    std::optional<std::string> callback_url;
+};
+
+// A job's completion callback as the job document shows it.
+struct CallbackStatus {
+    std::string url;
+    // pending: the job has not finished, or its delivery waits for (another) attempt;
+    // delivered: a 2xx answer; failed: every attempt made without one.
+    std::string state = "pending";
+    std::int64_t attempts = 0;
+    std::optional<std::string> last_error;  // "HTTP 500", "connection refused", ...
 };
 
 struct JobRecord {
@@ -90,6 +103,7 @@ struct JobRecord {
     std::int64_t chunks_done = 0;
     std::vector<std::pair<std::string, std::string>> labels;  // by name
     std::optional<Millis> retention_ms;                       // nothing: the store's
+    std::optional<CallbackStatus> callback;                   // a job with a callback_url
 };
 
 struct JobCounts {
@@ -140,6 +154,24 @@ struct Renewed {
 };
 
 enum class FinalState { succeeded, failed, cancelled };
+
+// A completion callback due for an attempt (the outbox, docs/job-store.md "Callbacks"): one per
+// finished job that asked for one, claimed by one replica at a time under a lease.
+struct Delivery {
+    std::string id;  // the delivery id the receiver sees on every attempt (Rollgap-Delivery)
+    std::string job_id;
+    std::string url;
+    JobState job_state = JobState::succeeded;  // the state the job finished in
+    std::optional<std::string> body;           // fixed at the first attempt; every retry sends it
+    std::int64_t attempts = 0;                 // made before this one
+    std::string token;                         // this claim's lease
+};
+
+enum class DeliveryOutcome {
+    delivered,  // a 2xx answer: done
+    retry,      // no 2xx: attempt again at next_at_ms
+    failed,     // no 2xx and no attempt left
+};
 
 enum class CancelResult { cancelled, cancel_requested, deleted };
 
@@ -238,8 +270,21 @@ public:
     virtual StoreStatus release(const Lease& lease) = 0;
     // Queues again every item whose lease ran out; returns how many.
     virtual Result<std::size_t> expire_leases() = 0;
-    // Deletes finished jobs older than the retention; returns how many.
+    // Deletes finished jobs older than the retention; returns how many. Deliveries that are
+    // done (delivered or failed) and whose job is gone go with them.
     virtual Result<std::size_t> purge() = 0;
+
+    // Completion callbacks. A delivery due now (next attempt time reached, no live lease), or
+    // nothing; the claim holds it for `lease`.
+    virtual Result<std::optional<Delivery>> claim_delivery(const std::string& owner,
+                                                           std::chrono::milliseconds lease) = 0;
+    // Fixes the body of a claimed delivery that has none yet (its first attempt); conflict when
+    // the lease was lost.
+    virtual StoreStatus set_delivery_body(const Delivery& delivery, const std::string& body) = 0;
+    // The attempt's outcome; `error` says why it was not delivered ("HTTP 503", "connection
+    // refused"); `next_at_ms` is when a retry is due. Conflict when the lease was lost.
+    virtual StoreStatus record_delivery(const Delivery& delivery, DeliveryOutcome outcome,
+                                        Millis next_at_ms, const std::string& error) = 0;
 
     // Stored stand scenarios and mills (`kind`); `default` is reserved (invalid). `if_match`:
     // the version the caller last saw; a mismatch (or a missing scenario) is a conflict, as is

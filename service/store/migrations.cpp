@@ -96,6 +96,29 @@ constexpr std::array<std::string_view, 4> version_4 = {
     "CREATE INDEX job_labels_value ON job_labels (name, value)",
 };
 
+// Completion callbacks (issue 21): the job's callback URL, and the outbox of deliveries, one row
+// per finished job that asked for one, inserted in the transaction that finishes the job and
+// claimed by any replica under a lease (docs/job-store.md, "Callbacks").
+constexpr std::array<std::string_view, 3> version_5 = {
+    "ALTER TABLE jobs ADD COLUMN callback_url TEXT",
+    R"(CREATE TABLE webhook_deliveries (
+        id TEXT PRIMARY KEY,
+        job_id TEXT NOT NULL UNIQUE,
+        url TEXT NOT NULL,
+        job_state TEXT NOT NULL,
+        body TEXT,
+        state TEXT NOT NULL,
+        attempts BIGINT NOT NULL DEFAULT 0,
+        next_at_ms BIGINT NOT NULL,
+        lease_token TEXT,
+        lease_owner TEXT,
+        lease_until_ms BIGINT,
+        last_error TEXT,
+        created_ms BIGINT NOT NULL,
+        finished_ms BIGINT))",
+    "CREATE INDEX webhook_deliveries_due ON webhook_deliveries (state, next_at_ms)",
+};
+
 std::string dialect_sql(std::string_view sql, Dialect dialect) {
     std::string text(sql);
     const std::string_view key = "{SEQ}";
@@ -145,6 +168,11 @@ StoreStatus migrate(Backend& backend, std::string& detail) {
                 for (std::string_view statement : version_4) s.exec(statement);
                 s.exec("INSERT INTO schema_migrations (version, applied_ms) VALUES ($1, $2)",
                        {std::int64_t{4}, system_millis()});
+            }
+            if (current < 5) {
+                for (std::string_view statement : version_5) s.exec(statement);
+                s.exec("INSERT INTO schema_migrations (version, applied_ms) VALUES ($1, $2)",
+                       {std::int64_t{5}, system_millis()});
             }
         },
         {}, detail);

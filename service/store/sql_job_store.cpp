@@ -40,13 +40,16 @@ Result<Created> SqlJobStore::create(const NewJob& spec) {
             const Param labels =
                 spec.labels.empty() ? Param{nullptr} : Param{labels_text(spec.labels)};
             const Param retention = spec.retention_ms ? Param{*spec.retention_ms} : Param{nullptr};
+            const Param callback = spec.callback_url ? Param{*spec.callback_url} : Param{nullptr};
             const Rows inserted = s.exec(
                 "INSERT INTO jobs (id, analysis, request, state, instance, created_ms, deadline_ms, "
-                "idempotency_key, body_hash, points, chunk_size, chunks, labels, retention_ms) "
-                "VALUES ($1, $2, $3, 'queued', $4, $5, $6, $7, $8, $9, $10, $11, $12, $13) "
+                "idempotency_key, body_hash, points, chunk_size, chunks, labels, retention_ms, "
+                "callback_url) "
+                "VALUES ($1, $2, $3, 'queued', $4, $5, $6, $7, $8, $9, $10, $11, $12, $13, $14) "
                 "ON CONFLICT (idempotency_key) DO NOTHING RETURNING seq",
                 {id, spec.analysis, spec.request, spec.instance, now, spec.deadline_ms, key,
-                 spec.body_hash, spec.points, spec.chunk_size, chunks, labels, retention});
+                 spec.body_hash, spec.points, spec.chunk_size, chunks, labels, retention,
+                 callback});
             if (inserted.empty()) {
                 // Another replica inserted the same key meanwhile (it is committed now).
                 existing = earlier_job(s, *spec.idempotency_key, spec.body_hash);
@@ -238,12 +241,18 @@ std::size_t SqlJobStore::purge_in(Session& s, Millis now) {
     const std::vector<Param> at{now, static_cast<std::int64_t>(limits_.retention.count())};
     s.exec("DELETE FROM chunks WHERE job_id IN (" + expired + ")", at);
     s.exec("DELETE FROM job_labels WHERE job_id IN (" + expired + ")", at);
-    return s
-        .exec(
-            "DELETE FROM jobs WHERE finished_ms < CAST($1 AS BIGINT) - COALESCE(retention_ms, "
-            "CAST($2 AS BIGINT)) RETURNING id",
-            at)
-        .size();
+    const std::size_t purged =
+        s.exec(
+             "DELETE FROM jobs WHERE finished_ms < CAST($1 AS BIGINT) - COALESCE(retention_ms, "
+             "CAST($2 AS BIGINT)) RETURNING id",
+             at)
+            .size();
+    // A delivery outlives its job while it is pending (its body is its own); once done, it
+    // goes with the job.
+    s.exec(
+        "DELETE FROM webhook_deliveries WHERE state IN ('delivered', 'failed') "
+        "AND NOT EXISTS (SELECT 1 FROM jobs j WHERE j.id = webhook_deliveries.job_id)");
+    return purged;
 }
 
 std::shared_ptr<JobStore> make_sql_job_store(std::unique_ptr<Backend> backend, StoreLimits limits,

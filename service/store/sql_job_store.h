@@ -1,8 +1,9 @@
 #pragma once
-// The job store's rules over the two SQL backends (sql_backend.h), one class in three files:
-// the jobs (sql_job_store.cpp), their work items with leases (sql_work_items.cpp) and the
-// mapping of rows to records (job_rows.h). Stored scenarios have their own rules
-// (sql_scenario_store.h); this class forwards to them.
+// The job store's rules over the two SQL backends (sql_backend.h), one class in four files:
+// the jobs (sql_job_store.cpp), their work items with leases (sql_work_items.cpp), the outbox
+// of completion callbacks (sql_deliveries.cpp) and the mapping of rows to records
+// (job_rows.h). Stored scenarios have their own rules (sql_scenario_store.h); this class
+// forwards to them.
 
 #include <chrono>
 #include <cstdint>
@@ -45,6 +46,13 @@ public:
                               const std::string& text) override;
     StoreStatus release(const Lease& lease) override;
     Result<std::size_t> expire_leases() override;
+
+    // Completion callbacks, the outbox (sql_deliveries.cpp).
+    Result<std::optional<Delivery>> claim_delivery(const std::string& owner,
+                                                   std::chrono::milliseconds lease) override;
+    StoreStatus set_delivery_body(const Delivery& delivery, const std::string& body) override;
+    StoreStatus record_delivery(const Delivery& delivery, DeliveryOutcome outcome,
+                                Millis next_at_ms, const std::string& error) override;
 
     // Stored scenarios: their own rules (sql_scenario_store.cpp).
     Result<StoredScenario> put_scenario(const std::string& name, const std::string& body,

@@ -242,6 +242,14 @@ void SqlJobStore::finish_job(Session& s, const std::string& id, const std::strin
         "WHERE job_id = $1 AND state IN ('queued', 'running')",
         {id});
     s.exec("UPDATE jobs SET state = $2, finished_ms = $3 WHERE id = $1", {id, state, now});
+    // The completion callback is queued with the completion itself: a finished job that asked
+    // for one always has its delivery, whichever replica finished it (docs/job-store.md).
+    s.exec(
+        "INSERT INTO webhook_deliveries (id, job_id, url, job_state, state, attempts, next_at_ms, "
+        "created_ms) SELECT CAST($2 AS TEXT), id, callback_url, CAST($3 AS TEXT), 'pending', 0, "
+        "CAST($4 AS BIGINT), CAST($4 AS BIGINT) FROM jobs "
+        "WHERE id = $1 AND callback_url IS NOT NULL ON CONFLICT (job_id) DO NOTHING",
+        {id, random_hex(), state, now});
 }
 
 }  // namespace rollgap::service::store::detail

@@ -38,12 +38,14 @@ export const speedLimit: Body<'/v1/speed-limit', 'post'> = {
   base: 'stand-3',
   options: { max_roll_force_kN: 12000, chatter_margin: 0.1 },
 };
-// POST /v1/jobs: an analysis with a partial scenario, the coil's labels and a day's retention.
+// POST /v1/jobs: an analysis with a partial scenario, the coil's labels, a day's retention and
+// a completion callback.
 export const job: Body<'/v1/jobs', 'post'> = {
   analysis: 'stability',
   scenario: { rolls: { speed_m_per_s: 12 } },
   labels: { coil: 'C-4711', line: 'TCM2' },
   retention_s: 86400,
+  callback_url: 'https://mes.plant.example/hooks/rollgap',
 };
 // POST /v1/batches: coils, each a label and a partial patch.
 export const batch: Body<'/v1/batches', 'post'> = {

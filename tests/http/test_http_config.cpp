@@ -159,6 +159,49 @@ TEST_CASE("serve config: the token comes from the environment or a file and is n
     CHECK(std::get<std::string>(parse({inline_secret})).find(secret) == std::string::npos);
 }
 
+TEST_CASE("serve config: callbacks need allowed prefixes and a secret file, never printed") {
+    const std::string secret = "whsec-0123456789abcdef";
+    const auto path =
+        std::filesystem::temp_directory_path() / ("rollgap-whsec-" + std::to_string(::getpid()));
+    std::ofstream(path) << secret << "\n";
+    const auto parsed =
+        parse({"--webhook-allow", "https://mes.plant.example/hooks, http://10.0.0.7:8088/",
+               "--webhook-secret-file", path.string(), "--webhook-backoff-ms", "250",
+               "--webhook-max-attempts", "3"});
+    REQUIRE(std::holds_alternative<ServerConfig>(parsed));
+    const ServerConfig config = std::get<ServerConfig>(parsed);
+    REQUIRE(config.webhook_allow.size() == 2);
+    CHECK(config.webhook_allow[0].host == "mes.plant.example");
+    CHECK(config.webhook_allow[0].port == 443);
+    CHECK(config.webhook_allow[1].port == 8088);
+    CHECK(config.webhook_secret == secret);  // trailing newline dropped
+    CHECK(config.webhook_backoff == std::chrono::milliseconds(250));
+    CHECK(config.webhook_max_attempts == 3);
+    CHECK(describe(config).find(secret) == std::string::npos);
+    CHECK(describe(config).find("webhook_secret=set") != std::string::npos);
+
+    // prefixes without a secret: callbacks are always signed
+    const auto unsigned_ = parse({"--webhook-allow", "https://mes.plant.example/hooks"});
+    REQUIRE(std::holds_alternative<std::string>(unsigned_));
+    CHECK(std::get<std::string>(unsigned_).find("--webhook-secret-file") != std::string::npos);
+    for (const char* bad : {"mes.plant.example/hooks", "https://user@mes/hooks",
+                            "https://mes/hooks?x=1", "ftp://mes/hooks"}) {
+        CAPTURE(bad);
+        const auto refused =
+            parse({"--webhook-allow", bad, "--webhook-secret-file", path.string()});
+        REQUIRE(std::holds_alternative<std::string>(refused));
+        CHECK(std::get<std::string>(refused).find("--webhook-allow") != std::string::npos);
+    }
+    std::ofstream(path) << "short\n";
+    const auto weak = parse({"--webhook-secret-file", path.string()});
+    std::filesystem::remove(path);
+    REQUIRE(std::holds_alternative<std::string>(weak));
+    CHECK(std::get<std::string>(weak).find("at least 16") != std::string::npos);
+    CHECK(std::get<std::string>(weak).find("short") == std::string::npos);
+    // no prefixes: no callbacks, and no secret needed
+    CHECK(std::get<ServerConfig>(parse({})).webhook_allow.empty());
+}
+
 TEST_CASE("serve config: --help lists every setting with its environment variable") {
     const std::string usage = config_usage();
     for (const ConfigSetting& setting : config_settings()) {

@@ -323,6 +323,88 @@ TEST_CASE_TEMPLATE(
     CHECK(store->get(orphan).value->state == JobState::cancelled);
 }
 
+TEST_CASE_TEMPLATE(
+    "job store: a finished job's callback is queued with its completion, attempted under a lease",
+    Db, STORE_BACKENDS) {
+    Db db;
+    ManualClock clock;
+    auto store = open(db, clock);
+    NewJob spec = job_spec();
+    spec.callback_url = "http://127.0.0.1:9/hooks/rollgap";
+    const std::string id = create_id(*store, spec);
+    const auto callback = [&] {
+        auto job = store->get(id);
+        REQUIRE(job.ok());
+        REQUIRE(job.value->callback.has_value());
+        return *job.value->callback;
+    };
+    CHECK(callback().url == *spec.callback_url);
+    CHECK(callback().state == "pending");
+    CHECK(callback().attempts == 0);
+    CHECK_FALSE(store->claim_delivery("replica-a", 30s).value->has_value());  // not finished
+
+    const WorkItem item = claim_one(*store, "replica-a");
+    REQUIRE(store->complete(item.lease, FinalState::succeeded, "{}").ok());
+    const auto first = store->claim_delivery("replica-a", 30s);
+    REQUIRE(first.ok());
+    REQUIRE(first.value->has_value());
+    const Delivery a = **first.value;
+    CHECK(a.job_id == id);
+    CHECK(a.url == *spec.callback_url);
+    CHECK(a.job_state == JobState::succeeded);
+    CHECK_FALSE(a.body.has_value());
+    CHECK(a.attempts == 0);
+    // one replica at a time: the lease holds it
+    CHECK_FALSE(store->claim_delivery("replica-b", 30s).value->has_value());
+    REQUIRE(store->set_delivery_body(a, R"({"event":"job.finished"})") == StoreStatus::ok);
+    const Millis now = clock.clock()();
+    REQUIRE(store->record_delivery(a, DeliveryOutcome::retry, now + 1000, "HTTP 503") ==
+            StoreStatus::ok);
+    CHECK(callback().state == "pending");
+    CHECK(callback().attempts == 1);
+    CHECK(callback().last_error == std::string("HTTP 503"));
+    // a retry is due at its time, not before; it carries the first attempt's body and id
+    CHECK_FALSE(store->claim_delivery("replica-b", 30s).value->has_value());
+    clock.advance(1s);
+    const Delivery b = **store->claim_delivery("replica-b", 30s).value;
+    CHECK(b.id == a.id);
+    CHECK(b.body == std::string(R"({"event":"job.finished"})"));
+    CHECK(b.attempts == 1);
+    // the first claim's lease is spent: its late answer is refused
+    CHECK(store->record_delivery(a, DeliveryOutcome::delivered, now, "") == StoreStatus::conflict);
+    // replica-b dies mid-attempt: once its lease runs out, another replica attempts again
+    clock.advance(31s);
+    const Delivery c = **store->claim_delivery("replica-a", 30s).value;
+    CHECK(c.id == a.id);
+    CHECK(c.attempts == 1);
+    CHECK(store->record_delivery(b, DeliveryOutcome::delivered, now, "") == StoreStatus::conflict);
+    REQUIRE(store->record_delivery(c, DeliveryOutcome::delivered, now, "") == StoreStatus::ok);
+    CHECK(callback().state == "delivered");
+    CHECK(callback().attempts == 2);
+    CHECK_FALSE(callback().last_error.has_value());
+    clock.advance(3600s);
+    CHECK_FALSE(store->claim_delivery("replica-a", 30s).value->has_value());  // delivered once
+
+    // a job without a callback queues none; a cancelled one announces its cancellation; a
+    // delivery given up is failed
+    const std::string plain = create_id(*store);
+    CHECK(store->cancel(plain).value == CancelResult::cancelled);
+    CHECK_FALSE(store->get(plain).value->callback.has_value());
+    CHECK_FALSE(store->claim_delivery("replica-a", 30s).value->has_value());
+    spec.idempotency_key.reset();
+    const std::string cancelled = create_id(*store, spec);
+    CHECK(store->cancel(cancelled).value == CancelResult::cancelled);
+    const Delivery d = **store->claim_delivery("replica-a", 30s).value;
+    CHECK(d.job_id == cancelled);
+    CHECK(d.job_state == JobState::cancelled);
+    REQUIRE(store->record_delivery(d, DeliveryOutcome::failed, now, "connection refused") ==
+            StoreStatus::ok);
+    auto given_up = store->get(cancelled);
+    CHECK(given_up.value->callback->state == "failed");
+    CHECK(given_up.value->callback->last_error == std::string("connection refused"));
+    CHECK_FALSE(store->claim_delivery("replica-a", 30s).value->has_value());
+}
+
 TEST_CASE_TEMPLATE("job store: a failed item fails the job with its problem", Db, STORE_BACKENDS) {
     Db db;
     ManualClock clock;

@@ -6,6 +6,7 @@
 
 #include <doctest/doctest.h>
 
+#include <atomic>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -45,8 +46,8 @@ struct PostgresDb {
 };
 
 template <class Db>
-std::shared_ptr<JobStore> open(const Db& db, StoreLimits limits = {}) {
-    auto store = open_store(db.setting(), limits);
+std::shared_ptr<JobStore> open(const Db& db, StoreLimits limits = {}, Clock clock = system_millis) {
+    auto store = open_store(db.setting(), limits, std::move(clock));
     REQUIRE_MESSAGE(store.ok(), status_name(store.status), ": ", store.detail);
     return *store.value;
 }
@@ -180,7 +181,10 @@ TEST_CASE_TEMPLATE(
     Db db;
     StoreLimits limits;
     limits.deleted_names = 2;
-    auto store = open(db, limits);
+    // "Oldest" needs distinct times: the wall clock gives several writes one millisecond (and
+    // the store then orders ties by name). A clock that ticks at every reading does not.
+    auto ticks = std::make_shared<std::atomic<Millis>>(1'700'000'000'000);
+    auto store = open(db, limits, [ticks] { return ticks->fetch_add(1); });
     // "old" reaches version 5, and its delete marker holds 6.
     REQUIRE(store->put_scenario("old", "{}", std::nullopt).ok());
     for (std::int64_t v = 1; v < 5; ++v) REQUIRE(store->put_scenario("old", "{}", v).ok());
