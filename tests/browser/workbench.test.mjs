@@ -284,6 +284,36 @@ try {
     await shot('stability');
   });
 
+  await test('the mode shape names the stack\'s masses as the field table does: m1 and m6 are the crossheads', async () => {
+    const labels = (await chartData('mode-shape')).labels;
+    check(labels.length === 6, `six masses: ${labels}`);
+    const scenario = (await (await fetch(base + '/openapi.json')).json()).components.schemas.Scenario;
+    const masses = scenario.properties.mill.properties.masses_t.properties;
+    labels.forEach((label, i) => {
+      const [name, ...words] = label.split(' ');
+      check(name === `m${i + 1}`, `bar ${i} is ${label}`);
+      // the part the label names is the one the field table describes
+      check(masses[name].description.toLowerCase().includes(words.join(' ')),
+        `${label}: the field table says ${masses[name].description}`);
+    });
+    check(labels[0].includes('crosshead') && labels[5].includes('crosshead'), `m1 and m6: ${labels[0]}, ${labels[5]}`);
+  });
+
+  await test('a summary stability draws no empty charts: its numbers, and how to get the curves', async () => {
+    await page.selectOption('#f-options-detail', 'summary');
+    const sent = await postedDuring('/v1/stability', () => runAndWait('stability-summary'));
+    check(sent.length === 1 && sent[0].options.detail === 'summary', `posted ${JSON.stringify(sent)}`);
+    check(!(await page.$('#plot-damping')) && !(await page.$('#plot-growth')), 'no damping or growth-rate chart without their data');
+    const api = (await post('/v1/stability', sent[0])).body.result;
+    check(!api.critical_speed.damping_branches && !api.critical_speed.scan, 'the summary has no curves to draw');
+    // the headline shows the critical speed to 4 significant digits (views.js fmt)
+    const speed = Number(api.critical_speed.critical_speed_m_per_s.toPrecision(4)).toString();
+    check((await page.textContent('#headline')).includes(speed), `critical speed ${speed} in the headline`);
+    check((await page.textContent('#plot-stability-summary')).includes('detail to full'), 'the note says how to get the curves');
+    await page.selectOption('#f-options-detail', '');
+    await runAndWait('damping');
+  });
+
   let link = '';
   await test('a shared URL restores the view', async () => {
     link = page.url();
@@ -308,6 +338,19 @@ try {
     const scenario = await page.textContent('#report-scenario');
     check(scenario.includes('/strip/reduction') && scenario.includes('/mill/masses_t/m1'), 'the full scenario is listed');
     check(await page.isHidden('#editor'), 'the editor is hidden in the report');
+    // a title and an author typed in place, the stand and the date, one line that concludes
+    check((await page.inputValue('#report-title')) === 'rollgap report: Stability', `title: ${await page.inputValue('#report-title')}`);
+    check(head.includes('The default stand') && head.includes(new Date().toISOString().slice(0, 10)), `stand and date: ${head}`);
+    const api = (await post('/v1/stability', { scenario: patch })).body;
+    const v = api.scenario.rolls.speed_m_per_s;
+    const vc = api.result.critical_speed.critical_speed_m_per_s;
+    const short = (x) => Number(x.toPrecision(3)).toString();
+    const expected = `The default stand runs at ${short(v)} m/s, ${Math.round((100 * v) / vc)} % of its ${short(vc)} m/s chatter limit.`;
+    check((await page.textContent('#report-conclusion')) === expected, `conclusion: ${await page.textContent('#report-conclusion')}, expected ${expected}`);
+    await page.fill('#report-author', 'A. Engineer');
+    await page.click('#report');
+    await page.click('#report');
+    check((await page.inputValue('#report-author')) === 'A. Engineer', 'the author is kept');
     await shot('report');
     await page.emulateMedia({ media: 'print' });
     await shot('report-print');
@@ -329,6 +372,22 @@ try {
     check(await page.evaluate(() => document.activeElement.id) === 'f-scenario-strip-reduction', 'focus moves to the input');
     await shot('problem');
     await page.fill('#f-scenario-strip-reduction', '0.2');
+  });
+
+  await test('amplitude with its time series: the gap and force changes over time are the API\'s series', async () => {
+    await page.click('#tab-amplitude');
+    await page.selectOption('#f-options-time-series', 'true');
+    const sent = await postedDuring('/v1/amplitude', () => runAndWait('series-0'));
+    check(sent.length === 1 && sent[0].options.time_series === true, `the page asked for the series: ${JSON.stringify(sent)}`);
+    const api = (await post('/v1/amplitude', sent[0])).body.result;
+    const series = api.points[0].time_series;
+    const chart = await chartData('series-0');
+    const gap = dataset(chart, 'gap change [µm]');
+    equalArrays(gap.map((p) => p.x), series.time_s, 'time');
+    equalArrays(gap.map((p) => p.y), series.work_roll_gap_change_um, 'work-roll gap change');
+    equalArrays(dataset(chart, 'force change [kN]').map((p) => p.y), series.roll_force_change_kN, 'roll force change');
+    await shot('amplitude-time-series');
+    await page.selectOption('#f-options-time-series', '');
   });
 
   await test('a sweep runs as a job and plots the API data', async () => {
@@ -602,6 +661,28 @@ try {
     check(found.length === 0, found.join('\n'));
   });
 
+  await test('links: one without its required options says what is missing (no 422); a changed fragment shows its view', async () => {
+    const elsewhere = await browser.newContext({ viewport: { width: 1280, height: 800 } });
+    const other = watch(await elsewhere.newPage());
+    const posted = [];
+    other.on('request', (request) => { if (request.method() === 'POST') posted.push(request.url()); });
+    await other.goto(`${base}/#${new URLSearchParams({ analysis: 'sweep' })}`);
+    await other.waitForSelector('body[data-ready="true"]');
+    check(/choose parameter/.test(await other.textContent('#status')), `status: ${await other.textContent('#status')}`);
+    check(await other.isHidden('#problem'), 'no problem shown before any input');
+    check(posted.length === 0, `nothing posted: ${posted}`);
+    // the fragment changed in place (a pasted link, the back button): its view, run
+    const next = new URLSearchParams({ analysis: 'stability', scenario: JSON.stringify({ strip: { reduction: 0.25 } }) });
+    await other.evaluate((hash) => { location.hash = hash; }, next.toString());
+    await other.waitForSelector('#plot-damping', { timeout: 120000 });
+    check(await other.getAttribute('#tab-stability', 'aria-selected') === 'true', 'the analysis of the new fragment');
+    check(await other.inputValue('#f-scenario-strip-reduction') === '0.25', 'its field');
+    const api = (await post('/v1/stability', { scenario: { strip: { reduction: 0.25 } } })).body.result;
+    const speed = Number(api.critical_speed.critical_speed_m_per_s.toPrecision(4)).toString();
+    check((await other.textContent('#headline')).includes(speed), `its critical speed ${speed}`);
+    await elsewhere.close();
+  });
+
   await test('usable at 1024 x 768 with touch', async () => {
     const tablet = await browser.newContext({ viewport: { width: 1024, height: 768 }, hasTouch: true });
     const touch = watch(await tablet.newPage());
@@ -612,7 +693,11 @@ try {
     await shot('touch-1024x768', touch);
     const map = new URLSearchParams({ analysis: 'map', options: JSON.stringify(mapOptions) });
     await touch.goto(`${base}/#${map}`);
-    await touch.reload();  // a new fragment alone does not reload the page
+    await touch.reload();
+    await touch.waitForSelector('body[data-ready="true"]');
+    // a map runs as a job: a link to one waits for Run
+    check(/press Run/.test(await touch.textContent('#status')), `status: ${await touch.textContent('#status')}`);
+    await touch.click('#run');
     await touch.waitForSelector('#plot-map', { timeout: 120000 });
     const mapWidth = await touch.evaluate(() => document.documentElement.scrollWidth);
     check(mapWidth <= 1024, `the map view is ${mapWidth} px wide at 1024`);

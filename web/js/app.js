@@ -417,14 +417,7 @@ async function start() {
   app.mill = new MillForm($('mill-form'), doc, base);
   buildTabs();
   const state = readState();
-  selectAnalysis(state.analysis);
-  await offerStoredScenarios(state.base);
-  app.scenario.apply(state.scenario);
-  app.mill.apply(state.tandem);
-  await offerStoredMills(state.millBase, state.tandem);
-  app.options.apply(state.options);
-  showDiff();
-  showMillDiff();
+  await restore(state);
   listJobs();
 
   $('scenario-form').addEventListener('input', showDiff);
@@ -457,10 +450,52 @@ async function start() {
   $('token').addEventListener('change', (event) => setToken(event.target.value.trim()));
 
   document.body.dataset.ready = 'true';
-  if (state.analysis) {
-    if (state.view === 'report') setReport(true);
-    await run(false);
+  await runLinked(state);
+  // A link pasted over this page's (or the back button): the view it names, as on opening it.
+  window.addEventListener('hashchange', async () => {
+    const linked = readState();
+    await restore(linked);
+    await runLinked(linked);
+  });
+}
+
+// The view a link names: its analysis, stored scenario, fields, mill and options.
+async function restore(state) {
+  selectAnalysis(state.analysis);
+  await offerStoredScenarios(state.base);
+  app.scenario.apply(state.scenario);
+  app.mill.apply(state.tandem);
+  await offerStoredMills(state.millBase, state.tandem);
+  app.options.apply(state.options);
+  showDiff();
+  showMillDiff();
+  clearFieldErrors(document.body);
+  clearResult();
+  if (state.view === 'report' || app.report) setReport(state.view === 'report');
+}
+
+// The members of the analysis' options that a request must give (a sweep's parameter, a map's
+// axes, a fit's observations).
+function missingOptions(options) {
+  const schema = resolve(app.doc, optionsSchema(app.analysis) || {});
+  return (schema.required || []).filter((name) => options[name] === undefined);
+}
+
+// Opening a link shows its result when that is cheap and complete: a synchronous analysis whose
+// options are all there runs at once; a job's analysis (a sweep, a map, a fit) waits for Run,
+// and a link without its required options says what is missing instead of showing a 422.
+async function runLinked(state) {
+  if (!state.analysis) return;
+  const missing = missingOptions(state.options);
+  if (missing.length) {
+    setStatus(`choose ${missing.join(', ')} for the ${app.analysis.label.toLowerCase()}, then Run`);
+    return;
   }
+  if (viewOf(app.analysis.name).job) {
+    setStatus(`the link's ${app.analysis.label.toLowerCase()} runs as a job: press Run to start it`);
+    return;
+  }
+  await run(false);
 }
 
 start().catch((error) => showProblem({ title: 'The workbench could not start', detail: String(error) }));

@@ -53,17 +53,58 @@ export function table(caption, rows, header) {
 }
 
 // Fills the report's head (title, version, time, link) and the full scenario (or mill).
+// One sentence a process engineer can put in a shift report, from the answer's own numbers.
+const number = (value, digits = 3) => Number(value.toPrecision(digits)).toString();
+export function conclusion(response, stand) {
+  const r = response.result || {};
+  const speed = response.scenario && response.scenario.rolls && response.scenario.rolls.speed_m_per_s;
+  const critical = (r.critical_speed && r.critical_speed.critical_speed_m_per_s)
+    ?? (r.stability && r.stability.critical_speed && r.stability.critical_speed.critical_speed_m_per_s);
+  if (response.analysis === 'speed_limit' && r.advised_speed_m_per_s != null) {
+    return `${stand}: advised speed ${number(r.advised_speed_m_per_s)} m/s${r.binding_limit ? ` (binding: ${r.binding_limit.replace(/_/g, ' ')})` : ''}${r.operating_speed_m_per_s != null ? `; it runs at ${number(r.operating_speed_m_per_s)} m/s` : ''}.`;
+  }
+  if (speed != null && critical != null) {
+    return `${stand} runs at ${number(speed)} m/s, ${Math.round((100 * speed) / critical)} % of its ${number(critical)} m/s chatter limit.`;
+  }
+  if (speed != null && r.critical_speed && critical == null) {
+    return `${stand} runs at ${number(speed)} m/s; no chatter limit was found in the searched speeds.`;
+  }
+  if (speed != null && r.force_kN != null) return `${stand} at ${number(speed)} m/s: roll force ${number(r.force_kN, 4)} kN.`;
+  return '';
+}
+
+// The report's head: a title and an author the engineer types (kept in this browser), the stand,
+// the date, the one-line conclusion, the link.
 export function fillReport(head, scenarioBox, response, { label, version, link, changes, base = 'default scenario' }) {
   head.replaceChildren();
+  const stand = base === 'default scenario' ? 'The default stand' : base.replace(/^stored scenario /, 'Stand ');
+  const editable = (id, text, placeholder, key) => {
+    const input = document.createElement('input');
+    input.id = id;
+    input.type = 'text';
+    input.className = 'report-editable';
+    input.placeholder = placeholder;
+    input.setAttribute('aria-label', placeholder);
+    input.value = localStorage.getItem(key) ?? text;
+    input.addEventListener('input', () => localStorage.setItem(key, input.value));
+    return input;
+  };
   const h = document.createElement('h2');
-  h.textContent = `rollgap report: ${label}`;
+  h.append(editable('report-title', `rollgap report: ${label}`, 'report title', 'rollgap-report-title'));
   const meta = document.createElement('p');
-  meta.textContent = `rollgap ${version} · ${new Date().toISOString().replace('T', ' ').slice(0, 19)} UTC`;
+  meta.id = 'report-meta';
+  meta.append(`${stand} · ${new Date().toISOString().slice(0, 10)} · by `,
+    editable('report-author', '', 'author', 'rollgap-report-author'),
+    ` · rollgap ${version} · ${new Date().toISOString().replace('T', ' ').slice(11, 19)} UTC`);
+  const line = document.createElement('p');
+  line.id = 'report-conclusion';
+  line.className = 'report-conclusion';
+  line.textContent = conclusion(response, stand);
   const a = document.createElement('a');
   a.href = link;
   a.textContent = 'link to this view';
   a.className = 'no-print';
-  head.append(h, meta, a);
+  head.append(h, meta, line, a);
   if (changes.length) head.append(table(`Fields changed from the ${base}`, changes.map(([p, b, v]) => [p, String(b), String(v)]), ['field', 'base', 'value']));
   const mill = response.tandem !== undefined;
   scenarioBox.replaceChildren(table(mill ? 'The full mill used' : 'The full scenario used', flatten((mill ? response.tandem : response.scenario) || {}), ['field', 'value']),

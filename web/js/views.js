@@ -111,12 +111,17 @@ function biteHeadline(r) {
   ];
 }
 
+// The six masses of the stand's stack as the model numbers them (core/scenario.h, the field
+// table's /mill/masses_t): the crossheads outermost, then the backup and the work rolls.
+const stackMasses = ['m1 upper crosshead', 'm2 upper backup roll', 'm3 upper work roll',
+  'm4 lower work roll', 'm5 lower backup roll', 'm6 lower crosshead'];
+
 function modeShape(plots, mode, title) {
   if (!mode || !mode.shape) return;
   const type = mode.chatter_type ? `: chatter type ${chatterName(mode.chatter_type)}${mode.chatter_band && mode.chatter_band !== mode.chatter_type ? ` (its frequency band suggests ${chatterName(mode.chatter_band)})` : ''}` : '';
   addPlot(plots, {
-    id: 'mode-shape', type: 'bar', title: `${title}${type}`, x: 'mass of the stack (m1 top backup … m6 bottom backup)', y: 'relative amplitude',
-    data: { labels: mode.shape.map((_, i) => `m${i + 1}`), datasets: [{ label: `${fmt(mode.frequency_Hz)} Hz`, data: mode.shape, backgroundColor: color(1) }] },
+    id: 'mode-shape', type: 'bar', title: `${title}${type}`, x: 'mass of the stack, top to bottom (docs/model.md §5)', y: 'relative amplitude',
+    data: { labels: mode.shape.map((_, i) => stackMasses[i] || `m${i + 1}`), datasets: [{ label: `${fmt(mode.frequency_Hz)} Hz`, data: mode.shape, backgroundColor: color(1) }] },
   });
 }
 
@@ -125,7 +130,14 @@ function drawCritical(plots, critical) {
   const speed = critical.critical_speed_m_per_s;
   const branches = critical.damping_branches || [];
   const all = branches.flatMap((b) => b.damping_ratio);
-  addPlot(plots, {
+  const scan = critical.scan || [];
+  if (!branches.length && !scan.length) {
+    // detail "summary": the numbers without the curves; no empty charts
+    panel(plots, 'The critical speed is in the table. A summary carries no damping branches or growth-rate scan: set detail to full to draw them.')
+      .id = 'plot-stability-summary';
+    return;
+  }
+  if (branches.length) addPlot(plots, {
     id: 'damping', title: 'Damping ratio of each mode branch over rolling speed',
     description: 'below zero the mode grows: chatter; the dashed line is the critical speed',
     x: 'rolling speed [m/s]', y: 'damping ratio [-]',
@@ -134,9 +146,8 @@ function drawCritical(plots, critical) {
       ...(speed != null && all.length ? [marker('critical speed', speed, min(all), max(all), '#000')] : []),
     ] },
   });
-  const scan = critical.scan || [];
   const growth = scan.map((s) => s.max_growth_rate_per_s);
-  addPlot(plots, {
+  if (scan.length) addPlot(plots, {
     id: 'growth', title: 'Largest growth rate over rolling speed', x: 'rolling speed [m/s]', y: 'growth rate [1/s]',
     data: { datasets: [
       line('max growth rate [1/s]', points(scan.map((s) => s.speed_m_per_s), growth), 1),
@@ -716,10 +727,10 @@ export const views = {
         ] },
       });
       p.filter((q) => q.time_series).forEach((q, i) => addPlot(plots, {
-        id: `series-${i}`, title: `Time series at ${fmt(q.speed_m_per_s)} m/s`, x: 'time [s]', y: 'gap [µm]', y2: 'force [kN]',
+        id: `series-${i}`, title: `Time series at ${fmt(q.speed_m_per_s)} m/s`, x: 'time [s]', y: 'work-roll gap change [µm]', y2: 'roll force change [kN]',
         data: { datasets: [
-          line('gap [µm]', points(q.time_series.t_s, q.time_series.gap_um), 0),
-          line('force [kN]', points(q.time_series.t_s, q.time_series.force_kN), 2, { yAxisID: 'y2' }),
+          line('gap change [µm]', points(q.time_series.time_s, q.time_series.work_roll_gap_change_um), 0),
+          line('force change [kN]', points(q.time_series.time_s, q.time_series.roll_force_change_kN), 2, { yAxisID: 'y2' }),
         ] },
       }));
       return p.map((q) => row(`gap amplitude at ${fmt(q.speed_m_per_s)} m/s (${q.status})`, q.gap_amplitude_um, 'µm'));
