@@ -55,7 +55,7 @@ nlohmann::json object_schema(
             const std::string code = unit->get<std::string>();
             property["description"] =
                 concat(property.value("description", std::string()),
-                       code == "1" ? " Dimensionless." : concat(" Unit: ", code, " (UCUM)."));
+                       code == "1" ? " Dimensionless." : concat(" Unit: ", code, "."));
         }
         members[std::string(name)] = std::move(property);
     }

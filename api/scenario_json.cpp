@@ -1,8 +1,10 @@
 #include "api/scenario_json.h"
 
+#include <cmath>
 #include <optional>
 #include <stdexcept>
 
+#include "api/plant_units.h"
 #include "api/scenario_consistency.h"
 #include "api/scenario_schema.h"
 #include "api/text.h"
@@ -29,6 +31,19 @@ void read_field(const ScenarioField& field, const nlohmann::json& value, const s
                 core::Scenario& scenario, FieldErrors& errors) {
     switch (field.kind) {
         case FieldKind::number:
+            // Out of bounds, but a plant unit would fit: say which (plant_units.h).
+            if (value.is_number() && std::isfinite(value.get<double>()) &&
+                !field.range.contains(value.get<double>())) {
+                const double number = value.get<double>();
+                if (const auto slip = likely_unit_slip(
+                        field.path, field.unit.code, field.typical.value_or(field.range), number)) {
+                    errors.add({pointer,
+                                concat(format_number(number), " ", field.unit.code, " is outside ",
+                                       field.range.text(), " ", field.unit.code, "; ", slip->text),
+                                field.range.text(), std::string(field.unit.code)});
+                    return;
+                }
+            }
             if (const auto number = read_number(value, pointer, field.range, field.unit, errors)) {
                 field.number(scenario) = to_si(*number, field.unit);
             }

@@ -396,6 +396,29 @@ std::vector<ScenarioField> build_fields() {
         "Numerical resolution of the reported roll gap: integration steps on each side of the neutral point "
         "(even). 32 gives the force to about 1e-10 relative; raise it only for smoother distribution plots.",
         [](core::Scenario & s) -> auto& { return s.numerics.bite_intervals; }));
+
+    // The typical column: where a cold mill's values lie (the descriptions' "typically"), kept
+    // wide enough that only a unit slip or a typing error falls outside (warnings, not errors).
+    const std::pair<std::string_view, Interval> typical[] = {
+        {"/strip/entry_thickness_mm", closed(0.1, 8.0)},
+        {"/strip/width_mm", closed(300.0, 2500.0)},
+        {"/rolls/radius_mm", closed(100.0, 400.0)},
+        {"/rolls/speed_m_per_s", closed(0.5, 45.0)},
+        {"/lubricant/viscosity_Pa_s", closed(0.0001, 0.2)},
+        {"/mill/masses_t/m1", closed(1.0, 300.0)},
+        {"/mill/masses_t/m2", closed(1.0, 300.0)},
+        {"/mill/masses_t/m3", closed(0.5, 100.0)},
+        {"/mill/masses_t/m4", closed(0.5, 100.0)},
+        {"/mill/masses_t/m5", closed(1.0, 300.0)},
+        {"/mill/masses_t/m6", closed(1.0, 300.0)},
+    };
+    for (const auto& entry : typical) {
+        const std::string_view path = entry.first;
+        const auto field = std::find_if(fields.begin(), fields.end(),
+                                        [path](const ScenarioField& f) { return f.path == path; });
+        if (field == fields.end()) throw std::logic_error("a typical range of no field");
+        field->typical = entry.second;
+    }
     return fields;
 }
 

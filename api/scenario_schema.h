@@ -35,6 +35,9 @@ struct ScenarioField {
     Unit unit = units::one;
     Interval range{0.0, 0.0};
     bool even = false;  // integer fields that must be even
+    // The range a cold mill's value lies in (in `unit`), narrower than `range`: a value outside
+    // it is accepted and answered with a warning naming the likely unit slip (plant_units.h).
+    std::optional<Interval> typical;
 
     // choice fields: the allowed strings, in the order the documentation lists them
     std::vector<std::string_view> choices;

@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "api/plant_units.h"
 #include "api/request_json.h"
 #include "api/scenario_json.h"
 #include "api/scenario_schema.h"
@@ -17,6 +18,14 @@ namespace rollgap::api {
 namespace {
 
 using nlohmann::json;
+
+// An out-of-bounds number that a plant unit of its field would put in bounds.
+std::optional<UnitSlip> out_of_range_slip(const TandemField& field, const json& value) {
+    if (!value.is_number() || !std::isfinite(value.get<double>()) ||
+        field.range.contains(value.get<double>()))
+        return std::nullopt;
+    return likely_unit_slip(field.path, field.unit.code, field.range, value.get<double>());
+}
 
 // What the reader collected before the stands are read: the lists' lengths are checked once
 // the number of stands is known.
@@ -125,6 +134,13 @@ void read_group(const std::string& group, const json& node, const std::string& b
                 if (field->integer) {
                     if (const auto count = read_integer(*value, at, field->range, false, errors))
                         field->set(reading.mill, static_cast<double>(*count));
+                } else if (const auto slip = out_of_range_slip(*field, *value)) {
+                    // out of bounds, but a plant unit would fit (plant_units.h)
+                    errors.add({at,
+                                concat(format_number(value->get<double>()), " ", field->unit.code,
+                                       " is outside ", field->range.text(), " ", field->unit.code,
+                                       "; ", slip->text),
+                                field->range.text(), std::string(field->unit.code)});
                 } else if (const auto number =
                                read_number(*value, at, field->range, field->unit, errors)) {
                     field->set(reading.mill, to_si(*number, field->unit));

@@ -10,6 +10,7 @@
 #include <spdlog/spdlog.h>
 
 #include "api/field_errors.h"
+#include "api/plant_units.h"
 #include "api/json_text.h"
 #include "api/request_json.h"
 #include "api/scenario_json.h"
@@ -118,6 +119,13 @@ std::variant<Outcome, PreparedRequest> prepare_request(const nlohmann::json& req
     const bool of_mill = envelope.analysis->subject() == Subject::mill;
     const bool of_batch = envelope.analysis->subject() == Subject::batch;
     const std::string subject_pointer = of_mill ? "/tandem" : "/scenario";
+    // Plant units (api/plant_units.h): every document this request carries in canonical keys
+    // before anything reads or merges it; the HTTP layer did so already, before it merged a
+    // stored base (then this finds nothing to do).
+    api::canonicalise_scenario_patch(envelope.parsed.scenario_patch, "/scenario", errors);
+    if (envelope.parsed.tandem_patch)
+        api::canonicalise_tandem_patch(*envelope.parsed.tandem_patch, "/tandem", errors);
+    api::canonicalise_request_units(envelope.parsed.options, "/options", errors);
     if (of_batch) {
         ready.prepared = envelope.analysis->prepare_batch(std::move(envelope.parsed.options),
                                                           "/options", errors);
@@ -145,6 +153,12 @@ std::variant<Outcome, PreparedRequest> prepare_request(const nlohmann::json& req
         return problem_outcome(errors.to_problem(
             scenario_valid ? api::ProblemCode::invalid_options : api::ProblemCode::invalid_scenario,
             detail));
+    }
+    // Values a cold mill does not have, likely a unit slip: accepted, and said (plant units).
+    if (of_mill) {
+        ready.warnings = api::typical_range_warnings(*ready.mill, "/tandem");
+    } else if (!of_batch) {
+        ready.warnings = api::typical_range_warnings(ready.scenario, "/scenario");
     }
     return ready;
 }
@@ -188,6 +202,8 @@ Outcome result_outcome(PreparedRequest& ready, nlohmann::json result) {
                        : api::resolved_scenario_json(ready.scenario);
     }
     if (ready.base) outcome.body["base"] = api::scenario_base_json(*ready.base);
+    if (ready.warnings.is_array() && !ready.warnings.empty())
+        outcome.body["warnings"] = std::move(ready.warnings);
     return outcome;
 }
 
@@ -260,6 +276,18 @@ Outcome run(PreparedRequest ready, const core::Control& control) {
 Outcome run(std::variant<Outcome, PreparedRequest> prepared, const core::Control& control) {
     if (auto* problem = std::get_if<Outcome>(&prepared)) return std::move(*problem);
     return run(std::move(std::get<PreparedRequest>(prepared)), control);
+}
+
+std::optional<Outcome> canonicalise_units(nlohmann::json& request) {
+    return guarded([&]() -> std::optional<Outcome> {
+        api::FieldErrors errors;
+        api::canonicalise_request_units(request, "", errors);
+        if (errors.empty()) return std::nullopt;
+        return problem_outcome(errors.to_problem(
+            api::ProblemCode::invalid_request,
+            api::concat(std::to_string(errors.size()), " violation", errors.size() == 1 ? "" : "s",
+                        " in the request's plant units")));
+    });
 }
 
 std::optional<Outcome> check_envelope(const nlohmann::json& request) {

@@ -85,6 +85,9 @@ struct PreparedRequest {
     std::optional<core::Mill> mill;         // a mill's analysis (Subject::mill): the mill, echoed
     api::StandBases stand_bases;            // its stands' stored bases, echoed in each stand
     PreparedAnalysis prepared;
+    // Values outside their field's typical plant range, echoed as the answer's `warnings`
+    // (api/plant_units.h); an empty array when there are none.
+    nlohmann::json warnings = nlohmann::json::array();
 };
 
 // evaluate() in its two steps, for callers that check a request in one place and compute it in
@@ -96,6 +99,10 @@ struct PreparedRequest {
 // prepare: everything evaluate() checks before it computes (envelope, analysis, scenario,
 // options), never a computation; the problem of an invalid request, or the prepared request.
 std::variant<Outcome, PreparedRequest> prepare(const nlohmann::json& request);
+// Rewrites every scenario and tandem document of `request` to canonical keys and units (plant
+// units, api/plant_units.h), in place; a 422 when a member is given twice or not as a number.
+// The HTTP layer calls it before it merges a stored base; prepare() does it itself too.
+std::optional<Outcome> canonicalise_units(nlohmann::json& request);
 // The same from request text: size limit, then JSON syntax (invalid_json), then prepare().
 std::variant<Outcome, PreparedRequest> prepare_text(std::string_view text);
 // run: computes a prepared request under `control` (as evaluate() documents it).

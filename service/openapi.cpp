@@ -9,6 +9,7 @@
 #include "api/csv.h"
 #include "api/field_errors.h"
 #include "api/option_table.h"
+#include "api/plant_units.h"
 #include "api/problem.h"
 #include "api/scenario_json.h"
 #include "api/scenario_schema.h"
@@ -33,7 +34,7 @@ using nlohmann::json;
 
 std::string unit_text(const api::Unit& unit) {
     if (unit.code == "1") return "dimensionless";
-    return concat("unit ", unit.code, " (UCUM)");
+    return concat("unit ", unit.code);  // the info's text says the codes are UCUM's
 }
 
 // `integer`: the bounds written as integers (2, not 2.0), as an integer option's.
@@ -45,7 +46,7 @@ void add_bounds(json& schema, const api::Interval& range, bool integer = false) 
     schema[range.max_open ? "exclusiveMaximum" : "maximum"] = bound(range.max);
 }
 
-// "Number; unit m/s (UCUM); bounds [0.01, 100].", "Integer, even; dimensionless; bounds [2, 64]."
+// "Number; unit m/s; bounds [0.01, 100].", "Integer, even; dimensionless; bounds [2, 64]."
 std::string numeric_text(bool integer, bool even, const api::Unit& unit,
                          const api::Interval& range) {
     return concat(integer ? "Integer" : "Number", even ? ", even" : "", "; ",
@@ -130,6 +131,37 @@ void add_option_members(json& schemas) {
     }
 }
 
+// A patch's members in plant units (api/plant_units.h): beside each canonical member, the keys
+// that give it in another unit, and the canonical member names them (x-alternate-units).
+void add_alternates(json& properties, std::string_view member) {
+    const auto alternates = api::alternates_of(member);
+    if (alternates.empty()) return;
+    json& canonical = properties[std::string(member)];
+    json listed = json::array();
+    for (const auto& [key, unit] : alternates) {
+        listed.push_back({{"key", key}, {"unit", unit->unit}, {"conversion", unit->note}});
+        const std::string description =
+            concat("The same value as ", member, " in ", unit->unit, " (", unit->note,
+                   "), converted exactly and echoed as ", member, "; give one of the two.");
+        json alternate;
+        if (canonical.contains("properties")) {  // a group: each member in the unit
+            json members = json::object();
+            for (const auto& [name, leaf] : canonical["properties"].items()) {
+                (void)leaf;
+                members[name] = {{"type", json::array({"number", "null"})}, {"x-unit", unit->unit}};
+            }
+            alternate = {{"type", json::array({"object", "null"})},
+                         {"additionalProperties", false},
+                         {"properties", std::move(members)}};
+        } else {
+            alternate = {{"type", json::array({"number", "null"})}, {"x-unit", unit->unit}};
+        }
+        alternate["description"] = description;
+        properties[key] = std::move(alternate);
+    }
+    properties[std::string(member)]["x-alternate-units"] = std::move(listed);
+}
+
 json group_schema(std::string_view path, const json& defaults, bool patch) {
     json properties = json::object();
     json required = json::array();
@@ -142,6 +174,7 @@ json group_schema(std::string_view path, const json& defaults, bool patch) {
         } else if (const api::ScenarioField* field = api::find_scenario_field(child)) {
             properties[std::string(member)] = leaf_schema(*field, child_default, patch);
         }
+        if (patch) add_alternates(properties, member);
         required.push_back(member);
     }
     json schema = {
@@ -335,6 +368,7 @@ void add_result_schemas(json& document) {
               {"result", component_ref(analysis.result_schema)}}},
         };
         schemas[response]["properties"]["base"] = component_ref("ScenarioBase");
+        schemas[response]["properties"]["warnings"] = component_ref("Warnings");
         responses.push_back(component_ref(response));
         mapping[std::string(analysis.name)] = concat("#/components/schemas/", response);
 
@@ -506,6 +540,7 @@ json tandem_group_schema(std::string_view path, const json& defaults, bool patch
         } else if (const api::TandemField* field = api::find_tandem_field(child)) {
             properties[std::string(member)] = tandem_leaf_schema(*field, child_default, patch);
         }
+        if (patch) add_alternates(properties, member);
         required.push_back(member);
     }
     json schema = {

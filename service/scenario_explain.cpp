@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "api/field_errors.h"
+#include "api/plant_units.h"
 #include "api/scenario_json.h"
 #include "api/scenario_schema.h"
 #include "api/tandem_json.h"
@@ -122,6 +123,28 @@ std::string glossary_table(const std::vector<GlossaryRow>& rows) {
     return out;
 }
 
+// The plant-unit keys (api/plant_units.h) of every field and group of a table, one line each.
+void add_plant_units(std::string& out, std::string_view where,
+                     const std::vector<std::string>& paths) {
+    std::vector<std::string> seen;
+    for (const std::string& path : paths) {
+        // the field itself and each group above it (masses_t: masses_kg)
+        for (std::size_t end = path.size(); end != std::string::npos && end > 0;
+             end = path.rfind('/', end - 1)) {
+            const std::string target = path.substr(0, end);
+            if (std::find(seen.begin(), seen.end(), target) != seen.end()) continue;
+            seen.push_back(target);
+            const std::size_t slash = target.rfind('/');
+            for (const auto& [key, unit] : api::alternates_of(target.substr(slash + 1))) {
+                out += concat(padded(concat(where, target), 38),
+                              padded(concat(where, target.substr(0, slash + 1), key), 40),
+                              padded(std::string(unit->unit), 8), unit->note, "\n");
+            }
+            if (end == 0) break;
+        }
+    }
+}
+
 }  // namespace
 
 std::string scenario_explanation() {
@@ -134,10 +157,27 @@ std::string scenario_explanation() {
     }
     std::string out =
         "The scenario's fields. A request's \"scenario\" is a JSON merge patch onto the defaults: give only the\n"
-        "fields you change, at these JSON pointers (relative to \"scenario\"), in the unit their name carries.\n"
+        "fields you change, at these JSON pointers (relative to \"scenario\"), in the unit their name carries\n"
+        "(or in a plant unit, where a field lists one: \"speed_m_per_min\": 900 is 15 m/s).\n"
         "The model and its symbols: docs/model.md.\n\n";
     out += glossary_table(rows);
     out += tandem_explanation();
+    out += plant_unit_explanation();
+    return out;
+}
+
+std::string plant_unit_explanation() {
+    std::string out =
+        "\n\nPlant units. A field (or a group) may be given under the key of a plant unit instead "
+        "of its own: the\nvalue is converted exactly and echoed in the field's unit; one member "
+        "in two forms is refused.\n\n";
+    out += concat(padded("field", 38), padded("plant-unit key", 40), padded("unit", 8),
+                  "conversion\n");
+    std::vector<std::string> stand, mill;
+    for (const api::ScenarioField& field : api::scenario_fields()) stand.push_back(field.path);
+    for (const api::TandemField& field : api::tandem_fields()) mill.push_back(field.path);
+    add_plant_units(out, "/scenario", stand);
+    add_plant_units(out, "/tandem", mill);
     return out;
 }
 

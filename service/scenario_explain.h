@@ -7,9 +7,13 @@
 
 namespace rollgap::service {
 
-std::string scenario_explanation();  // the scenario's fields, then the tandem document's
+// the scenario's fields, then the tandem document's, then their plant units
+std::string scenario_explanation();
 
 // The tandem document's fields (api/tandem_schema.h) in the same form.
 std::string tandem_explanation();
+
+// The keys that give a field in a plant unit (api/plant_units.h), with unit and conversion.
+std::string plant_unit_explanation();
 
 }  // namespace rollgap::service

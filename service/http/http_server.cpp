@@ -353,6 +353,11 @@ struct HttpServer::Impl {
             return;
         }
         body["analysis"] = route.analysis;
+        // Plant units in canonical keys before a stored base is merged under them.
+        if (auto refused = canonicalise_units(body)) {
+            set_outcome(request, *refused, response);
+            return;
+        }
         // A batch always runs as a job (202, its chunks spread over the replicas' workers).
         if (const Analysis* row = find_analysis(analyses(), route.analysis);
             row != nullptr && row->subject() == Subject::batch) {

@@ -76,6 +76,12 @@ void JobEndpoints::create(json request, const std::string& idempotency_key,
         set_json(response, problem->http_status, problem->body, problem->media_type());
         return;
     }
+    // Plant units in canonical keys before a stored base is merged under them; the stored
+    // request is canonical (every replica reads it the same way).
+    if (auto problem = canonicalise_units(request)) {
+        set_json(response, problem->http_status, problem->body, problem->media_type());
+        return;
+    }
     if (state_.draining) {
         state_.overloaded(response, "the service is shutting down and accepts no new jobs");
         return;

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "api/field_errors.h"
+#include "api/plant_units.h"
 #include "api/request_json.h"
 #include "api/scenario_json.h"
 #include "api/tandem_json.h"
@@ -198,6 +199,23 @@ void ScenarioEndpoints::not_found(const std::string& name, httplib::Response& re
                        prefix_.substr(0, prefix_.size() - 1), " lists them"));
 }
 
+bool ScenarioEndpoints::canonical_body(json& body, httplib::Response& response) const {
+    // Plant units (api/plant_units.h) in canonical keys before the body is merged or read.
+    api::FieldErrors errors;
+    if (kind_ == store::StoredKind::mill) {
+        api::canonicalise_tandem_patch(body, "", errors);
+    } else {
+        api::canonicalise_scenario_patch(body, "", errors);
+    }
+    if (errors.empty()) return true;
+    set_problem(response,
+                errors.to_problem(api::ProblemCode::invalid_scenario,
+                                  concat(std::to_string(errors.size()),
+                                         errors.size() == 1 ? " violation" : " violations",
+                                         " in the ", noun_, "'s plant units; nothing was stored")));
+    return false;
+}
+
 bool ScenarioEndpoints::resolve_body(const json& body, json& resolved,
                                      httplib::Response& response) const {
     // The same reading as an analysis' "scenario" or "tandem": a merge patch onto the default,
@@ -365,6 +383,7 @@ void ScenarioEndpoints::put(const httplib::Request& request, json body, const st
                             httplib::Response& response) {
     const std::string name = request.path.substr(prefix_.size());
     if (refuse_name(name, response)) return;
+    if (!canonical_body(body, response)) return;
     json resolved;
     if (!resolve_body(body, resolved, response)) return;
 
@@ -439,6 +458,7 @@ void ScenarioEndpoints::patch(const httplib::Request& request, json body, const 
                       std::nullopt, std::nullopt}});
         return;
     }
+    if (!canonical_body(body, response)) return;
     const auto store = state_.store.get();
     if (!store) return state_.store_unavailable(response, std::string(store_down));
     const std::optional<store::StoredScenario> current = stored(*store, name, response);

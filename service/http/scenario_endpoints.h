@@ -76,6 +76,8 @@ private:
                           const EntityTags& if_match, const EntityTags& if_none_match,
                           std::optional<std::int64_t>& expected, httplib::Response& response);
 
+    // The body's plant units rewritten to canonical keys, or false when refused (422 answered).
+    bool canonical_body(nlohmann::json& body, httplib::Response& response) const;
     // The request's body read as this collection's document: the resolved document to store, or
     // false when refused (422 answered).
     bool resolve_body(const nlohmann::json& body, nlohmann::json& resolved,

@@ -16,6 +16,11 @@ type Body<P extends keyof paths, M extends 'post' | 'put' | 'patch', Media exten
 export const speedOnly: Body<'/v1/scenarios/{name}', 'patch', 'application/merge-patch+json'> = {
   rolls: { speed_m_per_s: 15 },
 };
+// Plant units: the speed in m/min, the roll's diameter, the viscosity in mPa·s.
+export const plantUnits: Body<'/v1/scenarios/{name}', 'patch', 'application/merge-patch+json'> = {
+  rolls: { speed_m_per_min: 900, diameter_mm: 560 },
+  lubricant: { viscosity_mPa_s: 0.8 },
+};
 // null restores a field's default in a merge patch.
 export const restoreViscosity: Body<'/v1/scenarios/{name}', 'patch', 'application/merge-patch+json'> = {
   lubricant: { viscosity_Pa_s: null },

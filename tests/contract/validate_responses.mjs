@@ -165,6 +165,18 @@ const cases = [
   ['mill map job', 'POST', '/v1/jobs',
     json({ analysis: 'tandem_map', tandem: twoStands, options: { quantity: 'stability', parameters: [
       { parameter: '/speed_m_per_s', values: [10, 12] }, { parameter: '/spans/length_m/0', values: [4, 6] }] } }), 202],
+  // plant units: the keys beside the canonical members, an atypical value's warning
+  ['plant units', 'POST', '/v1/roll-gap',
+    json({ scenario: { rolls: { speed_m_per_min: 900, diameter_mm: 560 }, lubricant: { viscosity_mPa_s: 0.8 } } }), 200,
+    every(equals('/scenario/rolls/speed_m_per_s', 15), equals('/scenario/rolls/radius_mm', 280))],
+  ['plant units, a mill', 'POST', '/v1/tandem',
+    json({ tandem: { ...twoStands, speed_m_per_min: 720 }, options: { critical_speed: false } }), 200,
+    equals('/tandem/speed_m_per_s', 12)],
+  ['atypical value warned', 'POST', '/v1/roll-gap',
+    json({ scenario: { rolls: { speed_m_per_s: 90 } } }), 200,
+    equals('/warnings/0/likely/key', 'speed_m_per_min')],
+  ['two forms of one member', 'POST', '/v1/roll-gap',
+    json({ scenario: { rolls: { speed_m_per_s: 15, speed_m_per_min: 900 } } }), 422],
   // "absent or null: the defaults" (the document's words) also for the readers
   ['sweep critical speed null', 'POST', '/v1/sweeps',
     json({ options: { parameter: '/lubricant/viscosity_Pa_s', values: [0.0004], critical_speed: null, amplitude: null } }), 200],

@@ -12,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "api/plant_units.h"
 #include "api/scenario_json.h"
 #include "api/scenario_schema.h"
 #include "api/tandem_json.h"
@@ -233,4 +234,47 @@ TEST_CASE(
     CHECK(!contains(
         detail_of(R"({"analysis":"roll_gap","scenario":{"strip":{"entry_thickness_mm":50}}})"),
         "fraction"));
+}
+
+TEST_CASE("glossary: plant units are listed in the patch schemas and in --explain") {
+    const json document = json::parse(service::openapi_text());
+    const json& schemas = document.at("components").at("schemas");
+    int status = -1;
+    const std::string text = cli_output({"scenario", "--explain"}, status);
+    // each row of the table, where its canonical member is: the alternate property beside it
+    // (patches only: answers are canonical) and the explain text naming it
+    const std::pair<const char*, const char*> where[] = {
+        {"/rolls/speed_m_per_s", "speed_m_per_min"},
+        {"/rolls/speed_m_per_s", "speed_mm_per_s"},
+        {"/lubricant/viscosity_Pa_s", "viscosity_mPa_s"},
+        {"/rolls/radius_mm", "diameter_mm"},
+        {"/mill/masses_t", "masses_kg"},
+        {"/mill/stiffness_GN_per_m", "stiffness_kN_per_mm"},
+        {"/mill/damping_MN_s_per_m", "damping_kN_s_per_m"}};
+    std::size_t listed = 0;
+    for (const auto& entry : where) {
+        const char* path = entry.first;
+        const std::string key = entry.second;
+        CAPTURE(key);
+        const std::string_view p = path;
+        const std::string group(p.substr(0, p.rfind('/')));
+        const json& patch_group = group.empty() ? schemas.at("ScenarioPatch")
+                                                : property_at(schemas.at("ScenarioPatch"), group);
+        REQUIRE(patch_group.at("properties").contains(key));
+        const json& alternate = patch_group.at("properties").at(key);
+        CHECK(contains(alternate.at("description").get<std::string>(), "converted exactly"));
+        const json& canonical = property_at(schemas.at("ScenarioPatch"), path);
+        bool named = false;
+        for (const json& a : canonical.at("x-alternate-units")) named = named || a.at("key") == key;
+        CHECK(named);
+        const json& full_group =
+            group.empty() ? schemas.at("Scenario") : property_at(schemas.at("Scenario"), group);
+        CHECK_FALSE(full_group.at("properties").contains(key));  // answers are canonical
+        CHECK(contains(text, key));
+        ++listed;
+    }
+    CHECK(listed == api::alternate_units().size());
+    // the mill's speed in m/min
+    CHECK(schemas.at("TandemPatch").at("properties").contains("speed_m_per_min"));
+    CHECK_FALSE(schemas.at("Tandem").at("properties").contains("speed_m_per_min"));
 }

@@ -1,0 +1,299 @@
+// Plant units (api/plant_units.h): a member given under its plant unit's key is the same
+// scenario as the canonical member with the converted value — bit for bit where the factor is a
+// power of ten (the decimal is shifted, not multiplied) — and the echo is canonical; two forms
+// of one member, or an alternate that is not a number, are refused at their pointers; the
+// mill's own members, its shared stand and each stand, a batch's items and a calibration's
+// observations are rewritten where they sit.
+
+#include <doctest/doctest.h>
+
+#include <optional>
+#include <set>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "api/field_errors.h"
+#include "api/plant_units.h"
+#include "api/scenario_json.h"
+#include "api/scenario_schema.h"
+#include "api/tandem_json.h"
+#include "api/tandem_schema.h"
+
+using nlohmann::json;
+using namespace rollgap;
+
+namespace plant_units_test {
+
+// The resolved (echoed) document of a scenario patch after the plant-unit rewrite.
+json resolved(json patch) {
+    api::FieldErrors errors;
+    api::canonicalise_scenario_patch(patch, "/scenario", errors);
+    const core::Scenario scenario = api::scenario_from_patch(patch, "/scenario", errors);
+    std::string reported;
+    for (const auto& e : errors.reported()) reported += e.pointer + ": " + e.detail + "\n";
+    INFO(reported);
+    REQUIRE(errors.empty());
+    return api::resolved_scenario_json(scenario);
+}
+
+std::set<std::string> error_pointers(const api::FieldErrors& errors) {
+    std::set<std::string> pointers;
+    for (const auto& e : errors.reported()) pointers.insert(e.pointer);
+    return pointers;
+}
+
+}  // namespace plant_units_test
+
+namespace put = plant_units_test;
+
+TEST_CASE("plant units: each alternate is the canonical member with the converted value") {
+    struct Case {
+        json alternate, canonical;
+    };
+    const Case cases[] = {
+        {{{"rolls", {{"speed_m_per_min", 900}}}}, {{"rolls", {{"speed_m_per_s", 15}}}}},
+        {{{"rolls", {{"speed_m_per_min", 1000}}}}, {{"rolls", {{"speed_m_per_s", 1000.0 / 60.0}}}}},
+        {{{"rolls", {{"speed_mm_per_s", 250}}}}, {{"rolls", {{"speed_m_per_s", 0.25}}}}},
+        // 0.55 / 1000 in binary is not the double of 0.00055; the shifted decimal is
+        {{{"lubricant", {{"viscosity_mPa_s", 0.55}}}},
+         {{"lubricant", {{"viscosity_Pa_s", 0.00055}}}}},
+        {{{"lubricant", {{"viscosity_mPa_s", 1.7}}}},
+         {{"lubricant", {{"viscosity_Pa_s", 0.0017}}}}},
+        {{{"rolls", {{"diameter_mm", 561}}}}, {{"rolls", {{"radius_mm", 280.5}}}}},
+        {{{"mill", {{"masses_kg", {{"m1", 40500}, {"m3", 11000}}}}}},
+         {{"mill", {{"masses_t", {{"m1", 40.5}, {"m3", 11}}}}}}},
+        {{{"mill", {{"stiffness_kN_per_mm", {{"k2", 30100}}}}}},
+         {{"mill", {{"stiffness_GN_per_m", {{"k2", 30.1}}}}}}},
+        {{{"mill", {{"damping_kN_s_per_m", {{"c2", 150}}}}}},
+         {{"mill", {{"damping_MN_s_per_m", {{"c2", 0.15}}}}}}},
+    };
+    for (const Case& c : cases) {
+        CAPTURE(c.alternate.dump());
+        const json echoed = put::resolved(c.alternate);
+        CHECK(echoed == put::resolved(c.canonical));                // doubles compared exactly
+        CHECK(echoed.dump().find("per_min") == std::string::npos);  // the echo is canonical
+    }
+    // the echo of an alternate read back is the same scenario
+    const json echoed =
+        put::resolved({{"rolls", {{"speed_m_per_min", 900}, {"diameter_mm", 600}}}});
+    CHECK(echoed["rolls"]["speed_m_per_s"] == 15.0);
+    CHECK(echoed["rolls"]["radius_mm"] == 300.0);
+    CHECK(put::resolved(echoed) == echoed);
+}
+
+TEST_CASE("plant units: null restores the default, several forms and non-numbers are refused") {
+    CHECK(put::resolved({{"rolls", {{"speed_m_per_min", nullptr}}}}) ==
+          put::resolved(json::object()));
+
+    api::FieldErrors errors;
+    json both = {{"rolls", {{"speed_m_per_s", 15}, {"speed_m_per_min", 900}}},
+                 {"lubricant", {{"viscosity_mPa_s", "thin"}}},
+                 {"mill", {{"masses_kg", {{"m1", "heavy"}}}, {"stiffness_kN_per_mm", 5}}}};
+    api::canonicalise_scenario_patch(both, "/scenario", errors);
+    CHECK(put::error_pointers(errors) ==
+          std::set<std::string>{"/scenario/rolls/speed_m_per_s", "/scenario/rolls/speed_m_per_min",
+                                "/scenario/lubricant/viscosity_mPa_s",
+                                "/scenario/mill/masses_kg/m1",
+                                "/scenario/mill/stiffness_kN_per_mm"});
+    for (const auto& e : errors.reported()) {
+        CAPTURE(e.pointer);
+        if (e.pointer.starts_with("/scenario/rolls"))
+            CHECK(e.detail.find("speed_m_per_s, speed_m_per_min") != std::string::npos);
+        if (e.pointer == "/scenario/lubricant/viscosity_mPa_s") CHECK(e.unit == "mPa.s");
+    }
+    // two alternates of one member are as ambiguous as an alternate beside the canonical one
+    api::FieldErrors two;
+    json alternates = {{"rolls", {{"speed_mm_per_s", 15000}, {"speed_m_per_min", 900}}}};
+    api::canonicalise_scenario_patch(alternates, "", two);
+    CHECK(put::error_pointers(two) ==
+          std::set<std::string>{"/rolls/speed_mm_per_s", "/rolls/speed_m_per_min"});
+    // a key that is no alternate stays for the strict reader ("did you mean")
+    api::FieldErrors unknown;
+    json typo = {{"rolls", {{"speed_km_per_h", 54}}}};
+    api::canonicalise_scenario_patch(typo, "", unknown);
+    CHECK(unknown.empty());
+    CHECK(typo["rolls"].contains("speed_km_per_h"));
+}
+
+TEST_CASE("plant units: the mill's members, its shared stand and each stand, where they sit") {
+    const json alternate = {{"speed_m_per_min", 720},
+                            {"stand_defaults", {{"lubricant", {{"viscosity_mPa_s", 0.8}}}}},
+                            {"stands",
+                             {json::object(),
+                              {{"rolls", {{"diameter_mm", 500}}}},
+                              json::object(),
+                              json::object(),
+                              json::object()}}};
+    const json canonical = {{"speed_m_per_s", 12},
+                            {"stand_defaults", {{"lubricant", {{"viscosity_Pa_s", 0.0008}}}}},
+                            {"stands",
+                             {json::object(),
+                              {{"rolls", {{"radius_mm", 250}}}},
+                              json::object(),
+                              json::object(),
+                              json::object()}}};
+    json rewritten = alternate;
+    api::FieldErrors errors;
+    api::canonicalise_tandem_patch(rewritten, "/tandem", errors);
+    CHECK(errors.empty());
+    CHECK(rewritten == canonical);
+    const core::Mill mill = api::mill_from_patch(rewritten, "/tandem", errors);
+    REQUIRE(errors.empty());
+    CHECK(api::resolved_tandem_json(mill) ==
+          api::resolved_tandem_json(api::mill_from_patch(canonical, "/tandem", errors)));
+
+    api::FieldErrors twice;
+    json doubled = {
+        {"stands", {json::object(), {{"rolls", {{"radius_mm", 250}, {"diameter_mm", 500}}}}}}};
+    api::canonicalise_tandem_patch(doubled, "/tandem", twice);
+    CHECK(put::error_pointers(twice) ==
+          std::set<std::string>{"/tandem/stands/1/rolls/radius_mm",
+                                "/tandem/stands/1/rolls/diameter_mm"});
+}
+
+TEST_CASE("plant units: every scenario and mill a request carries, a batch's and a fit's too") {
+    json request = {
+        {"analysis", "batch"},
+        {"options",
+         {{"analysis", "speed_limit"},
+          {"scenario", {{"rolls", {{"speed_m_per_min", 600}}}}},
+          {"items",
+           {{{"label", "C-1"}, {"scenario", {{"lubricant", {{"viscosity_mPa_s", 1.2}}}}}},
+            {{"label", "C-2"}, {"tandem", {{"speed_m_per_min", 900}}}}}},
+          {"observations", {{{"scenario", {{"rolls", {{"speed_mm_per_s", 12000}}}}}}}}}}};
+    api::FieldErrors errors;
+    api::canonicalise_request_units(request, "", errors);
+    CHECK(errors.empty());
+    const json& o = request["options"];
+    CHECK(o["scenario"]["rolls"] == json{{"speed_m_per_s", 10}});
+    CHECK(o["items"][0]["scenario"]["lubricant"] == json{{"viscosity_Pa_s", 0.0012}});
+    CHECK(o["items"][1]["tandem"] == json{{"speed_m_per_s", 15}});
+    CHECK(o["observations"][0]["scenario"]["rolls"] == json{{"speed_m_per_s", 12}});
+    CHECK(o["items"][0]["label"] == "C-1");  // nothing else touched
+
+    json clash = {
+        {"options",
+         {{"items",
+           {json::object(),
+            {{"scenario", {{"rolls", {{"speed_m_per_s", 1}, {"speed_m_per_min", 60}}}}}}}}}}};
+    api::FieldErrors refused;
+    api::canonicalise_request_units(clash, "", refused);
+    CHECK(put::error_pointers(refused).contains("/options/items/1/scenario/rolls/speed_m_per_min"));
+}
+
+TEST_CASE("plant units: every row of the table names members that exist") {
+    for (const api::AlternateUnit& unit : api::alternate_units()) {
+        CAPTURE(unit.alternate);
+        bool used = false;
+        const auto check = [&](std::string_view path) {
+            const std::string_view member = path.substr(path.rfind('/') + 1);
+            for (const auto& [alternate, row] : api::alternates_of(member))
+                if (row == &unit) used = true;
+        };
+        for (const api::ScenarioField& field : api::scenario_fields()) {
+            check(field.path);
+            check(field.path.substr(0, field.path.rfind('/')));  // its group
+        }
+        for (const api::TandemField& field : api::tandem_fields()) check(field.path);
+        CHECK(used);
+        // the alternate is no canonical member itself
+        for (const api::ScenarioField& field : api::scenario_fields())
+            CHECK(field.path.find(std::string(unit.alternate) + "/") == std::string::npos);
+    }
+}
+
+TEST_CASE("plant units: a value outside its typical range is a warning naming the likely unit") {
+    // the defaults are typical: no warning for the default stand or mill
+    CHECK(api::typical_range_warnings(core::Scenario{}, "/scenario").empty());
+    api::FieldErrors none;
+    const core::Mill default_mill = api::mill_from_patch(json::object(), "/tandem", none);
+    REQUIRE(none.empty());
+    CHECK(api::typical_range_warnings(default_mill, "/tandem").empty());
+
+    struct Case {
+        json patch;
+        std::string pointer;
+        std::optional<std::string> key;  // the likely plant unit's key
+        double meant;                    // the value in the field's unit it would be
+    };
+    const Case cases[] = {
+        {{{"rolls", {{"speed_m_per_s", 90}}}},
+         "/scenario/rolls/speed_m_per_s",
+         "speed_m_per_min",
+         1.5},
+        {{{"rolls", {{"radius_mm", 560}}}}, "/scenario/rolls/radius_mm", "diameter_mm", 280},
+        {{{"lubricant", {{"viscosity_Pa_s", 0.55}}}},
+         "/scenario/lubricant/viscosity_Pa_s",
+         "viscosity_mPa_s",
+         0.00055},
+        {{{"mill", {{"masses_t", {{"m3", 5000}}}}}},
+         "/scenario/mill/masses_t/m3",
+         "masses_kg/m3",
+         5},
+        {{{"strip", {{"width_mm", 4000}}}}, "/scenario/strip/width_mm", std::nullopt, 0},
+    };
+    for (const Case& c : cases) {
+        CAPTURE(c.pointer);
+        api::FieldErrors errors;
+        const core::Scenario scenario = api::scenario_from_patch(c.patch, "/scenario", errors);
+        REQUIRE(errors.empty());  // accepted: within the hard bounds
+        const json warnings = api::typical_range_warnings(scenario, "/scenario");
+        REQUIRE(warnings.size() == 1);
+        const json& w = warnings[0];
+        CHECK(w["pointer"] == c.pointer);
+        CHECK(w["detail"].get<std::string>().find("used as given") != std::string::npos);
+        const api::ScenarioField* field =
+            api::find_scenario_field(c.pointer.substr(std::string("/scenario").size()));
+        REQUIRE(field != nullptr);
+        CHECK(w["typical"] == field->typical->text());
+        if (c.key) {
+            CHECK(w["likely"]["key"] == *c.key);
+            CHECK(w["likely"]["value"].get<double>() == c.meant);
+            // the likely value is typical, and sending it under that key gives no warning
+            CHECK(field->typical->contains(c.meant));
+        } else {
+            CHECK_FALSE(w.contains("likely"));
+        }
+    }
+    // the mill's speed, and a stand's own field at its stand's pointer
+    api::FieldErrors errors;
+    const core::Mill mill = api::mill_from_patch(
+        {{"speed_m_per_s", 60},
+         {"stands", {json::object(), json::object(), {{"rolls", {{"radius_mm", 600}}}}}},
+         {"entry_thickness_mm", 2.8},
+         {"exit_thickness_mm", {2.2, 1.8, 1.5}},
+         {"spans", {{"length_m", {5, 5}}, {"tension_MPa", {60, 60}}}}},
+        "/tandem", errors);
+    std::string reported;
+    for (const auto& e : errors.reported()) reported += e.pointer + ": " + e.detail + "\n";
+    INFO(reported);
+    REQUIRE(errors.empty());
+    const json warnings = api::typical_range_warnings(mill, "/tandem");
+    std::set<std::string> pointers;
+    for (const json& w : warnings) pointers.insert(w["pointer"].get<std::string>());
+    CHECK(pointers ==
+          std::set<std::string>{"/tandem/speed_m_per_s", "/tandem/stands/2/rolls/radius_mm"});
+}
+
+TEST_CASE("plant units: a value beyond the hard bound says which plant unit would fit") {
+    api::FieldErrors errors;
+    (void)api::scenario_from_patch({{"rolls", {{"speed_m_per_s", 900}}}}, "/scenario", errors);
+    REQUIRE(errors.reported().size() == 1);
+    const auto& e = errors.reported()[0];
+    CHECK(e.pointer == "/scenario/rolls/speed_m_per_s");
+    CHECK(e.detail.find("is outside [0.01, 100] m/s") != std::string::npos);
+    CHECK(e.detail.find("if 900 m/min was meant, that is 15 m/s: send it as speed_m_per_min") !=
+          std::string::npos);
+    CHECK(e.bound == "[0.01, 100]");
+    api::FieldErrors mill_errors;
+    (void)api::mill_from_patch({{"speed_m_per_s", 900}}, "/tandem", mill_errors);
+    REQUIRE_FALSE(mill_errors.empty());
+    CHECK(mill_errors.reported()[0].pointer == "/tandem/speed_m_per_s");
+    CHECK(mill_errors.reported()[0].detail.find("send it as speed_m_per_min") != std::string::npos);
+    // no plant unit fits: the plain bound
+    api::FieldErrors plain;
+    (void)api::scenario_from_patch({{"rolls", {{"speed_m_per_s", 1e7}}}}, "/scenario", plain);
+    REQUIRE(plain.reported().size() == 1);
+    CHECK(plain.reported()[0].detail.find("send it as") == std::string::npos);
+}
