@@ -199,6 +199,17 @@ void ScenarioEndpoints::not_found(const std::string& name, httplib::Response& re
                        prefix_.substr(0, prefix_.size() - 1), " lists them"));
 }
 
+bool ScenarioEndpoints::accepted(const api::FieldErrors& errors, const std::string& what,
+                                 httplib::Response& response) const {
+    if (errors.empty()) return true;
+    set_problem(response,
+                errors.to_problem(api::ProblemCode::invalid_scenario,
+                                  concat(std::to_string(errors.size()),
+                                         errors.size() == 1 ? " violation" : " violations",
+                                         " in the ", what, "; nothing was stored")));
+    return false;
+}
+
 bool ScenarioEndpoints::canonical_body(json& body, httplib::Response& response) const {
     // Plant units (api/plant_units.h) in canonical keys before the body is merged or read.
     api::FieldErrors errors;
@@ -207,13 +218,7 @@ bool ScenarioEndpoints::canonical_body(json& body, httplib::Response& response) 
     } else {
         api::canonicalise_scenario_patch(body, "", errors);
     }
-    if (errors.empty()) return true;
-    set_problem(response,
-                errors.to_problem(api::ProblemCode::invalid_scenario,
-                                  concat(std::to_string(errors.size()),
-                                         errors.size() == 1 ? " violation" : " violations",
-                                         " in the ", noun_, "'s plant units; nothing was stored")));
-    return false;
+    return accepted(errors, concat(noun_, "'s plant units"), response);
 }
 
 bool ScenarioEndpoints::resolve_body(const json& body, json& resolved,
@@ -229,13 +234,7 @@ bool ScenarioEndpoints::resolve_body(const json& body, json& resolved,
         const core::Scenario scenario = api::scenario_from_patch(body, "", errors);
         if (errors.empty()) resolved = api::resolved_scenario_json(scenario);
     }
-    if (errors.empty()) return true;
-    set_problem(response,
-                errors.to_problem(api::ProblemCode::invalid_scenario,
-                                  concat(std::to_string(errors.size()),
-                                         errors.size() == 1 ? " violation" : " violations",
-                                         " in the ", noun_, "; nothing was stored")));
-    return false;
+    return accepted(errors, std::string(noun_), response);
 }
 
 bool ScenarioEndpoints::expected_version(store::JobStore& store, const std::string& name,

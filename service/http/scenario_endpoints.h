@@ -20,6 +20,7 @@
 #include <httplib.h>
 #include <nlohmann/json.hpp>
 
+#include "api/field_errors.h"
 #include "service/http/routes.h"
 #include "service/http/service_state.h"
 #include "service/http/sync_dispatch.h"
@@ -76,6 +77,9 @@ private:
                           const EntityTags& if_match, const EntityTags& if_none_match,
                           std::optional<std::int64_t>& expected, httplib::Response& response);
 
+    // True when `errors` is empty; else the 422 naming every violation in `what` (false).
+    bool accepted(const api::FieldErrors& errors, const std::string& what,
+                  httplib::Response& response) const;
     // The body's plant units rewritten to canonical keys, or false when refused (422 answered).
     bool canonical_body(nlohmann::json& body, httplib::Response& response) const;
     // The request's body read as this collection's document: the resolved document to store, or

@@ -79,8 +79,13 @@ bool WebhookDeliverer::deliver_one() {
 
     const auto url = parse_webhook_url(delivery.url);
     std::string error;
+    // An operator who took a prefix off the list (on this replica or all) expects no more calls
+    // there: a delivery queued before is given up, not sent.
+    const bool allowed = url && webhook_allowed(*url, state_.config.webhook_allow);
     if (!url) {
         error = "the callback URL no longer parses";
+    } else if (!allowed) {
+        error = "the callback URL is no longer under a prefix of --webhook-allow";
     } else {
         httplib::Client client(url->scheme + "://" + url->host + ":" + std::to_string(url->port));
         client.set_connection_timeout(connect_timeout);
@@ -104,10 +109,11 @@ bool WebhookDeliverer::deliver_one() {
         }
     }
     const std::int64_t made = delivery.attempts + 1;
-    const auto outcome = error.empty() ? store::DeliveryOutcome::delivered
-                         : made >= static_cast<std::int64_t>(state_.config.webhook_max_attempts)
-                             ? store::DeliveryOutcome::failed
-                             : store::DeliveryOutcome::retry;
+    const auto outcome =
+        error.empty() ? store::DeliveryOutcome::delivered
+        : !allowed || made >= static_cast<std::int64_t>(state_.config.webhook_max_attempts)
+            ? store::DeliveryOutcome::failed
+            : store::DeliveryOutcome::retry;
     const store::Millis next_at =
         store::system_millis() + webhook_backoff(made, state_.config.webhook_backoff).count();
     const auto recorded = store->record_delivery(delivery, outcome, next_at, error);

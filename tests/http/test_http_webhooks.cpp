@@ -253,6 +253,37 @@ TEST_CASE("callbacks: two replicas on one store deliver each callback once") {
     CHECK(jobs.size() == locations.size());
 }
 
+TEST_CASE(
+    "callbacks: a delivery whose prefix the operator took off the list is given up, not sent") {
+    const int port = free_loopback_port();
+    service::ServerConfig before = wht::webhook_config(port);
+    before.webhook_backoff = std::chrono::milliseconds(200);
+    std::string location;
+    {
+        // the receiver is down: the first attempt fails and the delivery waits in the store
+        TestServer first(before);
+        auto client = first.client();
+        location =
+            submit_job(client, {{"analysis", "roll_gap"}, {"callback_url", wht::hook_url(port)}});
+        REQUIRE(eventually(
+            [&] { return wht::job_at(client, location)["callback"]["attempts"].get<int>() >= 1; }));
+    }
+    // restarted on the same store with another prefix, the receiver up: nothing reaches it
+    wht::Receiver receiver(port, {200});
+    service::ServerConfig after = wht::webhook_config(port);
+    after.store = before.store;
+    after.webhook_allow = {
+        *service::parse_webhook_url("http://127.0.0.1:" + std::to_string(port) + "/other")};
+    TestServer second(after);
+    auto client = second.client();
+    REQUIRE(
+        eventually([&] { return wht::job_at(client, location)["callback"]["state"] == "failed"; },
+                   std::chrono::milliseconds(15000)));
+    CHECK(wht::job_at(client, location)["callback"]["last_error"].get<std::string>().find(
+              "no longer under a prefix") != std::string::npos);
+    CHECK(receiver.count() == 0);
+}
+
 TEST_CASE("callbacks: a URL outside the allowed prefixes is a 422 and nothing is stored") {
     const int port = free_loopback_port();
     TestServer server(wht::webhook_config(port));
