@@ -6,7 +6,9 @@
 Every YAML file parses; every resource and generator file a kustomization lists exists; and
 the properties docs/operations.md promises hold: no session affinity, a PodDisruptionBudget
 selecting the pods, the job store's DSN read from a mounted Secret that the trial database
-provides, a writable data directory on the read-only root filesystem, and a grace period that
+provides, the bearer token from a mounted Secret too (no secret in the environment), a
+Service that targets nginx's port and a service container that runs the service alone on the
+pod's loopback, a writable data directory on the read-only root filesystem, and a grace period that
 covers the preStop pause, the drain timeout and the exit. With kubectl on the PATH it also
 builds both kustomizations (`kubectl kustomize`, offline). Exit status 0 when every check passes.
 """
@@ -113,6 +115,44 @@ if deployment:
                     host = re.match(r"^postgresql://[^@]+@([^:/]+)", data.get(key, ""))
                     check(host is not None and find(trial, "Service", host.group(1)) is not None,
                           "the trial DSN's host is not the trial database's Service")
+
+    # 5b. No secret in the environment (it would show in the pod's spec and in `kubectl
+    # describe`): the bearer token, like the DSN, from a file on a mounted Secret, required.
+    for name, e in env.items():
+        check("secretKeyRef" not in e.get("valueFrom", {}),
+              f"{name} comes from a Secret through the environment, not a mounted file")
+    check("ROLLGAP_TOKEN" not in env, "ROLLGAP_TOKEN is set in the environment")
+    token = env.get("ROLLGAP_TOKEN_FILE", {}).get("value", "")
+    if check(token != "", "ROLLGAP_TOKEN_FILE is not set: the compute endpoints take anyone"):
+        token_path = pathlib.PurePosixPath(token)
+        mount = mounts.get(str(token_path.parent))
+        if check(mount is not None and mount.get("readOnly", False),
+                 f"no read-only mount at {token_path.parent}"):
+            secret = volumes.get(mount["name"], {}).get("secret")
+            if check(secret is not None, f"{token_path.parent} is not a Secret volume"):
+                items = {i["path"]: i["key"] for i in secret.get("items", [])}
+                check(token_path.name in items or not items,
+                      f"the Secret {secret['secretName']} puts no file {token_path.name} there")
+                check(not secret.get("optional", False),
+                      f"the Secret {secret['secretName']} is optional: a pod without it would serve "
+                      "without a token")
+
+    # 5c. The Service reaches the pods through nginx: its targetPort is a port of the nginx
+    # container, never the service's own (loopback) or admin listener; the rollgap container
+    # runs the service alone (the image's default command would start a second nginx).
+    if service:
+        nginx = next((c for c in pod["containers"] if c["name"] == "nginx"), None)
+        if check(nginx is not None, "the pod has no nginx container"):
+            nginx_ports = {p.get("name"): p["containerPort"] for p in nginx.get("ports", [])}
+            for port in service["spec"]["ports"]:
+                target = port.get("targetPort", port["port"])
+                check(target in nginx_ports or target in nginx_ports.values(),
+                      f"the Service's port {port['port']} targets {target!r}, not a port of nginx")
+        check(rollgap.get("command", [None])[0] == "/usr/local/bin/rollgap"
+              and rollgap.get("args") == ["serve"],
+              "the rollgap container does not run /usr/local/bin/rollgap serve")
+        check(env.get("ROLLGAP_BIND", {}).get("value") == "127.0.0.1",
+              "the rollgap container's service does not listen on the pod's loopback only")
 
     # 6. A writable data directory on the read-only root filesystem.
     data_dir = env.get("ROLLGAP_DATA_DIR", {}).get("value")

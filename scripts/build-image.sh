@@ -11,7 +11,8 @@
 #    (ROLLGAP_DATA_DIR=/var/lib/rollgap); the script waits for /readyz to answer 200, computes a
 #    roll gap, runs a job to the end (with the job store: kept in the SQLite file under the data
 #    directory, which the image's user must be able to create), runs the image's HEALTHCHECK
-#    command, sends SIGTERM and expects exit status 0.
+#    command, sends SIGTERM and expects exit status 0; checks the entrypoint (rollgap-container,
+#    default command proxied) and that it passes other commands to the binary.
 #
 # Runs as root (debootstrap, buildah, chroot). Takes several minutes the first time.
 # Environment: ROLLGAP_IMAGE (default rollgap:dev), ROLLGAP_SMOKE_PORT (default 18181).
@@ -127,6 +128,16 @@ if "$CHROOT" "$m" /usr/local/bin/rollgap serve --help 2>/dev/null | grep -q -- '
 fi
 env -i ROLLGAP_PORT="$PORT" "$CHROOT" --userspec=10001:10001 "$m" /usr/local/bin/rollgap healthcheck >&2
 log "HEALTHCHECK command: exit 0"
+# The entrypoint and its default (the single-container proxied mode, tested with this build's
+# binary and Debian's nginx by tests/system/test_container_entrypoint.cpp); any other command
+# reaches the binary.
+entry=$("${B[@]}" inspect --type image --format '{{.OCIv1.Config.Entrypoint}} {{.OCIv1.Config.Cmd}}' "$IMAGE")
+if [[ "$entry" != "[/usr/local/bin/rollgap-container] [proxied]" ]]; then
+    log "FAIL: entrypoint and command are $entry, not [/usr/local/bin/rollgap-container] [proxied]"
+    exit 1
+fi
+env -i PATH=/usr/local/bin:/usr/bin:/bin "$CHROOT" --userspec=10001:10001 "$m" /usr/local/bin/rollgap-container --version >&2
+log "entrypoint: rollgap-container proxied by default; other commands run rollgap"
 kill -TERM "$server_pid"
 exit_status=0
 wait "$server_pid" || exit_status=$?
