@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -597,4 +598,72 @@ TEST_CASE("front proxy: an early refusal of a 200 kB body is the service's own a
         }
     }
     CHECK(proxy.nginx.error_log().find("reset by peer") == std::string::npos);
+}
+
+TEST_CASE(
+    "front proxy: a job's events pass through nginx as they happen (the document, heartbeats, "
+    "the end), and a client that goes away frees its stream") {
+    if (!nginx_installed()) return skipped_without_nginx();
+    Gate gate;
+    service::ServerConfig config = FrontProxy::config(8);
+    config.event_heartbeat = std::chrono::milliseconds(200);
+    config.max_event_streams = 1;  // a stream nginx kept open would refuse the next one
+    FrontProxy proxy("events", config, gate.evaluator());
+    auto client = proxy.client();
+    const std::string location = submit_job(client, {{"analysis", "roll_gap"}});
+    REQUIRE(eventually([&] { return gate.started() == 1; }));
+    const std::string request =
+        "GET " + location +
+        "/events HTTP/1.1\r\nHost: rollgap\r\nAccept: text/event-stream\r\n\r\n";
+    const auto keep_alives = [](const std::string& received) {
+        int count = 0;
+        for (auto at = received.find(": keep-alive"); at != std::string::npos;
+             at = received.find(": keep-alive", at + 1))
+            ++count;
+        return count;
+    };
+    {
+        // While the job runs, nothing finishes the answer: what arrives, nginx passed on as the
+        // service wrote it (buffered, it would hold the first event and every heartbeat).
+        RawConnection stream(proxy.port);
+        REQUIRE(stream.send(request));
+        const std::string early = stream.receive(
+            [&](const std::string& r) {
+                return r.find("event: job") != std::string::npos && keep_alives(r) >= 2;
+            },
+            std::chrono::milliseconds(5000));
+        CAPTURE(early.substr(0, 800));
+        CHECK(raw_status(early) == 200);
+        CHECK(raw_header(early, "Content-Type").starts_with("text/event-stream"));
+        CHECK(early.find("\"running\"") != std::string::npos);
+        CHECK(keep_alives(early) >= 2);
+        CHECK(gate.finished() == 0);
+    }  // the client goes away with the job still running
+
+    // nginx closes its side, the service's next heartbeat fails and the one slot is free.
+    std::optional<RawConnection> again;
+    std::string opened;
+    const bool reopened = eventually(
+        [&] {
+            again.emplace(proxy.port);
+            if (!again->send(request)) return false;
+            opened = again->receive([](const std::string& r) {
+                return r.find("event: job") != std::string::npos ||
+                       r.find("\r\n\r\n{") != std::string::npos;
+            });
+            if (raw_status(opened) == 200) return true;
+            std::this_thread::sleep_for(std::chrono::milliseconds(50));  // 503 until then
+            return false;
+        },
+        std::chrono::milliseconds(5000));
+    CAPTURE(opened.substr(0, 800));
+    REQUIRE(reopened);
+    gate.open();
+    const std::string all = again->receive(
+        [](const std::string& r) { return r.find("\r\n0\r\n\r\n") != std::string::npos; },
+        std::chrono::milliseconds(10'000));
+    CAPTURE(all.substr(0, 1500));
+    CHECK(all.find("\"succeeded\"") != std::string::npos);
+    CHECK(all.find("event: end\ndata: {\"reason\": \"finished\"}") != std::string::npos);
+    CHECK(all.find("\r\n0\r\n\r\n") != std::string::npos);  // nginx ended its answer too
 }
