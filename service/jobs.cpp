@@ -7,6 +7,7 @@
 #include <spdlog/fmt/fmt.h>
 
 #include "service/job_settings.h"
+#include "service/webhooks.h"
 
 namespace rollgap::service {
 
@@ -73,7 +74,9 @@ json job_document(const store::JobRecord& job, std::chrono::milliseconds retenti
     if (!job.labels.empty()) document["labels"] = labels_json(job.labels);
     if (job.retention_ms) document["retention_s"] = *job.retention_ms / 1000;
     if (job.callback) {
-        document["callback_url"] = job.callback->url;
+        // Its query replaced by "?…": a receiver's token often rides there, and every client
+        // that may read jobs sees this document (and so does the callback's own body).
+        document["callback_url"] = redacted_callback_url(job.callback->url);
         json callback = {{"state", job.callback->state}, {"attempts", job.callback->attempts}};
         if (job.callback->last_error) callback["last_error"] = *job.callback->last_error;
         document["callback"] = std::move(callback);

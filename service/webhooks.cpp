@@ -50,6 +50,13 @@ std::string WebhookUrl::origin() const {
 
 std::string WebhookUrl::target() const { return query.empty() ? path : path + "?" + query; }
 
+std::string redacted_callback_url(std::string_view text) {
+    if (!parse_webhook_url(text)) return "…";
+    const std::size_t query = text.find('?');
+    return query == std::string_view::npos ? std::string(text)
+                                           : std::string(text.substr(0, query)) + "?…";
+}
+
 std::optional<WebhookUrl> parse_webhook_url(std::string_view text) {
     namespace wd = webhooks_detail;
     if (text.empty() || text.size() > max_callback_url) return std::nullopt;

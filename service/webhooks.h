@@ -35,6 +35,10 @@ struct WebhookUrl {
 };
 std::optional<WebhookUrl> parse_webhook_url(std::string_view text);
 
+// A callback URL as documents show it: scheme, host, port and path, the query (where a
+// receiver's token often rides) replaced by "?…". Text that does not parse is shown as "…".
+std::string redacted_callback_url(std::string_view text);
+
 // Whether `url` lies under one of `prefixes`: the same scheme, host and port, and a path that is
 // the prefix's path or continues it at a segment boundary ("/hooks" admits "/hooks" and
 // "/hooks/rollgap", not "/hooks-evil"; "/hooks/" admits what starts with it).

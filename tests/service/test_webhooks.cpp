@@ -62,6 +62,13 @@ TEST_CASE("webhook URLs: parsed into scheme, host, port, path and query") {
     CHECK_FALSE(parse_webhook_url("http://host/" + std::string(max_callback_url, 'a')));
 }
 
+TEST_CASE("webhook URLs: documents show them without their query") {
+    CHECK(redacted_callback_url("https://mes.example:8443/hooks/rollgap?token=s3cret") ==
+          "https://mes.example:8443/hooks/rollgap?…");
+    CHECK(redacted_callback_url("http://10.0.0.5/hooks") == "http://10.0.0.5/hooks");
+    CHECK(redacted_callback_url("not a url?token=s3cret") == "…");
+}
+
 TEST_CASE("webhook URLs: a prefix admits its scheme, host and port and its path's subtree") {
     const auto allow = wt::prefixes({"https://mes.plant.example/hooks", "http://10.0.0.7:8088/"});
     CHECK(wt::allowed("https://mes.plant.example/hooks", allow));
