@@ -120,7 +120,9 @@ json row_schema() {
          {"headline", {{"anyOf", json::array({headline, {{"type", "null"}}})}}},
          {"problem",
           {{"anyOf",
-            json::array({{{"$ref", "#/components/schemas/Problem"}}, {{"type", "null"}}})}}}},
+            json::array({{{"$ref", "#/components/schemas/Problem"}}, {{"type", "null"}}})}}},
+         // only when the item has some: its values outside their typical ranges
+         {"warnings", {{"$ref", "#/components/schemas/Warnings"}}}},
         {"index", "label", "status", "base", "headline", "problem"});
 }
 
@@ -149,9 +151,24 @@ std::vector<std::string> item_columns(const json& result) {
                 columns.push_back(column);
         }
     }
-    for (const char* name : {"problem_type", "problem_title", "problem_detail"})
+    for (const char* name : {"problem_type", "problem_title", "problem_detail", "warnings"})
         columns.emplace_back(name);
     return columns;
+}
+
+// An item's warnings in one cell: each pointer with its likely plant unit ("/options/items/3/
+// scenario/rolls/speed_m_per_s likely speed_m_per_min"), "; " between; null when none.
+json warning_text(const json& item) {
+    const json warnings = item.value("warnings", json::array());
+    if (!warnings.is_array() || warnings.empty()) return nullptr;
+    std::string text;
+    for (const json& warning : warnings) {
+        if (!text.empty()) text += "; ";
+        text += warning.value("pointer", std::string());
+        if (warning.contains("likely") && warning["likely"].is_object())
+            text += " likely " + warning["likely"].value("key", std::string());
+    }
+    return text;
 }
 
 json item_rows(const json& result) {
@@ -164,7 +181,8 @@ json item_rows(const json& result) {
                     {"base_version", at(item, "/base/version")},
                     {"problem_type", at(item, "/problem/type")},
                     {"problem_title", at(item, "/problem/title")},
-                    {"problem_detail", at(item, "/problem/detail")}};
+                    {"problem_detail", at(item, "/problem/detail")},
+                    {"warnings", warning_text(item)}};
         const json headline = item.value("headline", json());
         if (headline.is_object()) {
             for (const auto& [name, value] : headline.items()) row[headline_column(name)] = value;
@@ -198,6 +216,7 @@ json batch_row(std::size_t index, std::string_view label, bool failed, const jso
     row["status"] =
         result.value("status", std::string()) == "solver_failure" ? "solver_failure" : "ok";
     row["problem"] = nullptr;
+    if (answer.contains("warnings")) row["warnings"] = answer["warnings"];
     return row;
 }
 

@@ -5,6 +5,7 @@
 #include "api/amplitude_json.h"
 #include "api/calibration_json.h"
 #include "api/map_json.h"
+#include "api/plant_units.h"
 #include "api/result_json.h"
 #include "api/speed_limit_json.h"
 #include "api/stability_json.h"
@@ -34,14 +35,26 @@ const json* at(const json& document, std::string_view pointer) {
 }
 
 // Appends the records of one block of rows, each led by `lead`.
+// Per field of a record (the leading columns, then the columns): the plant unit its values
+// are converted to, or null for a field that stays as it is. Empty: every field stays.
+using Conversions = std::vector<const AlternateUnit*>;
+
+std::string converted_record(std::vector<json> fields, const Conversions& conversions) {
+    for (std::size_t i = 0; i < fields.size() && i < conversions.size(); ++i) {
+        if (conversions[i] != nullptr && fields[i].is_number())
+            fields[i] = plant_value(fields[i].get<double>(), *conversions[i]);
+    }
+    return csv_record(fields);
+}
+
 bool append_rows(const json& rows, const std::vector<std::string>& columns,
-                 const std::vector<json>& lead, std::string& text) {
+                 const std::vector<json>& lead, const Conversions& conversions, std::string& text) {
     if (rows.is_array()) {
         for (const json& row : rows) {
             if (!row.is_object()) return false;
             std::vector<json> fields = lead;
             for (const std::string& column : columns) fields.push_back(row.value(column, json()));
-            text += csv_record(fields);
+            text += converted_record(std::move(fields), conversions);
         }
         return true;
     }
@@ -59,7 +72,7 @@ bool append_rows(const json& rows, const std::vector<std::string>& columns,
                                  ? (*values)[i]
                                  : json());
         }
-        text += csv_record(fields);
+        text += converted_record(std::move(fields), conversions);
     }
     return true;
 }
@@ -249,7 +262,7 @@ std::string csv_record(const std::vector<json>& fields) {
 }
 
 CsvOutcome result_csv(std::span<const CsvTable> offered, std::string_view analysis,
-                      const json& result, std::string_view table) {
+                      const json& result, std::string_view table, CsvUnits units) {
     const auto chosen = table.empty()
                             ? offered.begin()
                             : std::find_if(offered.begin(), offered.end(),
@@ -264,6 +277,14 @@ CsvOutcome result_csv(std::span<const CsvTable> offered, std::string_view analys
     std::vector<json> header;
     for (const CsvKey& key : chosen->keys) header.emplace_back(key.column);
     for (const std::string& column : columns) header.emplace_back(column);
+    Conversions conversions;
+    if (units == CsvUnits::plant) {
+        for (json& name : header) {
+            const auto plant = plant_column(name.get<std::string>());
+            conversions.push_back(plant ? plant->unit : nullptr);
+            if (plant) name = plant->name;
+        }
+    }
     std::string text = csv_record(header);
 
     const std::string missing = concat(
@@ -271,12 +292,14 @@ CsvOutcome result_csv(std::span<const CsvTable> offered, std::string_view analys
         " It is left out by options such as critical_speed false, detail \"summary\", time_series false, "
         "distributions false, or when the outcome produced none)");
     if (chosen->rows_of) {
-        if (!append_rows(chosen->rows_of(result), columns, {}, text)) return {false, {}, missing};
+        if (!append_rows(chosen->rows_of(result), columns, {}, conversions, text))
+            return {false, {}, missing};
         return {true, std::move(text), {}};
     }
     if (chosen->outer.empty()) {
         const json* rows = at(result, chosen->rows);
-        if (rows == nullptr || rows->is_null() || !append_rows(*rows, columns, {}, text))
+        if (rows == nullptr || rows->is_null() ||
+            !append_rows(*rows, columns, {}, conversions, text))
             return {false, {}, missing};
         return {true, std::move(text), {}};
     }
@@ -292,7 +315,7 @@ CsvOutcome result_csv(std::span<const CsvTable> offered, std::string_view analys
             lead.push_back(key.member.empty() ? json(i)
                                               : element.value(std::string(key.member), json()));
         }
-        if (!append_rows(*rows, columns, lead, text)) return {false, {}, missing};
+        if (!append_rows(*rows, columns, lead, conversions, text)) return {false, {}, missing};
         any = true;
     }
     if (!any) return {false, {}, missing};

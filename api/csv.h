@@ -73,8 +73,13 @@ struct CsvOutcome {
 
 // The CSV of one of the tables `offered` (non-empty) of an `analysis` result; `table` "" is the
 // first.
+// The units of the columns: si (the JSON's, the default) or plant (units=plant: a column in
+// m/s or Pa·s renamed and converted to m/min or mPa·s, plant_units.h plant_column).
+enum class CsvUnits { si, plant };
+
 CsvOutcome result_csv(std::span<const CsvTable> offered, std::string_view analysis,
-                      const nlohmann::json& result, std::string_view table);
+                      const nlohmann::json& result, std::string_view table,
+                      CsvUnits units = CsvUnits::si);
 
 // One RFC 4180 field / record (CRLF included), for the writers and their tests.
 std::string csv_field(const nlohmann::json& value);

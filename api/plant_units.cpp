@@ -1,6 +1,8 @@
 #include "api/plant_units.h"
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <functional>
 #include <optional>
 
@@ -16,7 +18,7 @@ namespace plant_units_detail {
 using nlohmann::json;
 
 // The table: one row per alternate (docs/http-api.md lists it).
-constexpr std::array<AlternateUnit, 7> table{{
+constexpr std::array<AlternateUnit, 10> table{{
     {"_m_per_s", "_m_per_min", "m/min", 60.0, 0, false, "÷ 60"},
     {"_m_per_s", "_mm_per_s", "mm/s", 1.0, -3, false, "÷ 1000"},
     {"_Pa_s", "_mPa_s", "mPa.s", 1.0, -3, false, "÷ 1000"},
@@ -24,6 +26,20 @@ constexpr std::array<AlternateUnit, 7> table{{
     {"masses_t", "masses_kg", "kg", 1.0, -3, true, "÷ 1000"},
     {"stiffness_GN_per_m", "stiffness_kN_per_mm", "kN/mm", 1.0, -3, true, "÷ 1000"},
     {"damping_MN_s_per_m", "damping_kN_s_per_m", "kN.s/m", 1.0, -3, true, "÷ 1000"},
+    // A tension as the force the bridle or the stand pulls with, over the strip's cross-section
+    // on that side (docs/http-api.md, "Plant units").
+    {"stress_MPa", "force_kN", "kN", 1.0, 0, true,
+     "÷ the strip's cross-section on that side (width × entry thickness for back, × exit "
+     "thickness for front), which may come from another layer",
+     true},
+    {"amplitude_MPa", "amplitude_kN", "kN", 1.0, 0, true,
+     "÷ the strip's cross-section on that side, as force_kN", true},
+    // The mill's entry, interstand and exit tensions: over the strip's cross-section in that
+    // span (docs/http-api.md, "Plant units").
+    {"tension_MPa", "tension_kN", "kN", 1.0, 0, true,
+     "÷ the strip's cross-section in that span (the mill's width × the entry thickness for the "
+     "entry span, × the upstream stand's exit thickness for an interstand or the exit span)",
+     true},
 }};
 
 // What a walker needs of a document's schema: its groups, their members, its numeric leaves.
@@ -107,11 +123,43 @@ void walk(json& object, const std::string& schema_path, const std::string& point
     // Each canonical member of this group and the alternate keys given for it: one form is
     // rewritten, two or more are refused at each of them (which one was meant is not guessed).
     for (const std::string_view member : schema.members(schema_path)) {
+        // A null per-cross-section form only clears an earlier layer's: no form of its own.
+        const bool canonical_given = object.contains(member) && !object[member].is_null();
         std::vector<std::pair<std::string, const AlternateUnit*>> given;
         for (auto& candidate : alternates_of(member)) {
-            if (object.contains(candidate.first)) given.push_back(std::move(candidate));
+            const auto found = object.find(candidate.first);
+            if (found == object.end()) continue;
+            if (candidate.second->per_cross_section && found->is_null()) continue;
+            given.push_back(std::move(candidate));
         }
-        if (given.empty()) continue;
+        if (given.empty()) {
+            // The canonical form given: it clears a force an earlier layer gave.
+            if (canonical_given) {
+                for (const auto& [alternate, unit] : alternates_of(member))
+                    if (unit->per_cross_section) object[alternate] = nullptr;
+            }
+            continue;
+        }
+        if (given.size() == 1 && !canonical_given && given[0].second->per_cross_section) {
+            // Kept for the reader (resolve_tension_forces); it clears an earlier stress.
+            const json& force = object[given[0].first];
+            const bool numbers =
+                force.is_number() ||
+                (force.is_array() && std::all_of(force.begin(), force.end(),
+                                                 [](const json& v) { return v.is_number(); }));
+            if (!numbers) {
+                errors.add({concat(pointer, "/", escape_pointer_token(given[0].first)),
+                            concat("must be ",
+                                   schema_path == "/spans" ? "an array of numbers, one per span,"
+                                                           : "a number",
+                                   " in ", given[0].second->unit, " (or null)"),
+                            std::nullopt, std::string(given[0].second->unit)});
+                object.erase(given[0].first);
+                continue;
+            }
+            object[std::string(member)] = nullptr;
+            continue;
+        }
         if (given.size() == 1 && !object.contains(member)) {
             rewrite(object, std::string(member), given[0].first, *given[0].second, schema_path,
                     pointer, schema, errors);
@@ -158,7 +206,8 @@ void walk_request(json& node, const std::string& pointer, FieldErrors& errors) {
 
 // One value against its typical range; nothing when typical.
 std::optional<json> typical_warning(double value, const ScenarioField& field,
-                                    const std::string& pointer) {
+                                    const std::string& pointer,
+                                    std::optional<double> cross_section_m2 = std::nullopt) {
     if (!field.typical || field.typical->contains(value)) return std::nullopt;
     const Interval& typical = *field.typical;
     const std::string unit(field.unit.code);
@@ -171,7 +220,7 @@ std::optional<json> typical_warning(double value, const ScenarioField& field,
         concat(format_number(value), " ", unit, " is ", value < typical.min ? "below" : "above",
                " the typical ", typical.text(), " ", unit, " of a cold mill; it is used as given");
     // Which plant unit would make it typical.
-    if (const auto slip = likely_unit_slip(field.path, unit, typical, value)) {
+    if (const auto slip = likely_unit_slip(field.path, unit, typical, value, cross_section_m2)) {
         detail += concat("; ", slip->text);
         warning["likely"] = {
             {"key", slip->key}, {"unit", slip->unit->unit}, {"value", slip->meant}};
@@ -186,7 +235,10 @@ void add_scenario_warnings(const core::Scenario& scenario, const std::string& po
     for (const ScenarioField& field : scenario_fields()) {
         if (!field.typical || field.kind != FieldKind::number || skip(field)) continue;
         const double value = from_si(field.number(readable), field.unit);
-        if (auto warning = typical_warning(value, field, concat(pointer, field.path)))
+        const std::string_view group =
+            std::string_view(field.path).substr(0, field.path.rfind('/'));
+        if (auto warning = typical_warning(value, field, concat(pointer, field.path),
+                                           tension_cross_section_m2(scenario, group)))
             out.push_back(std::move(*warning));
     }
 }
@@ -194,14 +246,18 @@ void add_scenario_warnings(const core::Scenario& scenario, const std::string& po
 }  // namespace plant_units_detail
 
 std::optional<UnitSlip> likely_unit_slip(std::string_view path, std::string_view canonical_unit,
-                                         const Interval& target, double value) {
+                                         const Interval& target, double value,
+                                         std::optional<double> cross_section_m2) {
     const std::string_view member = path.substr(path.rfind('/') + 1);
     const std::string_view group = path.substr(0, path.rfind('/'));
     std::vector<std::pair<std::string, const AlternateUnit*>> candidates = alternates_of(member);
     for (auto& [key, row] : alternates_of(group.substr(group.rfind('/') + 1)))
         candidates.emplace_back(concat(key, "/", member), row);
     for (const auto& [key, row] : candidates) {
-        const double meant = canonical_value(value, *row);
+        if (row->per_cross_section && !cross_section_m2) continue;
+        // kN over m² is kPa: ÷ 1000 for MPa
+        const double meant = row->per_cross_section ? value / *cross_section_m2 / 1000.0
+                                                    : canonical_value(value, *row);
         if (!target.contains(meant)) continue;
         return UnitSlip{key, row, meant,
                         concat("if ", format_number(value), " ", row->unit, " was meant, that is ",
@@ -240,6 +296,70 @@ nlohmann::json typical_range_warnings(const core::Mill& mill, const std::string&
 
 std::span<const AlternateUnit> alternate_units() { return plant_units_detail::table; }
 
+std::vector<std::string> deferred_alternates(std::span<const std::string_view> members) {
+    std::vector<std::string> found;
+    for (const std::string_view member : members)
+        for (const auto& [alternate, unit] : alternates_of(member))
+            if (unit->per_cross_section) found.push_back(alternate);
+    return found;
+}
+
+std::optional<double> tension_cross_section_m2(const core::Scenario& scenario,
+                                               std::string_view group) {
+    if (group == "/tension/back") return scenario.strip.width * scenario.strip.entry_thickness;
+    if (group == "/tension/front") return scenario.strip.width * core::exit_thickness(scenario);
+    return std::nullopt;
+}
+
+void resolve_tension_forces(const nlohmann::json& document, const std::string& pointer,
+                            core::Scenario& scenario, FieldErrors& errors) {
+    if (!document.is_object()) return;
+    for (const std::string_view group :
+         {std::string_view("/tension/back"), std::string_view("/tension/front")}) {
+        const nlohmann::json::json_pointer at{std::string(group)};
+        if (!document.contains(at) || !document.at(at).is_object()) continue;
+        const nlohmann::json& side = document.at(at);
+        for (const std::string_view member : scenario_group_members(group)) {
+            for (const auto& [alternate, unit] : alternates_of(member)) {
+                if (!unit->per_cross_section) continue;
+                const auto given = side.find(alternate);
+                if (given == side.end() || given->is_null()) continue;
+                const std::string where = concat(pointer, group, "/", alternate);
+                if (errors.has_error_at_or_below(where)) continue;
+                // Only over a strip that was read as given: else its own errors say why.
+                if (errors.has_error_at_or_below(concat(pointer, "/strip"))) continue;
+                const ScenarioField* field = find_scenario_field(concat(group, "/", member));
+                if (field == nullptr) continue;
+                if (!given->is_number()) {
+                    errors.add(
+                        {where, concat("must be a number in kN (or null)"), std::nullopt, "kN"});
+                    continue;
+                }
+                const double area = *tension_cross_section_m2(scenario, group);
+                const double force_kn = given->get<double>();
+                // kN/m² is kPa: the stress in the field's unit (MPa) is ÷ 1000
+                const double stress = force_kn / area / 1000.0;
+                if (!std::isfinite(force_kn) || !field->range.contains(stress)) {
+                    const Interval in_kilonewton{field->range.min * area * 1000.0,
+                                                 field->range.max * area * 1000.0,
+                                                 field->range.min_open, field->range.max_open};
+                    errors.add(
+                        {where,
+                         concat(format_number(force_kn), " kN over the strip's ",
+                                format_number(area * 1e6), " mm² (",
+                                group == "/tension/back" ? "width × entry thickness"
+                                                         : "width × exit thickness",
+                                ") is ", format_number(stress), " ", field->unit.code, ", outside ",
+                                field->range.text(), " ", field->unit.code, " (", member, ")"),
+                         in_kilonewton.text(), "kN"});
+                    continue;
+                }
+                field->number(scenario) = to_si(stress, field->unit);
+            }
+        }
+    }
+}
+
 std::vector<std::pair<std::string, const AlternateUnit*>> alternates_of(std::string_view member) {
     std::vector<std::pair<std::string, const AlternateUnit*>> found;
     for (const AlternateUnit& unit : plant_units_detail::table) {
@@ -252,6 +372,23 @@ std::vector<std::pair<std::string, const AlternateUnit*>> alternates_of(std::str
         }
     }
     return found;
+}
+
+std::optional<PlantColumn> plant_column(std::string_view column) {
+    for (const AlternateUnit& unit : plant_units_detail::table) {
+        if (unit.whole_name || unit.per_cross_section) continue;
+        if (column.size() <= unit.canonical.size() || !column.ends_with(unit.canonical)) continue;
+        return PlantColumn{
+            concat(column.substr(0, column.size() - unit.canonical.size()), unit.alternate), &unit};
+    }
+    return std::nullopt;
+}
+
+double plant_value(double canonical, const AlternateUnit& unit) {
+    double value = canonical;
+    if (unit.decimal_shift != 0) value = from_si(value, Unit{unit.unit, unit.decimal_shift});
+    if (unit.divisor != 1.0) value *= unit.divisor;
+    return value;
 }
 
 double canonical_value(double value, const AlternateUnit& unit) {

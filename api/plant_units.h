@@ -37,6 +37,11 @@ struct AlternateUnit {
     int decimal_shift = 0;
     bool whole_name = false;
     std::string_view note;  // how it converts, for the documentation: "÷ 60"
+    // A force over the strip's cross-section on that side (a tension in kN): converted only
+    // when the scenario is read, with its width and thickness, which another layer may give
+    // (resolve_tension_forces). The rewrite keeps the key, and each layer that gives one form
+    // clears the other (adds it as null), so a later layer's form wins a merge either way.
+    bool per_cross_section = false;
 };
 
 std::span<const AlternateUnit> alternate_units();
@@ -66,6 +71,37 @@ void canonicalise_tandem_patch(nlohmann::json& patch, const std::string& pointer
 void canonicalise_request_units(nlohmann::json& node, const std::string& pointer,
                                 FieldErrors& errors);
 
+// The members that stand for some of `members` but are converted only when the document is
+// read (AlternateUnit::per_cross_section): for the members of "/tension/back", {"force_kN",
+// "amplitude_kN"}; of the mill's "/spans", {"tension_kN"}; else none.
+std::vector<std::string> deferred_alternates(std::span<const std::string_view> members);
+
+// The strip's cross-section on the side of tension group `group` ("/tension/back": entry
+// thickness × width; "/tension/front": exit thickness × width), in m²; nothing for another group.
+std::optional<double> tension_cross_section_m2(const core::Scenario& scenario,
+                                               std::string_view group);
+
+// Tensions given as forces (`/tension/{back,front}/force_kN`, `amplitude_kN` in the merged
+// scenario document at `pointer`): the stresses over that side's cross-section, written into
+// `scenario` once its strip has been read (a force whose stress leaves the stress's bounds is
+// an error at the force's pointer, with the bound in kN).
+void resolve_tension_forces(const nlohmann::json& document, const std::string& pointer,
+                            core::Scenario& scenario, FieldErrors& errors);
+
+// A table column in its plant unit (CSV with units=plant, docs/http-api.md "Plant units"): a
+// column whose name ends in a canonical unit suffix that has a plant unit (`_m_per_s` →
+// `_m_per_min`, `_Pa_s` → `_mPa_s`; the first row of that suffix in the table), renamed, and
+// the row that converts its values; nothing for every other column, which stays as it is.
+struct PlantColumn {
+    std::string name;
+    const AlternateUnit* unit = nullptr;
+};
+std::optional<PlantColumn> plant_column(std::string_view column);
+
+// The value in the plant unit of a canonical value: the inverse of canonical_value (× 60 for
+// m/min; a power of ten shifts the decimal, so 0.00055 Pa·s is exactly 0.55 mPa·s).
+double plant_value(double canonical, const AlternateUnit& unit);
+
 // A value that lies outside `target` in its field's unit but inside it read in one of the
 // field's (or its group's) plant units: the key that gives it in that unit, the unit, the value
 // it would then be, and a sentence ("if 900 m/min was meant, that is 15 m/s: send it as
@@ -76,8 +112,11 @@ struct UnitSlip {
     double meant = 0.0;
     std::string text;
 };
+// `cross_section_m2`: the strip's cross-section on the field's side, for the forces of
+// per_cross_section rows (without it those are not considered).
 std::optional<UnitSlip> likely_unit_slip(std::string_view path, std::string_view canonical_unit,
-                                         const Interval& target, double value);
+                                         const Interval& target, double value,
+                                         std::optional<double> cross_section_m2 = std::nullopt);
 
 // Values outside their field's typical plant range (ScenarioField::typical): accepted, and
 // answered with one warning each, {pointer, detail, typical, unit} and, when reading the value

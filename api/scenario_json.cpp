@@ -72,7 +72,11 @@ void read_group(const std::string& group, const nlohmann::json& node,
     const std::string pointer = base_pointer + group;
     if (!require_object(node, pointer, errors)) return;
     const auto members = scenario_group_members(group);
-    reject_unknown_fields(node, pointer, members, errors, [&group](std::string_view name) {
+    // A tension side also knows its forces in kN (plant_units.h), read after the strip.
+    const std::vector<std::string> deferred = deferred_alternates(members);
+    std::vector<std::string_view> known(members.begin(), members.end());
+    known.insert(known.end(), deferred.begin(), deferred.end());
+    reject_unknown_fields(node, pointer, known, errors, [&group](std::string_view name) {
         return derived_quantity_hint(group, name);
     });
     for (const std::string_view member : members) {
@@ -115,6 +119,9 @@ core::Scenario scenario_from_json(const nlohmann::json& document, const std::str
                                   FieldErrors& errors) {
     core::Scenario scenario{};
     read_group("", document, pointer, scenario, errors);
+    // Tensions given as forces, over the strip's cross-section as read (docs/http-api.md,
+    // "Plant units").
+    resolve_tension_forces(document, pointer, scenario, errors);
     // Cross-field rules on a document that is not even an object would only add noise.
     if (document.is_object()) check_scenario_consistency(scenario, pointer, errors);
     return scenario;

@@ -411,6 +411,10 @@ std::vector<ScenarioField> build_fields() {
         {"/mill/masses_t/m4", closed(0.5, 100.0)},
         {"/mill/masses_t/m5", closed(1.0, 300.0)},
         {"/mill/masses_t/m6", closed(1.0, 300.0)},
+        // "5–30 % of the flow stress", a few hundred MPa at most on hard strip (0: none, a free
+        // end); a force in kN sent as a stress lands far above (the likely unit names force_kN).
+        {"/tension/back/stress_MPa", closed(0.0, 400.0)},
+        {"/tension/front/stress_MPa", closed(0.0, 400.0)},
     };
     for (const auto& entry : typical) {
         const std::string_view path = entry.first;
@@ -418,6 +422,67 @@ std::vector<ScenarioField> build_fields() {
                                         [path](const ScenarioField& f) { return f.path == path; });
         if (field == fields.end()) throw std::logic_error("a typical range of no field");
         field->typical = entry.second;
+    }
+    // The name column: what a label or an axis calls each field (every field has one; a test
+    // checks).
+    const std::pair<std::string_view, std::string_view> names[] = {
+        {"/strip/entry_thickness_mm", "Entry thickness"},
+        {"/strip/reduction", "Reduction"},
+        {"/strip/flow_stress_MPa", "Flow stress"},
+        {"/strip/width_mm", "Strip width"},
+        {"/strip/youngs_modulus_GPa", "Strip Young's modulus"},
+        {"/rolls/radius_mm", "Work-roll radius"},
+        {"/rolls/speed_m_per_s", "Roll speed"},
+        {"/rolls/flattening", "Roll flattening"},
+        {"/rolls/youngs_modulus_GPa", "Roll Young's modulus"},
+        {"/rolls/poisson_ratio", "Roll Poisson's ratio"},
+        {"/lubricant/viscosity_Pa_s", "Lubricant viscosity"},
+        {"/lubricant/pressure_viscosity_per_MPa", "Pressure-viscosity coefficient"},
+        {"/lubricant/limiting_shear", "Limiting shear stress"},
+        {"/lubricant/limiting_shear_coefficient", "Limiting shear coefficient"},
+        {"/roughness/roll_rq_um", "Roll roughness Rq"},
+        {"/roughness/strip_rq_um", "Strip roughness Rq"},
+        {"/friction/model", "Friction model"},
+        {"/friction/contact_model", "Contact model"},
+        {"/friction/asperity_factor", "Asperity friction factor"},
+        {"/friction/coulomb_coefficient", "Coulomb friction coefficient"},
+        {"/inlet_film/model", "Inlet film model"},
+        {"/tension/back/mode", "Back tension mode"},
+        {"/tension/back/stress_MPa", "Back tension"},
+        {"/tension/back/span_length_m", "Entry span length"},
+        {"/tension/back/amplitude_MPa", "Back tension ripple amplitude"},
+        {"/tension/back/frequency_Hz", "Back tension ripple frequency"},
+        {"/tension/front/mode", "Front tension mode"},
+        {"/tension/front/stress_MPa", "Front tension"},
+        {"/tension/front/span_length_m", "Exit span length"},
+        {"/tension/front/amplitude_MPa", "Front tension ripple amplitude"},
+        {"/tension/front/frequency_Hz", "Front tension ripple frequency"},
+        {"/mill/masses_t/m1", "Upper crosshead mass"},
+        {"/mill/masses_t/m2", "Upper backup roll mass"},
+        {"/mill/masses_t/m3", "Upper work roll mass"},
+        {"/mill/masses_t/m4", "Lower work roll mass"},
+        {"/mill/masses_t/m5", "Lower backup roll mass"},
+        {"/mill/masses_t/m6", "Lower crosshead mass"},
+        {"/mill/stiffness_GN_per_m/k1", "Stiffness k1"},
+        {"/mill/stiffness_GN_per_m/k2", "Stiffness k2"},
+        {"/mill/stiffness_GN_per_m/k3", "Stiffness k3"},
+        {"/mill/stiffness_GN_per_m/k5", "Stiffness k5"},
+        {"/mill/stiffness_GN_per_m/k6", "Stiffness k6"},
+        {"/mill/stiffness_GN_per_m/k7", "Stiffness k7"},
+        {"/mill/damping_MN_s_per_m/c1", "Damping c1"},
+        {"/mill/damping_MN_s_per_m/c2", "Damping c2"},
+        {"/mill/rayleigh/enabled", "Rayleigh damping"},
+        {"/mill/rayleigh/damping_ratio", "Rayleigh damping ratio"},
+        {"/mill/rayleigh/low_frequency_Hz", "Rayleigh lower frequency"},
+        {"/mill/rayleigh/high_frequency_Hz", "Rayleigh upper frequency"},
+        {"/numerics/bite_intervals", "Bite integration steps"},
+    };
+    for (const auto& entry : names) {
+        const std::string_view path = entry.first;
+        const auto field = std::find_if(fields.begin(), fields.end(),
+                                        [path](const ScenarioField& f) { return f.path == path; });
+        if (field == fields.end()) throw std::logic_error("a name of no field");
+        field->name = entry.second;
     }
     return fields;
 }

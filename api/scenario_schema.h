@@ -30,6 +30,10 @@ struct ScenarioField {
     // docs/model.md, typical values with their unit. One sentence or a few; carried into the
     // OpenAPI document, `rollgap scenario --explain` and problem details.
     std::string description;
+    // Its name for a label or an axis title, in words a plant engineer uses ("Roll speed",
+    // "Back tension"): the OpenAPI property's title; the workbench labels with it, never with
+    // the pointer.
+    std::string name;
 
     // number and integer fields; bounds are in `unit`, i.e. as the client writes them
     Unit unit = units::one;

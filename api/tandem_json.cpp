@@ -36,6 +36,19 @@ struct Reading {
     json stand_defaults = json::object();
     json stands = json::array();
     StandBases bases;  // one per stand once the stands are read
+    // Tensions the document gave as forces (plant_units.h): the canonical field's path and the
+    // member given, so that errors name what the client sent ("/spans/tension_MPa" →
+    // "/spans/tension_kN").
+    std::vector<std::pair<std::string, std::string>> given_as;
+
+    // `path` (a field's, or below it) as the client gave it.
+    std::string as_given(const std::string& path) const {
+        for (const auto& [canonical, given] : given_as) {
+            if (path == canonical || path.starts_with(canonical + "/"))
+                return given + path.substr(canonical.size());
+        }
+        return path;
+    }
 };
 
 void read_list(const TandemField& field, const json& value, const std::string& pointer,
@@ -80,7 +93,11 @@ void read_group(const std::string& group, const json& node, const std::string& b
     const std::string pointer = base + group;
     if (!require_object(node, pointer, errors)) return;
     const auto members = tandem_group_members(group);
-    reject_unknown_fields(node, pointer, members, errors, [&group](std::string_view name) {
+    // A tension also as a force in kN (plant_units.h), read once the schedule is known.
+    const std::vector<std::string> deferred = deferred_alternates(members);
+    std::vector<std::string_view> known(members.begin(), members.end());
+    known.insert(known.end(), deferred.begin(), deferred.end());
+    reject_unknown_fields(node, pointer, known, errors, [&group](std::string_view name) {
         if (group.empty() && name == "mill") {
             return std::optional<std::string>(
                 "the tandem document's fields sit at its top level; `mill` is a stand's "
@@ -168,17 +185,19 @@ void check_mill(const std::string& base, Reading& reading, FieldErrors& errors) 
     for (std::size_t f = 0; f < fields.size(); ++f) {
         const TandemField& field = fields[f];
         if (field.kind != TandemFieldKind::number_list) continue;
-        if (errors.has_error_at_or_below(base + field.path)) continue;
+        const std::string at = base + reading.as_given(field.path);
+        if (errors.has_error_at_or_below(at)) continue;
         const int wanted = field.length == ListLength::stands ? stands : stands - 1;
         const int given = static_cast<int>(field.get_list(mill).size());
         if (given == wanted) continue;
-        errors.add({base + field.path,
+        errors.add({at,
                     concat("has ", std::to_string(given), given == 1 ? " value" : " values",
                            "; this mill of ", std::to_string(stands),
                            stands == 1 ? " stand needs " : " stands needs ", std::to_string(wanted),
                            field.length == ListLength::stands ? " (one per stand)"
                                                               : " (one per interstand span)"),
-                    concat(std::to_string(wanted), " values"), std::string(field.unit.code)});
+                    concat(std::to_string(wanted), " values"),
+                    at == base + field.path ? std::string(field.unit.code) : "kN"});
     }
     // The schedule: every stand makes the strip thinner.
     const std::string exits = base + "/exit_thickness_mm";
@@ -202,7 +221,8 @@ void check_mill(const std::string& base, Reading& reading, FieldErrors& errors) 
     for (const bool entry : {true, false}) {
         const core::MillBoundary boundary = entry ? mill.entry : mill.exit;
         const double tension = entry ? mill.entry_tension : mill.exit_tension;
-        const std::string at = concat(base, entry ? "/entry" : "/exit", "/tension_MPa");
+        const std::string at =
+            base + reading.as_given(entry ? "/entry/tension_MPa" : "/exit/tension_MPa");
         if (boundary != core::MillBoundary::span || tension > 0.0 ||
             errors.has_error_at_or_below(at))
             continue;
@@ -211,7 +231,81 @@ void check_mill(const std::string& base, Reading& reading, FieldErrors& errors) 
                            " span at zero tension is slack: give a positive tension, or a "
                            "constant boundary (",
                            base, entry ? "/entry" : "/exit", "/boundary)"),
-                    "(0, 3000)", "MPa"});
+                    at.ends_with("_kN") ? "> 0" : "(0, 3000)", at.ends_with("_kN") ? "kN" : "MPa"});
+    }
+}
+
+// Tensions given as forces (`/entry/tension_kN`, `/spans/tension_kN`, `/exit/tension_kN`):
+// the stresses over the strip's cross-section in each span — the mill's width × the entry
+// thickness for the entry span, × stand i's exit thickness for span i and the exit span — set
+// into the mill before anything judges its tensions.
+void resolve_mill_tension_forces(const json& document, const std::string& base, Reading& reading,
+                                 FieldErrors& errors) {
+    core::Mill& mill = reading.mill;
+    const int stands = static_cast<int>(reading.stands.size());
+    const bool schedule = static_cast<int>(mill.thickness.size()) == stands + 1 &&
+                          !errors.has_error_at_or_below(base + "/entry_thickness_mm") &&
+                          !errors.has_error_at_or_below(base + "/exit_thickness_mm") &&
+                          !errors.has_error_at_or_below(base + "/strip/width_mm");
+    // One force: its stress in MPa over `area` m², or an error at `at` with the bound in kN.
+    const auto stress_of = [&errors](const json& force, const std::string& at, double area,
+                                     const Interval& range) -> std::optional<double> {
+        if (!force.is_number()) {
+            errors.add({at, "must be a number in kN", std::nullopt, "kN"});
+            return std::nullopt;
+        }
+        const double force_kn = force.get<double>();
+        const double stress = force_kn / area / 1000.0;  // kN/m² is kPa
+        if (std::isfinite(force_kn) && range.contains(stress)) return stress;
+        const Interval in_kilonewton{range.min * area * 1000.0, range.max * area * 1000.0,
+                                     range.min_open, range.max_open};
+        errors.add({at,
+                    concat(format_number(force_kn), " kN over the strip's ",
+                           format_number(area * 1e6), " mm² there is ", format_number(stress),
+                           " MPa, outside ", range.text(), " MPa"),
+                    in_kilonewton.text(), "kN"});
+        return std::nullopt;
+    };
+    for (const std::string_view group :
+         {std::string_view("/entry"), std::string_view("/spans"), std::string_view("/exit")}) {
+        const json::json_pointer at{concat(std::string(group), "/tension_kN")};
+        if (!document.contains(at) || document.at(at).is_null()) continue;
+        const std::string canonical = concat(group, "/tension_MPa");
+        reading.given_as.emplace_back(canonical, concat(group, "/tension_kN"));
+        const std::string pointer = base + concat(group, "/tension_kN");
+        const TandemField* field = find_tandem_field(canonical);
+        if (field == nullptr) throw std::logic_error("a tension without its field");
+        // Over a schedule and a width that read cleanly; else their own errors say why.
+        if (!schedule || errors.has_error_at_or_below(pointer)) continue;
+        const json& given = document.at(at);
+        if (group != "/spans") {
+            const double thickness = mill.thickness[group == "/entry" ? 0 : stands];
+            if (const auto stress = stress_of(given, pointer, mill.width * thickness, field->range))
+                field->set(mill, to_si(*stress, units::megapascal));
+            continue;
+        }
+        if (!given.is_array()) {
+            errors.add(
+                {pointer, "must be an array of numbers in kN, one per span", std::nullopt, "kN"});
+            continue;
+        }
+        std::vector<double> stresses;
+        bool ok = true;
+        for (std::size_t i = 0; i < given.size(); ++i) {
+            // span i leaves stand i (0-based) at its exit thickness; more values than spans:
+            // the length check says so at the list
+            const double thickness = i + 1 < mill.thickness.size() ? mill.thickness[i + 1] : 0.0;
+            if (thickness <= 0.0) {
+                stresses.push_back(0.0);
+                continue;
+            }
+            const auto stress = stress_of(given[i], concat(pointer, "/", std::to_string(i)),
+                                          mill.width * thickness, field->range);
+            ok = ok && stress.has_value();
+            stresses.push_back(stress ? to_si(*stress, units::megapascal) : 0.0);
+        }
+        mill.interstand_tension = std::move(stresses);
+        reading.list_read[static_cast<std::size_t>(field - tandem_fields().data())] = ok;
     }
 }
 
@@ -347,7 +441,7 @@ void read_stands(const std::string& base, Reading& reading, FieldErrors& errors)
                 own_speed ? std::string() : tandem_pointer_of_stand_field(stand_path, i, stands);
             FieldError moved = error;
             if (!given.empty()) {
-                moved.pointer = base + given;
+                moved.pointer = base + reading.as_given(given);
                 moved.detail = concat("stand ", std::to_string(i + 1), ": ", error.detail);
             }
             if (!errors.has_error_at_or_below(moved.pointer)) errors.add(std::move(moved));
@@ -443,6 +537,7 @@ core::Mill mill_from_json(const nlohmann::json& document, const std::string& poi
     read_group("", document, pointer, reading, errors);
     if (!document.is_object()) return reading.mill;
     if (reading.stands_valid) {
+        resolve_mill_tension_forces(document, pointer, reading, errors);
         check_mill(pointer, reading, errors);
         read_stands(pointer, reading, errors);
         check_mill_speed(pointer, reading.mill, errors);

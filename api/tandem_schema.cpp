@@ -4,6 +4,7 @@
 #include <array>
 #include <cstddef>
 #include <map>
+#include <stdexcept>
 #include <string>
 
 #include "api/scenario_schema.h"
@@ -220,6 +221,33 @@ std::vector<TandemField> make_fields() {
             [entry](core::Mill& mill, double value) {
                 (entry ? mill.entry_tension : mill.exit_tension) = value;
             }));
+    }
+    // The name column, as the scenario fields' (every field has one; a test checks).
+    const std::pair<std::string_view, std::string_view> names[] = {
+        {"/entry_thickness_mm", "Mill entry thickness"},
+        {"/exit_thickness_mm", "Exit thickness"},
+        {"/speed_m_per_s", "Mill speed"},
+        {"/mode", "Speed mode"},
+        {"/strip/width_mm", "Strip width"},
+        {"/strip/youngs_modulus_GPa", "Strip Young's modulus"},
+        {"/strip/density_kg_per_m3", "Strip density"},
+        {"/spans/length_m", "Span length"},
+        {"/spans/tension_MPa", "Interstand tension"},
+        {"/spans/model", "Span model"},
+        {"/spans/segment_count", "Segments per span"},
+        {"/entry/boundary", "Entry boundary"},
+        {"/entry/span_length_m", "Entry span length"},
+        {"/entry/tension_MPa", "Entry tension"},
+        {"/exit/boundary", "Exit boundary"},
+        {"/exit/span_length_m", "Exit span length"},
+        {"/exit/tension_MPa", "Exit tension"},
+    };
+    for (const auto& entry : names) {
+        const std::string_view path = entry.first;
+        const auto field = std::find_if(fields.begin(), fields.end(),
+                                        [path](const TandemField& f) { return f.path == path; });
+        if (field == fields.end()) throw std::logic_error("a name of no tandem field");
+        field->name = entry.second;
     }
     return fields;
 }

@@ -44,6 +44,7 @@ struct TandemField {
     std::string path;  // JSON pointer relative to the tandem document: "/spans/length_m"
     TandemFieldKind kind = TandemFieldKind::number;
     std::string description;  // for a plant engineer, as the scenario fields' descriptions
+    std::string name;         // for a label or an axis title, as the scenario fields' names
     // numbers and every element of a list, in `unit` (as the client writes them)
     Unit unit = units::one;
     Interval range{0.0, 0.0};

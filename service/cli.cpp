@@ -41,11 +41,12 @@ constexpr std::array commands{
     Command{"scenario", "[--explain]",
             "print the default scenario (JSON, engineering units in every name);\n"
             "--explain: what each field is: pointer, unit, bounds, default, description"},
-    Command{"run", "FILE [--format json|csv] [--table NAME]",
+    Command{"run", "FILE [--format json|csv] [--table NAME] [--units si|plant]",
             "evaluate the request in FILE ('-' reads standard input) and print\n"
             "the result, or RFC 9457 problem details if the request is invalid;\n"
             "--format csv prints a table of the result as CSV instead\n"
-            "(--table NAME picks which: distribution, scan, points, ...)"},
+            "(--table NAME picks which: distribution, scan, points, ...;\n"
+            "--units plant: its speeds in m/min, viscosities in mPa.s)"},
     Command{"serve", "", "run the HTTP service (REST API v1; 'rollgap serve --help')"},
     Command{"healthcheck", "", "ask a running service's /readyz (container health check)"},
     Command{"openapi", "", "print the service's OpenAPI 3.1 document"},
@@ -141,7 +142,7 @@ int print_outcome(std::ostream& out, const Outcome& outcome) {
 }
 
 int run_request(std::string_view source, std::istream& in, std::ostream& out, bool csv,
-                std::string_view table) {
+                std::string_view table, std::string_view units) {
     std::optional<std::string> text;
     if (source == "-") {
         text = read_bounded(in);
@@ -166,7 +167,7 @@ int run_request(std::string_view source, std::istream& in, std::ostream& out, bo
     control.executor = pool.get();
     const Outcome outcome = run(std::move(std::get<PreparedRequest>(prepared)), control);
     if (!csv || !outcome.ok()) return print_outcome(out, outcome);
-    const CsvAnswer answer = csv_answer(outcome.body, table);
+    const CsvAnswer answer = csv_answer(outcome.body, table, units);
     if (answer.status != 200) {
         out << answer.body << '\n';
         return exit_bad_input;
@@ -204,6 +205,11 @@ int run_cli(std::span<const std::string_view> arguments, std::istream& in, std::
     run->add_option("--format", format, "json (default) or csv")
         ->check(CLI::IsMember({"json", "csv"}));
     run->add_option("--table", table, "with --format csv: which table of the result");
+    std::string units = "si";
+    run->add_option("--units", units,
+                    "with --format csv: si (default) or plant (speeds in m/min, viscosities in "
+                    "mPa.s)")
+        ->check(CLI::IsMember({"si", "plant"}));
     CLI::App* serve_command = add_command(app, "serve");
     ServerConfig config;
     add_server_options(*serve_command, config);
@@ -286,7 +292,7 @@ int run_cli(std::span<const std::string_view> arguments, std::istream& in, std::
         print_json(out, api::default_scenario_json());
         return exit_success;
     }
-    if (run->parsed()) return run_request(source, in, out, format == "csv", table);
+    if (run->parsed()) return run_request(source, in, out, format == "csv", table, units);
     if (health->parsed()) {
         if (!server.healthcheck) {
             err << "rollgap healthcheck: this build has no HTTP layer\n";

@@ -103,7 +103,13 @@ bool wants_csv(std::string_view accept) {
     return csv >= quality(accept, "application/json");
 }
 
-CsvAnswer csv_answer(const nlohmann::json& answer, std::string_view table) {
+std::optional<api::CsvUnits> parse_csv_units(std::string_view units) {
+    if (units.empty() || units == "si") return api::CsvUnits::si;
+    if (units == "plant") return api::CsvUnits::plant;
+    return std::nullopt;
+}
+
+CsvAnswer csv_answer(const nlohmann::json& answer, std::string_view table, std::string_view units) {
     const nlohmann::json* response = &answer;
     if (answer.contains("state")) {  // a job document
         const std::string state = answer.value("state", std::string());
@@ -117,8 +123,9 @@ CsvAnswer csv_answer(const nlohmann::json& answer, std::string_view table) {
     const std::string analysis = response->value("analysis", std::string());
     const Analysis* row = find_analysis(analyses(), analysis);
     if (row == nullptr || row->tables().empty()) return not_acceptable(no_tables(analysis));
-    const api::CsvOutcome csv = api::result_csv(row->tables(), analysis,
-                                                response->value("result", nlohmann::json()), table);
+    const api::CsvOutcome csv =
+        api::result_csv(row->tables(), analysis, response->value("result", nlohmann::json()), table,
+                        parse_csv_units(units).value_or(api::CsvUnits::si));
     if (!csv.ok) return not_acceptable(csv.detail);
     return {200, csv.text, csv_content_type};
 }

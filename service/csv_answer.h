@@ -2,10 +2,13 @@
 // CSV instead of JSON, on request: Accept: text/csv on an analysis route or a finished job
 // (GET /v1/jobs/{id}), `rollgap run --format csv`. The tables and the format are api/csv.h's.
 
+#include <optional>
 #include <string>
 #include <string_view>
 
 #include <nlohmann/json.hpp>
+
+#include "api/csv.h"
 
 namespace rollgap::service {
 
@@ -28,6 +31,12 @@ struct CsvAnswer {
 
 // `answer`: what an analysis answers ({"analysis", "scenario", "options", "result"}) or a job
 // document (its "result" once it succeeded). `table` "" is the analysis' first table.
-CsvAnswer csv_answer(const nlohmann::json& answer, std::string_view table);
+// `units`: "si" or "" (the JSON's units) or "plant" (m/min, mPa·s: api/csv.h CsvUnits); any
+// other value is the caller's to refuse (parse_csv_units).
+CsvAnswer csv_answer(const nlohmann::json& answer, std::string_view table,
+                     std::string_view units = "");
+
+// The units=… of a request: nothing when it is neither "si" nor "plant" ("" is si).
+std::optional<api::CsvUnits> parse_csv_units(std::string_view units);
 
 }  // namespace rollgap::service

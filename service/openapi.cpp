@@ -93,6 +93,7 @@ json leaf_schema(const api::ScenarioField& field, const json& default_value, boo
     if (patch) description += " null restores the default.";
     // The glossary text of the field table first, verbatim; then type, unit and bounds.
     schema["description"] = concat(field.description, " ", description);
+    schema["title"] = field.name;  // what a label or an axis calls it
     return schema;
 }
 
@@ -141,8 +142,14 @@ void add_alternates(json& properties, std::string_view member) {
     for (const auto& [key, unit] : alternates) {
         listed.push_back({{"key", key}, {"unit", unit->unit}, {"conversion", unit->note}});
         const std::string description =
-            concat("The same value as ", member, " in ", unit->unit, " (", unit->note,
-                   "), converted exactly and echoed as ", member, "; give one of the two.");
+            unit->per_cross_section
+                ? concat("The same quantity as ", member, " as a force in ", unit->unit, " (",
+                         unit->note,
+                         "), converted when the scenario is read, after every "
+                         "layer is merged, and echoed as ",
+                         member, "; give one of the two (null: neither from this layer).")
+                : concat("The same value as ", member, " in ", unit->unit, " (", unit->note,
+                         "), converted exactly and echoed as ", member, "; give one of the two.");
         json alternate;
         if (canonical.contains("properties")) {  // a group: each member in the unit
             json members = json::object();
@@ -153,6 +160,12 @@ void add_alternates(json& properties, std::string_view member) {
             alternate = {{"type", json::array({"object", "null"})},
                          {"additionalProperties", false},
                          {"properties", std::move(members)}};
+        } else if (canonical.value("type", json()) == json("array") ||
+                   (canonical.contains("type") && canonical["type"].is_array() &&
+                    canonical["type"].front() == "array")) {
+            // a list (the mill's spans): each value in the unit
+            alternate = {{"type", json::array({"array", "null"})},
+                         {"items", {{"type", "number"}, {"x-unit", unit->unit}}}};
         } else {
             alternate = {{"type", json::array({"number", "null"})}, {"x-unit", unit->unit}};
         }
@@ -315,6 +328,17 @@ void add_csv(json& operation, json& ok, std::span<const Analysis> analyses_here)
         {"description",
          "With Accept: text/csv, the table of the result to return (default: the analysis' first)."},
         {"schema", {{"enum", std::move(names)}}},
+    });
+    operation["parameters"].push_back({
+        {"name", "units"},
+        {"in", "query"},
+        {"required", false},
+        {"description",
+         "With Accept: text/csv, the units of the table's columns: si (the JSON's, the default) "
+         "or plant (a column in m/s renamed _m_per_min and converted to m/min, one in Pa.s "
+         "renamed _mPa_s and converted to mPa.s; the other columns as they are). The JSON answer "
+         "is always canonical. Another value: 422 at /query/units."},
+        {"schema", {{"type", "string"}, {"enum", {"si", "plant"}}, {"default", "si"}}},
     });
 }
 
@@ -483,6 +507,7 @@ json tandem_leaf_schema(const api::TandemField& field, const json& default_value
     if (!default_value.is_null()) schema["default"] = default_value;
     if (patch) description += " null restores the default.";
     schema["description"] = concat(field.description, " ", description);
+    schema["title"] = field.name;
     return schema;
 }
 

@@ -146,7 +146,18 @@ json item_row(const Batch& batch, std::size_t index, const core::Control& contro
     // A stopped batch is cancelled, not a row that says so.
     if (outcome.problem == api::ProblemCode::cancelled && control.should_stop())
         throw AnalysisCancelled{};
-    if (outcome.ok()) return api::batch_row(index, label, false, outcome.body);
+    if (outcome.ok()) {
+        // A coil's atypical value (a likely unit slip) is said in its row, pointing into the
+        // batch as its problems do.
+        json answer = outcome.body;
+        if (answer.contains("warnings") && answer["warnings"].is_array()) {
+            for (json& warning : answer["warnings"]) {
+                if (warning.contains("pointer") && warning["pointer"].is_string())
+                    warning["pointer"] = batch_pointer(batch.options, index, warning["pointer"]);
+            }
+        }
+        return api::batch_row(index, label, false, answer);
+    }
     // The problem's pointers into the batch: /scenario/strip/reduction of item 7 is
     // /options/items/7/scenario/strip/reduction (the batch's shared parts merged under it).
     json problem = outcome.body;

@@ -30,8 +30,17 @@ void set_problem(httplib::Response& response, const api::Problem& problem) {
 
 void set_outcome(const httplib::Request& request, const Outcome& outcome,
                  httplib::Response& response) {
+    // units=plant: the table's speeds and viscosities in m/min and mPa·s (api/csv.h); the JSON
+    // stays canonical. Checked on every answer, so a mistyped value is never silently SI.
+    const std::string units = request.get_param_value("units");
+    if (!parse_csv_units(units)) {
+        invalid_parameter(response, "units",
+                          "si or plant (plant: the CSV's speeds in m/min, "
+                          "viscosities in mPa.s)");
+        return;
+    }
     if (outcome.ok() && wants_csv(request.get_header_value("Accept"))) {
-        const CsvAnswer csv = csv_answer(outcome.body, request.get_param_value("table"));
+        const CsvAnswer csv = csv_answer(outcome.body, request.get_param_value("table"), units);
         response.status = csv.status;
         response.set_content(csv.body, std::string(csv.media_type));
         return;

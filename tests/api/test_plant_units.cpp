@@ -7,6 +7,8 @@
 
 #include <doctest/doctest.h>
 
+#include "support/approx.h"
+
 #include <optional>
 #include <set>
 #include <string>
@@ -296,4 +298,178 @@ TEST_CASE("plant units: a value beyond the hard bound says which plant unit woul
     (void)api::scenario_from_patch({{"rolls", {{"speed_m_per_s", 1e7}}}}, "/scenario", plain);
     REQUIRE(plain.reported().size() == 1);
     CHECK(plain.reported()[0].detail.find("send it as") == std::string::npos);
+}
+
+TEST_CASE("plant units: a tension in kN is that force over the strip's cross-section on its side") {
+    // σ = F / (w · h): the back side over the entry thickness, the front over the exit one
+    const auto read = [](json patch, api::FieldErrors& errors) {
+        api::canonicalise_scenario_patch(patch, "/scenario", errors);
+        return api::scenario_from_patch(patch, "/scenario", errors);
+    };
+    api::FieldErrors none;
+    const core::Scenario forces = read(
+        {{"strip", {{"width_mm", 1250}, {"entry_thickness_mm", 2.4}, {"reduction", 0.3}}},
+         {"tension",
+          {{"back", {{"force_kN", 150}, {"amplitude_kN", 30}}}, {"front", {{"force_kN", 210}}}}}},
+        none);
+    REQUIRE(none.empty());
+    const double entry_area = 1.25 * 2.4e-3, exit_area = 1.25 * 2.4e-3 * (1.0 - 0.3);
+    CHECK(forces.tensions.back.stress == rollgap::test::approx(150e3 / entry_area).epsilon(1e-14));
+    CHECK(forces.tensions.back.amplitude ==
+          rollgap::test::approx(30e3 / entry_area).epsilon(1e-14));
+    CHECK(forces.tensions.front.stress == rollgap::test::approx(210e3 / exit_area).epsilon(1e-14));
+    // the echo is the stress, and read back it is the same scenario
+    const json echoed = api::resolved_scenario_json(forces);
+    CHECK_FALSE(echoed["tension"]["back"].contains("force_kN"));
+    api::FieldErrors again;
+    CHECK(api::resolved_scenario_json(read(echoed, again)) == echoed);
+    CHECK(again.empty());
+
+    // Layers: the strip from one, the force from another, merged in either order of forms;
+    // the later layer's form wins.
+    const auto layered = [&](json base, json over) {
+        api::FieldErrors errors;
+        api::canonicalise_scenario_patch(base, "/scenario", errors);
+        api::canonicalise_scenario_patch(over, "/scenario", errors);
+        base.merge_patch(over);
+        const core::Scenario scenario = api::scenario_from_patch(base, "/scenario", errors);
+        CHECK(errors.empty());
+        return scenario.tensions.back.stress;
+    };
+    const double default_area = 1.8 * 1.6e-3;
+    CHECK(layered({{"tension", {{"back", {{"stress_MPa", 40}}}}}},
+                  {{"tension", {{"back", {{"force_kN", 100}}}}}}) ==
+          rollgap::test::approx(100e3 / default_area).epsilon(1e-14));
+    CHECK(layered({{"tension", {{"back", {{"force_kN", 100}}}}}},
+                  {{"tension", {{"back", {{"stress_MPa", 40}}}}}}) ==
+          rollgap::test::approx(40e6).epsilon(1e-15));
+    CHECK(layered({{"tension", {{"back", {{"force_kN", 100}}}}}},
+                  {{"strip", {{"width_mm", 1000}}}}) ==
+          rollgap::test::approx(100e3 / (1.0 * 1.6e-3)).epsilon(1e-14));
+    // null in the later layer takes the force away: the default stress again
+    CHECK(layered({{"tension", {{"back", {{"force_kN", 100}}}}}},
+                  {{"tension", {{"back", {{"force_kN", nullptr}, {"stress_MPa", nullptr}}}}}}) ==
+          rollgap::test::approx(core::Scenario{}.tensions.back.stress).epsilon(1e-15));
+    // rewriting twice changes nothing (a stored layer is read again)
+    json twice = {{"tension", {{"back", {{"force_kN", 100}}}, {"front", {{"stress_MPa", 20}}}}}};
+    api::FieldErrors first_errors, second_errors;
+    api::canonicalise_scenario_patch(twice, "", first_errors);
+    const json once = twice;
+    api::canonicalise_scenario_patch(twice, "", second_errors);
+    CHECK(twice == once);
+    CHECK(first_errors.empty());
+    CHECK(second_errors.empty());
+
+    // Both forms in one layer, a force that is no number, a force beyond the stress's bound
+    api::FieldErrors refused;
+    (void)read(
+        {{"tension",
+          {{"back", {{"stress_MPa", 40}, {"force_kN", 100}}}, {"front", {{"force_kN", "high"}}}}}},
+        refused);
+    CHECK(put::error_pointers(refused) ==
+          std::set<std::string>{"/scenario/tension/back/stress_MPa",
+                                "/scenario/tension/back/force_kN",
+                                "/scenario/tension/front/force_kN"});
+    api::FieldErrors beyond;
+    // 3000 MPa (the bound, open) over 2.88e-3 m² is 8640 kN
+    (void)read({{"tension", {{"back", {{"force_kN", 9000}}}}}}, beyond);
+    REQUIRE(beyond.reported().size() == 1);
+    const api::FieldError& error = beyond.reported().front();
+    CHECK(error.pointer == "/scenario/tension/back/force_kN");
+    CHECK(error.unit == "kN");
+    REQUIRE(error.bound.has_value());
+    CHECK(error.bound->starts_with("[0, "));
+    CHECK(error.bound->ends_with(")"));
+    CHECK(std::stod(error.bound->substr(4)) == rollgap::test::approx(8640.0).epsilon(1e-12));
+    CHECK(error.detail.find("outside [0, 3000) MPa") != std::string::npos);
+
+    // In a mill the tensions are the mill's: a stand's force is refused like its stress.
+    api::FieldErrors mill_errors;
+    json mill = {{"stands", {json::object(), {{"tension", {{"back", {{"force_kN", 100}}}}}}}}};
+    api::canonicalise_tandem_patch(mill, "/tandem", mill_errors);
+    (void)api::mill_from_patch(mill, "/tandem", mill_errors);
+    CHECK(put::error_pointers(mill_errors).contains("/tandem/stands/1/tension"));
+}
+
+TEST_CASE("plant units: a tension far above the typical stresses warns that it is likely kN") {
+    api::FieldErrors errors;
+    // hard strip, so that 600 MPa stays below the flow stress and only the typical range speaks
+    json patch = {{"strip", {{"flow_stress_MPa", 900}}},
+                  {"tension", {{"back", {{"stress_MPa", 600}}}}}};
+    api::canonicalise_scenario_patch(patch, "/scenario", errors);
+    const core::Scenario scenario = api::scenario_from_patch(patch, "/scenario", errors);
+    REQUIRE(errors.empty());
+    const json warnings = api::typical_range_warnings(scenario, "/scenario");
+    REQUIRE(warnings.size() == 1);
+    CHECK(warnings[0]["pointer"] == "/scenario/tension/back/stress_MPa");
+    CHECK(warnings[0]["likely"]["key"] == "force_kN");
+    CHECK(warnings[0]["likely"]["unit"] == "kN");
+    // 600 kN over 1.8 m × 1.6 mm
+    CHECK(warnings[0]["likely"]["value"].get<double>() ==
+          rollgap::test::approx(600e3 / (1.8 * 1.6e-3) / 1e6).epsilon(1e-14));
+}
+
+TEST_CASE("plant units: a mill's tensions in kN over the strip's cross-section in each span") {
+    // three stands, 2.0 → 1.6 → 1.3 → 1.1 mm, the mill's strip 1000 mm wide
+    json patch = {{"entry_thickness_mm", 2.0},
+                  {"exit_thickness_mm", {1.6, 1.3, 1.1}},
+                  {"strip", {{"width_mm", 1000}}},
+                  {"spans", {{"length_m", {5, 5}}, {"tension_kN", {120, 100}}}},
+                  {"entry", {{"tension_kN", 40}}},
+                  {"exit", {{"tension_kN", 60}}},
+                  {"stands", {json::object(), json::object(), json::object()}}};
+    api::FieldErrors errors;
+    api::canonicalise_tandem_patch(patch, "/tandem", errors);
+    const core::Mill mill = api::mill_from_patch(patch, "/tandem", errors);
+    std::string reported;
+    for (const auto& e : errors.reported()) reported += e.pointer + ": " + e.detail + "\n";
+    INFO(reported);
+    REQUIRE(errors.empty());
+    // entry: the width × the entry thickness; span i and the exit: × stand i's exit thickness
+    CHECK(mill.entry_tension == rollgap::test::approx(40e3 / (1.0 * 2.0e-3)).epsilon(1e-14));
+    REQUIRE(mill.interstand_tension.size() == 2);
+    CHECK(mill.interstand_tension[0] ==
+          rollgap::test::approx(120e3 / (1.0 * 1.6e-3)).epsilon(1e-14));
+    CHECK(mill.interstand_tension[1] ==
+          rollgap::test::approx(100e3 / (1.0 * 1.3e-3)).epsilon(1e-14));
+    CHECK(mill.exit_tension == rollgap::test::approx(60e3 / (1.0 * 1.1e-3)).epsilon(1e-14));
+    // each stand runs with the tensions of its spans
+    CHECK(mill.stands[1].tensions.back.stress == mill.interstand_tension[0]);
+    // the echo is in MPa
+    const json echoed = api::resolved_tandem_json(mill);
+    CHECK_FALSE(echoed["spans"].contains("tension_kN"));
+    CHECK(echoed["spans"]["tension_MPa"][0].get<double>() ==
+          rollgap::test::approx(75.0).epsilon(1e-14));
+
+    // A list of the wrong length and a force beyond the bound are reported where they were sent.
+    json wrong = {{"entry_thickness_mm", 2.0},
+                  {"exit_thickness_mm", {1.6, 1.3, 1.1}},
+                  {"spans", {{"length_m", {5, 5}}, {"tension_kN", {120}}}},
+                  {"exit", {{"tension_kN", 1e6}}},
+                  {"stands", {json::object(), json::object(), json::object()}}};
+    api::FieldErrors refused;
+    api::canonicalise_tandem_patch(wrong, "/tandem", refused);
+    (void)api::mill_from_patch(wrong, "/tandem", refused);
+    CHECK(put::error_pointers(refused) ==
+          std::set<std::string>{"/tandem/spans/tension_kN", "/tandem/exit/tension_kN"});
+    for (const auto& e : refused.reported()) CHECK(e.unit == "kN");
+}
+
+TEST_CASE("field tables: every field has a name for labels, unique within its table") {
+    std::set<std::string> scenario_names;
+    for (const api::ScenarioField& field : api::scenario_fields()) {
+        CAPTURE(field.path);
+        CHECK_FALSE(field.name.empty());
+        CHECK(scenario_names.insert(field.name).second);
+        // a name, not a pointer or a JSON key
+        CHECK(field.name.find('/') == std::string::npos);
+        CHECK(field.name.find('_') == std::string::npos);
+    }
+    std::set<std::string> tandem_names;
+    for (const api::TandemField& field : api::tandem_fields()) {
+        CAPTURE(field.path);
+        CHECK_FALSE(field.name.empty());
+        CHECK(tandem_names.insert(field.name).second);
+        CHECK(field.name.find('_') == std::string::npos);
+    }
 }

@@ -21,6 +21,10 @@ export const plantUnits: Body<'/v1/scenarios/{name}', 'patch', 'application/merg
   rolls: { speed_m_per_min: 900, diameter_mm: 560 },
   lubricant: { viscosity_mPa_s: 0.8 },
 };
+// Tensions in kN: the force over the strip's cross-section on that side, echoed as the stress.
+export const tensionForces: Body<'/v1/scenarios/{name}', 'patch', 'application/merge-patch+json'> = {
+  tension: { back: { force_kN: 150 }, front: { force_kN: 200, stress_MPa: null } },
+};
 // null restores a field's default in a merge patch.
 export const restoreViscosity: Body<'/v1/scenarios/{name}', 'patch', 'application/merge-patch+json'> = {
   lubricant: { viscosity_Pa_s: null },

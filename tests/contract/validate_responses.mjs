@@ -30,6 +30,11 @@ const equals = (pointer, value) => (document) => {
   if (actual !== value) throw new Error(`${pointer} is ${JSON.stringify(actual)}, expected ${JSON.stringify(value)}`);
 };
 const every = (...checks) => (document) => checks.forEach((check) => check(document));
+// A computed figure within a relative tolerance of an independent one.
+const near = (pointer, value, relative) => (document) => {
+  const actual = at(pointer)(document);
+  if (!(Math.abs(actual - value) <= relative * Math.abs(value))) throw new Error(`${pointer} is ${JSON.stringify(actual)}, expected ${value} ± ${relative * 100} %`);
+};
 
 // [name, method, path, request, expected HTTP status, check of the body]
 const cases = [
@@ -172,6 +177,14 @@ const cases = [
   ['plant units, a mill', 'POST', '/v1/tandem',
     json({ tandem: { ...twoStands, speed_m_per_min: 720 }, options: { critical_speed: false } }), 200,
     equals('/tandem/speed_m_per_s', 12)],
+  ['tensions in kN', 'POST', '/v1/roll-gap',
+    json({ scenario: { tension: { back: { force_kN: 144 } } }, options: { distributions: false } }), 200,
+    near('/scenario/tension/back/stress_MPa', 144e3 / (1.8 * 1.6e-3) / 1e6, 1e-12)],
+  ['a mill\'s span tensions in kN', 'POST', '/v1/tandem',
+    json({ tandem: { ...twoStands, spans: { length_m: [5], tension_kN: [90] } }, options: { critical_speed: false } }), 200,
+    near('/tandem/spans/tension_MPa/0', 90e3 / (1.8 * 1.88e-3) / 1e6, 1e-12)],
+  ['plant-unit CSV', 'POST', '/v1/sweeps?units=plant',
+    { ...json({ options: { parameter: '/lubricant/viscosity_Pa_s', values: [0.0004] } }), accept: 'text/csv' }, 200],
   ['atypical value warned', 'POST', '/v1/roll-gap',
     json({ scenario: { rolls: { speed_m_per_s: 90 } } }), 200,
     equals('/warnings/0/likely/key', 'speed_m_per_min')],

@@ -9,6 +9,7 @@
 #include <set>
 #include <string>
 
+#include "support/approx.h"
 #include "support/http_test.h"
 
 using namespace rollgap;
@@ -128,4 +129,91 @@ TEST_CASE("plant units over HTTP: an atypical value is answered with a warning, 
     const json job = poll_until_finished(client, location);
     REQUIRE(job["state"] == "succeeded");
     CHECK(job["result"]["warnings"][0]["likely"]["key"] == "diameter_mm");
+}
+
+TEST_CASE(
+    "plant units over HTTP: a tension in kN over a stored stand's strip, echoed as the stress") {
+    TestServer server;
+    auto client = server.client();
+    // the strip from the stored stand, the force from the request: converted after the merge
+    const auto put =
+        client.Put("/v1/scenarios/narrow",
+                   json{{"strip", {{"width_mm", 1200}, {"entry_thickness_mm", 2.0}}}}.dump(),
+                   "application/json");
+    REQUIRE(put);
+    REQUIRE(put->status == 201);
+    const json forces = puh::answer(client, "/v1/roll-gap",
+                                    {{"base", "narrow"},
+                                     {"scenario", {{"tension", {{"back", {{"force_kN", 120}}}}}}},
+                                     {"options", {{"distributions", false}}}});
+    // 120 kN over 1.2 m × 2.0 mm
+    CHECK(forces["scenario"]["tension"]["back"]["stress_MPa"].get<double>() ==
+          approx(120e3 / (1.2 * 2.0e-3) / 1e6).epsilon(1e-14));
+    CHECK_FALSE(forces["scenario"]["tension"]["back"].contains("force_kN"));
+    // the same answer as the stress itself
+    json stress_request = {{"base", "narrow"},
+                           {"scenario", forces["scenario"]},
+                           {"options", {{"distributions", false}}}};
+    CHECK(puh::answer(client, "/v1/roll-gap", stress_request)["result"] == forces["result"]);
+    // a stored stand in kN, patched with a stress: the patch's stress wins
+    const auto patch = client.Patch(
+        "/v1/scenarios/narrow", {{"If-Match", put->get_header_value("ETag")}},
+        json{{"tension", {{"back", {{"force_kN", 96}}}}}}.dump(), "application/merge-patch+json");
+    REQUIRE(patch);
+    CAPTURE(patch->body.substr(0, 400));
+    REQUIRE(patch->status == 200);
+    const json on_force =
+        puh::answer(client, "/v1/roll-gap",
+                    {{"base", "narrow"},
+                     {"scenario", {{"tension", {{"back", {{"stress_MPa", 33}}}}}}},
+                     {"options", {{"distributions", false}}}});
+    CHECK(on_force["scenario"]["tension"]["back"]["stress_MPa"] == 33.0);
+    const json stored_force = puh::answer(
+        client, "/v1/roll-gap", {{"base", "narrow"}, {"options", {{"distributions", false}}}});
+    CHECK(stored_force["scenario"]["tension"]["back"]["stress_MPa"].get<double>() ==
+          approx(96e3 / (1.2 * 2.0e-3) / 1e6).epsilon(1e-14));
+}
+
+TEST_CASE("plant units over HTTP: a CSV in plant units on request, a mistyped units a 422") {
+    TestServer server;
+    auto client = server.client();
+    const json request = {
+        {"options",
+         {{"parameter", "/lubricant/viscosity_Pa_s"},
+          {"values", {0.0004, 0.0007}},
+          {"critical_speed", {{"speed_min_m_per_s", 10}, {"speed_max_m_per_s", 35}}}}}};
+    const httplib::Headers csv = {{"Accept", "text/csv"}};
+    const auto si = client.Post("/v1/sweeps", csv, request.dump(), "application/json");
+    const auto plant =
+        client.Post("/v1/sweeps?units=plant", csv, request.dump(), "application/json");
+    const auto answer = client.Post("/v1/sweeps?units=plant", request.dump(), "application/json");
+    REQUIRE(si);
+    REQUIRE(plant);
+    REQUIRE(answer);
+    CAPTURE(plant->body.substr(0, 400));
+    REQUIRE(si->status == 200);
+    REQUIRE(plant->status == 200);
+    REQUIRE(answer->status == 200);
+    CHECK(si->body.starts_with("value_Pa_s,status,critical_speed_m_per_s,"));
+    CHECK(plant->body.starts_with("value_mPa_s,status,critical_speed_m_per_min,"));
+    // the values in mPa.s (the decimal shifted) and the critical speeds in m/min (× 60) of the
+    // JSON answer, which stays canonical whatever units says
+    const json points = json::parse(answer->body)["result"]["points"];
+    REQUIRE(points.size() == 2);
+    std::size_t line = plant->body.find("\r\n") + 2;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        const std::string row = plant->body.substr(line, plant->body.find("\r\n", line) - line);
+        CAPTURE(row);
+        CHECK(row.starts_with(i == 0 ? "0.4,found," : "0.7,found,"));
+        const std::size_t speed_at = row.find(',', row.find(',') + 1) + 1;
+        CHECK(std::stod(row.substr(speed_at)) ==
+              approx(points[i]["critical_speed_m_per_s"].get<double>() * 60.0).epsilon(1e-15));
+        line = plant->body.find("\r\n", line) + 2;
+    }
+    CHECK(points[0]["value_Pa_s"] == 0.0004);
+    const auto mistyped =
+        client.Post("/v1/sweeps?units=imperial", csv, request.dump(), "application/json");
+    REQUIRE(mistyped);
+    CHECK(mistyped->status == 422);
+    CHECK(json::parse(mistyped->body)["errors"][0]["pointer"] == "/query/units");
 }

@@ -157,6 +157,38 @@ TEST_CASE("batch: null in an item's patch restores the default, not the batch's 
     }
 }
 
+TEST_CASE("batch: an item's atypical value is a warning in its row, pointing into the batch") {
+    // 0.5 Pa.s is above any emulsion's viscosity (typical up to 0.2 Pa.s): likely 0.5 mPa.s
+    json request = {
+        {"analysis", "batch"},
+        {"options",
+         {{"analysis", "roll_gap"},
+          {"options", {{"distributions", false}}},
+          {"items",
+           {{{"label", "typical"}},
+            {{"label", "slip"}, {"scenario", {{"lubricant", {{"viscosity_Pa_s", 0.5}}}}}}}}}}};
+    const json batch = answer(request);
+    const json rows = batch["result"]["items"];
+    REQUIRE(rows.size() == 2);
+    CHECK_FALSE(rows[0].contains("warnings"));
+    REQUIRE(rows[1].contains("warnings"));
+    REQUIRE(rows[1]["warnings"].size() == 1);
+    const json& warning = rows[1]["warnings"][0];
+    CHECK(warning["pointer"] == "/options/items/1/scenario/lubricant/viscosity_Pa_s");
+    CHECK(warning["likely"]["key"] == "viscosity_mPa_s");
+    // the same warning as the item's own request gets
+    const json alone = answer({{"analysis", "roll_gap"},
+                               {"scenario", {{"lubricant", {{"viscosity_Pa_s", 0.5}}}}},
+                               {"options", {{"distributions", false}}}});
+    CHECK(alone["warnings"][0]["likely"] == warning["likely"]);
+    CHECK(alone["warnings"][0]["detail"] == warning["detail"]);
+    // and in the sheet, the pointer with its likely unit
+    const service::CsvAnswer csv = service::csv_answer(batch, "");
+    REQUIRE(csv.status == 200);
+    CHECK(csv.body.find(",/options/items/1/scenario/lubricant/viscosity_Pa_s likely "
+                        "viscosity_mPa_s\r\n") != std::string::npos);
+}
+
 TEST_CASE("batch: a speed limit's sensitivities are computed when the batch asks for them") {
     json request = four_coils();
     request["options"]["items"] = {{{"label", "asked"}, {"options", {{"what_to_change", true}}}},
@@ -277,7 +309,7 @@ TEST_CASE("batch: the CSV sheet has one row per item, the headline's figures and
     REQUIRE(lines.size() == 5);  // the header and four items
     const std::string& header = lines[0];
     CHECK(header.starts_with("index,label,status,base_name,base_version,"));
-    CHECK(header.ends_with(",problem_type,problem_title,problem_detail"));
+    CHECK(header.ends_with(",problem_type,problem_title,problem_detail,warnings"));
     // speed_limit's own status beside the item's, renamed.
     CHECK(header.find(",result_status,") != std::string::npos);
     CHECK(header.find(",advised_speed_m_per_s,") != std::string::npos);

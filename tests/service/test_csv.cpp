@@ -227,6 +227,37 @@ TEST_CASE("csv: sweep points, the value first under its unit-carrying name") {
     check_row_table(rows, body["result"]["points"]);
 }
 
+TEST_CASE("csv: units=plant shows speeds in m/min and viscosities in mPa.s, the rest as it is") {
+    const json body =
+        answer({{"analysis", "sweep"},
+                {"options",
+                 {{"parameter", "/lubricant/viscosity_Pa_s"},
+                  {"values", {4e-4, 7e-4}},
+                  {"critical_speed", {{"speed_min_m_per_s", 10}, {"speed_max_m_per_s", 35}}}}}});
+    const service::CsvAnswer csv = service::csv_answer(body, "", "plant");
+    REQUIRE_MESSAGE(csv.status == 200, csv.body);
+    const Rows rows = parse_csv(csv.body);
+    CHECK(rows[0] == std::vector<std::string>{"value_mPa_s", "status", "critical_speed_m_per_min",
+                                              "frequency_Hz", "chatter_type", "chatter_band"});
+    const json& points = body["result"]["points"];
+    REQUIRE(rows.size() == points.size() + 1);
+    for (std::size_t r = 0; r < points.size(); ++r) {
+        const json& point = points[r];
+        // 0.0004 Pa.s is exactly 0.4 mPa.s (the decimal shifted), a speed × 60
+        CHECK(rows[r + 1][0] == (r == 0 ? "0.4" : "0.7"));
+        CHECK(point["value_Pa_s"] == (r == 0 ? 4e-4 : 7e-4));
+        if (point["critical_speed_m_per_s"].is_number())
+            CHECK(std::stod(rows[r + 1][2]) ==
+                  point["critical_speed_m_per_s"].get<double>() * 60.0);
+        check_cell(rows[r + 1][3], point["frequency_Hz"]);
+        check_cell(rows[r + 1][4], point["chatter_type"]);
+    }
+    // "si" and "" are the JSON's units; the JSON answer itself never changes
+    CHECK(service::csv_answer(body, "", "si").body == service::csv_answer(body, "").body);
+    CHECK(service::parse_csv_units("plant") == api::CsvUnits::plant);
+    CHECK_FALSE(service::parse_csv_units("imperial").has_value());
+}
+
 TEST_CASE("csv: tension-cycle distributions, led by the phase") {
     const json body =
         answer({{"analysis", "tension_cycle"}, {"options", {{"phases", {0.25, 0.75}}}}});

@@ -250,7 +250,9 @@ TEST_CASE("glossary: plant units are listed in the patch schemas and in --explai
         {"/rolls/radius_mm", "diameter_mm"},
         {"/mill/masses_t", "masses_kg"},
         {"/mill/stiffness_GN_per_m", "stiffness_kN_per_mm"},
-        {"/mill/damping_MN_s_per_m", "damping_kN_s_per_m"}};
+        {"/mill/damping_MN_s_per_m", "damping_kN_s_per_m"},
+        {"/tension/back/stress_MPa", "force_kN"},
+        {"/tension/back/amplitude_MPa", "amplitude_kN"}};
     std::size_t listed = 0;
     for (const auto& entry : where) {
         const char* path = entry.first;
@@ -262,7 +264,10 @@ TEST_CASE("glossary: plant units are listed in the patch schemas and in --explai
                                                 : property_at(schemas.at("ScenarioPatch"), group);
         REQUIRE(patch_group.at("properties").contains(key));
         const json& alternate = patch_group.at("properties").at(key);
-        CHECK(contains(alternate.at("description").get<std::string>(), "converted exactly"));
+        // exact, or (a force over the strip's cross-section) converted once the layers merge
+        CHECK((contains(alternate.at("description").get<std::string>(), "converted exactly") ||
+               contains(alternate.at("description").get<std::string>(),
+                        "converted when the scenario is read")));
         const json& canonical = property_at(schemas.at("ScenarioPatch"), path);
         bool named = false;
         for (const json& a : canonical.at("x-alternate-units")) named = named || a.at("key") == key;
@@ -273,6 +278,19 @@ TEST_CASE("glossary: plant units are listed in the patch schemas and in --explai
         CHECK(contains(text, key));
         ++listed;
     }
+    // the mill's tensions in kN: a list beside the spans' list, a number beside entry and exit
+    const json& spans = property_at(schemas.at("TandemPatch"), "/spans");
+    REQUIRE(spans.at("properties").contains("tension_kN"));
+    CHECK(spans.at("properties").at("tension_kN").at("type").at(0) == "array");
+    CHECK(property_at(schemas.at("TandemPatch"), "/entry")
+              .at("properties")
+              .at("tension_kN")
+              .at("type")
+              .at(0) == "number");
+    CHECK_FALSE(
+        property_at(schemas.at("Tandem"), "/spans").at("properties").contains("tension_kN"));
+    CHECK(contains(text, "tension_kN"));
+    ++listed;
     CHECK(listed == api::alternate_units().size());
     // the mill's speed in m/min
     CHECK(schemas.at("TandemPatch").at("properties").contains("speed_m_per_min"));
