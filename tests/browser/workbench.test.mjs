@@ -114,6 +114,9 @@ const chartData = (id) => page.evaluate((canvasId) => {
   const chart = Chart.getChart(document.getElementById(canvasId));
   return chart ? { labels: chart.data.labels, datasets: chart.data.datasets.map((d) => ({ label: d.label, data: d.data })) } : null;
 }, `plot-${id}`);
+// The titles of a chart's axes ({ x, y, y2 }).
+const axisTitles = (id, target = page) => target.evaluate((canvasId) => Object.fromEntries(Object.entries(Chart.getChart(document.getElementById(canvasId)).options.scales)
+  .map(([axis, scale]) => [axis, scale.title.text])), `plot-${id}`);
 const dataset = (chart, label) => {
   const found = chart.datasets.find((d) => d.label === label);
   check(found, `no dataset '${label}' among ${chart.datasets.map((d) => d.label).join(', ')}`);
@@ -206,6 +209,42 @@ try {
     await shot('editor');
   });
 
+  await test("fields are named by the document's titles and units, their pointers kept as tooltips (editor, mill editor, sweep's picker)", async () => {
+    const doc = await (await fetch(base + '/openapi.json')).json();
+    const leaves = [];
+    (function walk(schema, prefix) {
+      for (const [name, child] of Object.entries(schema.properties)) {
+        if (child.properties) walk(child, `${prefix}/${name}`); else leaves.push([`${prefix}/${name}`, child]);
+      }
+    })(doc.components.schemas.Scenario, '');
+    const labels = await page.$$eval('#scenario-form [data-pointer]', (all) => Object.fromEntries(all.map((i) => {
+      const label = document.querySelector(`label[for="${i.id}"]`);
+      return [i.dataset.pointer, { name: label.querySelector('.name').textContent, unit: label.querySelector('.unit')?.textContent || '', tip: label.title }];
+    })));
+    for (const [pointer, schema] of leaves) {
+      check(schema.title, `the document names ${pointer}`);
+      const shown = labels[`/scenario${pointer}`];
+      check(shown.name === schema.title && shown.tip === pointer, `${pointer}: labelled ${JSON.stringify(shown)}, titled ${schema.title}`);
+      check(Boolean(shown.unit) === Boolean(schema['x-unit'] && schema['x-unit'] !== '1'), `${pointer}: unit ${shown.unit}, x-unit ${schema['x-unit']}`);
+    }
+    // UCUM codes as a reader writes them.
+    const viscosity = labels['/scenario/lubricant/viscosity_Pa_s'];
+    check(`${viscosity.name}${viscosity.unit}` === 'Lubricant viscosity [Pa·s]', `viscosity: ${JSON.stringify(viscosity)}`);
+    // The mill's fields by the Tandem component's titles.
+    const tension = await page.$eval('label[for="f-tandem-spans-tension-MPa-0"]', (l) => l.textContent);
+    check(tension === `${doc.components.schemas.Tandem.properties.spans.properties.tension_MPa.title} [MPa]`, `span tension: ${tension}`);
+    // A sweep's field picker names each field; its value stays the pointer.
+    await page.click('#tab-sweep');
+    const options = await page.$$eval('#f-options-parameter option', (all) => all.filter((o) => o.value).map((o) => [o.value, o.textContent, o.title]));
+    check(options.length > 10, `${options.length} fields to sweep`);
+    for (const [pointer, text, tip] of options) {
+      const schema = leaves.find(([p]) => p === pointer)[1];
+      check(text.startsWith(schema.title) && tip === pointer, `${pointer} offered as ${text}`);
+    }
+    check(options.some(([p, text]) => p === '/lubricant/viscosity_Pa_s' && text === 'Lubricant viscosity [Pa·s]'), 'the viscosity with its unit');
+    await page.click('#tab-roll_gap');
+  });
+
   await test("the analysis selector is the document's analysis list: its on_page rows, in order, labelled", async () => {
     const rows = await documentAnalyses();
     check(Array.isArray(rows) && rows.length > 0, 'the document lists the analyses (x-rollgap-analyses)');
@@ -230,8 +269,9 @@ try {
   const patch = { strip: { reduction: 0.2 } };
   await test('an edited field runs the roll gap; the plot is the API data; the neutral point is at the pressure peak', async () => {
     await page.fill('#f-scenario-strip-reduction', '0.2');
-    const diff = await page.textContent('#diff');
-    check(/\/strip\/reduction: 0\.15 → 0\.2/.test(diff), `diff list: ${diff}`);
+    const diff = await page.textContent('#diff li[data-pointer="/strip/reduction"]');
+    const reduction = (await (await fetch(base + '/openapi.json')).json()).components.schemas.Scenario.properties.strip.properties.reduction;
+    check(diff === `${reduction.title}: 0.15 → 0.2` && await page.getAttribute('#diff li', 'title') === '/strip/reduction', `diff list: ${diff}`);
     await runAndWait('pressure');
     const api = (await post('/v1/roll-gap', { scenario: patch })).body.result;
     const chart = await chartData('pressure');
@@ -439,6 +479,9 @@ try {
       check(expected.length === (found ? found.data.length : 0), `${name}: ${found ? found.data.length : 0} points drawn, the API has ${expected.length}`);
       if (found) equalArrays(found.data.map((p) => p.x), expected.map((p) => p[api.value_name]), `${name} points`);
     }
+    const flowStress = (await (await fetch(base + '/openapi.json')).json()).components.schemas.Scenario.properties.strip.properties.flow_stress_MPa;
+    const titles = await axisTitles('sweep');
+    check(titles.x === `${flowStress.title} [${flowStress['x-unit']}]` && titles.y === 'critical speed [m/s]', `axes: ${JSON.stringify(titles)}`);
     const changes = chart.datasets.filter((d) => d.label === 'chatter type changes');
     equalArrays(changes.map((d) => d.data[0].x), api.chatter_type_changes.map((c) => (c.from + c.to) / 2), 'chatter type change markers');
     check((await page.textContent('#headline')).includes(`${chatterNames[api.chatter_type_changes[0].from_chatter_type]} → ${chatterNames[api.chatter_type_changes[0].to_chatter_type]}`), 'the change is listed');
@@ -473,7 +516,8 @@ try {
     equalArrays(drawn.columns, api.parameters[1].values, 'column values');
     const doc = await (await fetch(base + '/openapi.json')).json();
     const stressUnit = doc.components.schemas.Scenario.properties.strip.properties.flow_stress_MPa['x-unit'];
-    equalArrays(drawn.axes, ['/mill/rayleigh/damping_ratio', `/strip/flow_stress_MPa [${stressUnit}]`], 'axis titles with the document\'s units');
+    const titles = [doc.components.schemas.Scenario.properties.mill.properties.rayleigh.properties.damping_ratio.title, doc.components.schemas.Scenario.properties.strip.properties.flow_stress_MPa.title];
+    equalArrays(drawn.axes, [titles[0], `${titles[1]} [${stressUnit}]`], 'axis titles: the document\'s titles and units');
     equalArrays(drawn.values, api.cells.map((c) => c.critical_speed_m_per_s), 'critical speed per cell');
     const found = api.cells.map((c) => c.critical_speed_m_per_s).filter((v) => v !== null);
     check(drawn.legend.min === Math.min(...found) && drawn.legend.max === Math.max(...found), `legend ${drawn.legend.min}..${drawn.legend.max}`);
@@ -605,7 +649,11 @@ try {
     const [api] = await Promise.all([post('/v1/calibrate', { options }).then((r) => r.body.result), runAndWait('calibration-residuals')]);
     await page.waitForFunction(() => /job succeeded/.test(document.getElementById('status').textContent), null, { timeout: 120000 });
     const cells = await page.$$eval('#plots table:first-of-type tbody tr', (rows) => rows.map((tr) => [...tr.cells].map((c) => c.dataset.value ?? c.textContent)));
-    equalArrays(cells.map((c) => c[0]), api.parameters.map((p) => p.field), 'fitted fields');
+    const fittedFields = await page.$$eval('#plots table:first-of-type tbody tr', (rows) => rows.map((tr) => tr.title));
+    const doc = await (await fetch(base + '/openapi.json')).json();
+    const titleOf = (pointer) => pointer.split('/').slice(1).reduce((node, key) => node.properties[key], doc.components.schemas.Scenario).title;
+    equalArrays(fittedFields, api.parameters.map((p) => p.field), 'fitted fields (the rows\' pointers)');
+    equalArrays(cells.map((c) => c[0]), api.parameters.map((p) => titleOf(p.field)), 'fitted fields by their titles');
     equalArrays(cells.map((c) => Number(c[3])), api.parameters.map((p) => p.value), 'fitted values');
     equalArrays(cells.map((c) => Number(c[4])), api.parameters.map((p) => p.standard_error), 'standard errors');
     equalArrays(cells.map((c) => c[1]), api.parameters.map((p) => (p.unit === '1' ? '-' : p.unit)), 'units');
@@ -737,7 +785,8 @@ try {
     check(/stored scenario stand-3/.test(await other.textContent('#diff-count')), 'the base is named');
     check(new RegExp(`version ${version}`).test(await other.textContent('#base-version')), 'its version (ETag) is shown');
     await other.fill('#f-scenario-strip-reduction', '0.25');
-    check(/\/strip\/reduction: 0\.15 → 0\.25/.test(await other.textContent('#diff')) && !/flow_stress/.test(await other.textContent('#diff')), 'differences from the base only');
+    const differ = await other.$$eval('#diff li', (all) => all.map((li) => [li.dataset.pointer, li.textContent]));
+    check(differ.length === 1 && differ[0][0] === '/strip/reduction' && / 0\.15 → 0\.25$/.test(differ[0][1]), `differences from the base only: ${JSON.stringify(differ)}`);
     await other.click('#run');
     await other.waitForSelector('#plot-pressure', { timeout: 60000 });
     check(sent.length === 1 && sent[0].base === 'stand-3' && JSON.stringify(sent[0].scenario) === '{"strip":{"reduction":0.25}}', `request: ${JSON.stringify(sent)}`);
@@ -785,7 +834,7 @@ try {
     check((await after.json()).strip.flow_stress_MPa === fitted.value, 'the stored stand is the posterior mean');
     // The page shows the fit and now starts from the new version.
     const cells = await page.$$eval('#plots table:first-of-type tbody tr', (rows) => rows.map((tr) => [...tr.cells].map((c) => c.dataset.value ?? c.textContent)));
-    check(cells[0][0] === fitted.field && Number(cells[0][3]) === fitted.value && Number(cells[0][4]) === fitted.standard_error, `the fitted row: ${JSON.stringify(cells[0])}`);
+    check(await page.getAttribute('#plots table:first-of-type tbody tr', 'title') === fitted.field && Number(cells[0][3]) === fitted.value && Number(cells[0][4]) === fitted.standard_error, `the fitted row: ${JSON.stringify(cells[0])}`);
     check(new RegExp(`version ${version + 1}`).test(await page.textContent('#base-version')), `base version: ${await page.textContent('#base-version')}`);
     check(Number(await page.inputValue('#f-scenario-strip-flow-stress-MPa')) === fitted.value, 'the editor shows the calibrated stand');
     await shot('calibrate-stored');

@@ -3,7 +3,7 @@
 // analyses: its x-rollgap-analyses, the rows of the service's analysis table).
 import { ProblemError, call, fetchBlob, getJson, setToken, token } from './api.js';
 import { clearPlots } from './charts.js';
-import { MillForm, OptionsForm, ScenarioForm, clearFieldErrors, mergePatch, resolve, showFieldErrors } from './editor.js';
+import { MillForm, OptionsForm, ScenarioForm, clearFieldErrors, fieldLabel, mergePatch, resolve, showFieldErrors } from './editor.js';
 import { JobRunner, openJob, recentJobs, useServerJobList } from './jobs.js';
 import { saveMill, storedMill, storedMills, storedScenario, storedScenarios } from './scenarios.js';
 import { downloadCsv, downloadJson, fillReport, table } from './report.js';
@@ -73,17 +73,22 @@ function saveState() {
   return writeState({ analysis: app.analysis.name, base: app.baseName, millBase: app.millBase, scenario: app.scenario.patch(), tandem: app.mill.patch(), options: app.options.options(), view: app.report ? 'report' : null });
 }
 
+// One changed field: its name and unit, the base's value and the value; its pointer as the tooltip.
+function diffItem(name, pointer, base, value) {
+  const item = document.createElement('li');
+  item.textContent = `${name}: ${base} → ${value}`;
+  item.title = pointer;
+  item.dataset.pointer = pointer;
+  return item;
+}
+
 function showDiff() {
   app.scenario.markChanges();
   const changes = app.scenario.changes();
   const base = app.baseName ? `stored scenario ${app.baseName}` : 'default scenario';
   $('diff-count').textContent = changes.length ? `${changes.length} field${changes.length > 1 ? 's differ' : ' differs'} from the ${base}` : `the ${base}`;
   $('diff').setAttribute('aria-label', `Fields that differ from the ${base}`);
-  $('diff').replaceChildren(...changes.map(([pointer, base, value]) => {
-    const item = document.createElement('li');
-    item.textContent = `${pointer}: ${base} → ${value}`;
-    return item;
-  }));
+  $('diff').replaceChildren(...changes.map(([pointer, base, value]) => diffItem(fieldLabel(app.doc, pointer), pointer, base, value)));
 }
 
 function showMillDiff() {
@@ -92,11 +97,7 @@ function showMillDiff() {
   const base = app.millBase ? `stored mill ${app.millBase}` : 'default mill';
   $('mill-diff-count').textContent = changes.length ? `${changes.length} field${changes.length > 1 ? 's differ' : ' differs'} from the ${base}` : `the ${base}`;
   $('mill-diff').setAttribute('aria-label', `Fields that differ from the ${base}`);
-  $('mill-diff').replaceChildren(...changes.map(([pointer, base, value]) => {
-    const item = document.createElement('li');
-    item.textContent = `${pointer}: ${base ?? '—'} → ${value}`;
-    return item;
-  }));
+  $('mill-diff').replaceChildren(...changes.map(([pointer, base, value]) => diffItem(fieldLabel(app.doc, pointer, 'Tandem'), pointer, base ?? '—', value)));
 }
 
 function setStatus(text) { $('status').textContent = text; }
@@ -376,6 +377,7 @@ function fillReportView() {
   const mill = ofMill(rowOf(app.response.analysis));
   fillReport($('report-head'), $('report-scenario'), app.response,
     { label: app.analysis.label, version: app.doc.info.version, link: saveState(), changes: mill ? app.mill.changes() : app.scenario.changes(),
+      name: (pointer) => fieldLabel(app.doc, pointer, mill ? 'Tandem' : 'Scenario'),
       base: mill ? (app.millBase ? `stored mill ${app.millBase}` : 'default mill') : app.baseName ? `stored scenario ${app.baseName}` : 'default scenario' });
 }
 

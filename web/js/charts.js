@@ -8,6 +8,13 @@ export const color = (i) => palette[i % palette.length];
 const charts = [];
 const cleanups = [];
 
+// ---- units as shown --------------------------------------------------------------------------
+// A unit as the service writes it (UCUM code, x-unit: "Pa.s", "um", "kN.m", "/s") as a label prints it.
+export function unitText(code) {
+  if (!code || code === '1') return '';
+  return code.replace(/(^|[./])um\b/g, '$1µm').replace(/m2\b/g, 'm²').replace(/m3\b/g, 'm³')
+    .replace(/\./g, '·').replace(/^\//, '1/');
+}
 export function clearPlots(container) {
   while (charts.length) charts.pop().destroy();
   while (cleanups.length) cleanups.pop()();

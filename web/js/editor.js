@@ -1,6 +1,9 @@
 // Forms generated from the served OpenAPI document: every scenario field (its group, name,
 // unit, description, bounds and default) and every option of an analysis comes from the
-// schema, so a field added to the service appears here without touching the page.
+// schema, so a field added to the service appears here without touching the page. A field is
+// named by its title (the field table's name column: "Lubricant viscosity"), its JSON pointer
+// kept in the label's tooltip for those who type requests.
+import { unitText } from './charts.js';
 
 const fieldId = (pointer) => 'f' + pointer.replace(/[^A-Za-z0-9]+/g, '-');
 
@@ -31,12 +34,43 @@ export function orderedProperties(schema) {
   return [...first, ...rest].map((name) => [name, properties[name]]);
 }
 
+// The leaf schema of a field of a document component (Scenario, or Tandem for a mill's field)
+// at `pointer` ({} when it has none). A list's element (/exit_thickness_mm/1) is its list's.
+function leafSchema(doc, pointer, component) {
+  let schema = resolve(doc, doc.components.schemas[component]);
+  for (const key of pointer.split('/').slice(1)) {
+    if (/^\d+$/.test(key) && schema.items) {  // a list of objects: its element; of numbers: the list
+      const item = resolve(doc, schema.items);
+      if (item.properties) schema = item;
+      continue;
+    }
+    schema = resolve(doc, (schema.properties || {})[key]);
+  }
+  return schema || {};
+}
 // The x-unit of a scenario field from the served document ('' when dimensionless or unknown).
 export function unitOf(doc, pointer) {
-  let schema = resolve(doc, doc.components.schemas.Scenario);
-  for (const key of pointer.split('/').slice(1)) schema = resolve(doc, (schema.properties || {})[key]);
-  const unit = schema && schema['x-unit'];
+  const unit = leafSchema(doc, pointer, 'Scenario')['x-unit'];
   return unit && unit !== '1' ? unit : '';
+}
+// A field as a label names it: { title, unit (as printed, the API's: a plot converts it to the
+// units shown; '' when none), pointer } — its title from the document (the pointer when it has none).
+export function fieldInfo(doc, pointer, component = 'Scenario') {
+  const schema = doc ? leafSchema(doc, pointer, component) : {};
+  const code = schema['x-unit'] || (schema.items && resolve(doc, schema.items)['x-unit']) || '';
+  return { title: schema.title || pointer, unit: unitText(code), pointer };
+}
+// A calibration's measured quantity as a label names it: 'roll_force_kN' → 'roll force [kN]'
+// (the unit is in the quantity's name, docs/model.md §11).
+export function quantityLabel(quantity) {
+  const [, name, unit] = /^(.*?)(?:_(kN_m|kN|m_per_s|Hz))?$/.exec(quantity);
+  const printed = unit ? unit.replace('_per_', '/').replace('kN_m', 'kN·m') : '';
+  return `${name.replace(/_/g, ' ')}${printed ? ` [${printed}]` : ''}`;
+}
+// "Lubricant viscosity [Pa·s]": the field's title and its unit.
+export function fieldLabel(doc, pointer, component = 'Scenario') {
+  const { title, unit } = fieldInfo(doc, pointer, component);
+  return unit ? `${title} [${unit}]` : title;
 }
 
 function el(tag, attributes = {}, text) {
@@ -63,7 +97,11 @@ function leafInput(doc, schema, pointer, optional) {
   if (schema.enum) {
     input = el('select', { id });
     if (optional) input.append(el('option', { value: '' }, '(default)'));
-    for (const value of schema.enum) input.append(el('option', { value: String(value) }, String(value)));
+    // A list of scenario fields (a sweep's parameter): each named by its title and unit.
+    for (const value of schema.enum) {
+      const named = typeof value === 'string' && value.startsWith('/') && fieldInfo(doc, value).title !== value;
+      input.append(el('option', { value: String(value), title: named ? value : undefined }, named ? fieldLabel(doc, value) : String(value)));
+    }
     input.dataset.kind = schema.enum.every((v) => typeof v === 'number') ? 'number' : 'text';
   } else if (types(schema).includes('boolean')) {
     if (optional) {
@@ -97,13 +135,16 @@ function leafInput(doc, schema, pointer, optional) {
   return input;
 }
 
+// `name`: what the label says when the schema has no title (an option's member name).
 function field(doc, schema, name, pointer, optional) {
   const wrapper = el('div', { class: 'field' });
   const input = leafInput(doc, schema, pointer, optional);
-  const unit = schema['x-unit'] || (schema.items && schema.items['x-unit']);
+  const unit = unitText(schema['x-unit'] || (schema.items && schema.items['x-unit']));
   const label = el('label', { for: input.id });
-  label.append(el('span', { class: 'name' }, name));
-  if (unit && unit !== '1') label.append(el('span', { class: 'unit' }, ` [${unit}]`));
+  label.append(el('span', { class: 'name' }, schema.title || name));
+  if (unit) label.append(el('span', { class: 'unit' }, ` [${unit}]`));
+  // The field's pointer in the request (without the form's /scenario or /tandem), for experts.
+  if (schema.title) label.title = pointer.replace(/^\/(scenario|tandem)(?=\/)/, '');
   const help = el('p', { class: 'help', id: `${input.id}-help` },
     (schema.description || '').replace(/ null restores the default\.$/, ''));
   input.setAttribute('aria-describedby', help.id);
@@ -157,10 +198,11 @@ function writeInput(input, value) {
 }
 
 const getAt = (object, pointer) => pointer.split('/').slice(1).reduce((node, key) => (node == null ? undefined : node[key]), object);
+// A member on the way that does not exist yet is an object, or an array before an index.
 function setAt(object, pointer, value) {
   const keys = pointer.split('/').slice(1);
   let node = object;
-  for (const key of keys.slice(0, -1)) node = node[key] ??= {};
+  keys.slice(0, -1).forEach((key, i) => { node = node[key] ??= (/^\d+$/.test(keys[i + 1]) ? [] : {}); });
   node[keys[keys.length - 1]] = value;
 }
 
@@ -394,7 +436,7 @@ export class MillForm {
     for (let i = 0; i < n; i++) {
       const set = el('fieldset', { class: 'group mill-row-set' });
       set.append(el('legend', {}, `stand ${i + 1}`));
-      set.append(field(doc, { ...thickness, description: `Strip thickness leaving stand ${i + 1}${i ? ` (it enters from stand ${i})` : ' (it enters at the mill\'s entry thickness)'}.` }, 'exit thickness', `/tandem/exit_thickness_mm/${i}`, false));
+      set.append(field(doc, { ...thickness, description: `Strip thickness leaving stand ${i + 1}${i ? ` (it enters from stand ${i})` : ' (it enters at the mill\'s entry thickness)'}.` }, resolve(doc, properties.exit_thickness_mm).title || 'exit thickness', `/tandem/exit_thickness_mm/${i}`, false));
       const patch = field(doc, { type: 'string', description: `Stand ${i + 1}'s own scenario patch (rolls, lubricant, friction, structure …), after the shared stand settings; {} takes them as they are.` }, 'stand settings (scenario patch, JSON)', `/tandem/stands/${i}`, false);
       this.jsonInput(patch);
       set.append(patch);
@@ -405,8 +447,8 @@ export class MillForm {
     for (let j = 0; j + 1 < n; j++) {
       const set = el('fieldset', { class: 'group mill-row-set' });
       set.append(el('legend', {}, `span from stand ${j + 1} to stand ${j + 2}`));
-      set.append(field(doc, { ...resolve(doc, spans.length_m).items, description: `Length of the strip between stand ${j + 1} and stand ${j + 2}.` }, 'length', `/tandem/spans/length_m/${j}`, false));
-      set.append(field(doc, { ...resolve(doc, spans.tension_MPa).items, description: `Tension set point between stand ${j + 1} and stand ${j + 2}, as a stress.` }, 'tension', `/tandem/spans/tension_MPa/${j}`, false));
+      set.append(field(doc, { ...resolve(doc, spans.length_m).items, description: `Length of the strip between stand ${j + 1} and stand ${j + 2}.` }, resolve(doc, spans.length_m).title || 'length', `/tandem/spans/length_m/${j}`, false));
+      set.append(field(doc, { ...resolve(doc, spans.tension_MPa).items, description: `Tension set point between stand ${j + 1} and stand ${j + 2}, as a stress.` }, resolve(doc, spans.tension_MPa).title || 'tension', `/tandem/spans/tension_MPa/${j}`, false));
       spansGroup.append(set);
     }
     if (n < 2) spansGroup.append(el('p', { class: 'help' }, 'A mill of one stand has no interstand span.'));

@@ -75,7 +75,8 @@ export function conclusion(response, stand) {
 
 // The report's head: a title and an author the engineer types (kept in this browser), the stand,
 // the date, the one-line conclusion, the link.
-export function fillReport(head, scenarioBox, response, { label, version, link, changes, base = 'default scenario' }) {
+// `name(pointer)`: a field's title and unit ("Lubricant viscosity [Pa·s]"); the tables keep the pointer beside it.
+export function fillReport(head, scenarioBox, response, { label, version, link, changes, base = 'default scenario', name = (pointer) => pointer }) {
   head.replaceChildren();
   const stand = base === 'default scenario' ? 'The default stand' : base.replace(/^stored scenario /, 'Stand ');
   const editable = (id, text, placeholder, key) => {
@@ -105,8 +106,8 @@ export function fillReport(head, scenarioBox, response, { label, version, link, 
   a.textContent = 'link to this view';
   a.className = 'no-print';
   head.append(h, meta, line, a);
-  if (changes.length) head.append(table(`Fields changed from the ${base}`, changes.map(([p, b, v]) => [p, String(b), String(v)]), ['field', 'base', 'value']));
+  if (changes.length) head.append(table(`Fields changed from the ${base}`, changes.map(([p, b, v]) => [name(p), String(b), String(v), p]), ['field', 'base', 'value', 'pointer']));
   const mill = response.tandem !== undefined;
-  scenarioBox.replaceChildren(table(mill ? 'The full mill used' : 'The full scenario used', flatten((mill ? response.tandem : response.scenario) || {}), ['field', 'value']),
+  scenarioBox.replaceChildren(table(mill ? 'The full mill used' : 'The full scenario used', flatten((mill ? response.tandem : response.scenario) || {}).map(([p, v]) => [name(p), v, p]), ['field', 'value', 'pointer']),
     table('The options used', flatten(response.options || {}), ['option', 'value']));
 }

@@ -5,8 +5,8 @@
 // unchanged) and returns its headline rows. `job`: the page runs it as a job; `partial`: a
 // running job's finished points as a result to draw.
 import { call, getJson } from './api.js';
-import { addPlot, color, errorBars, line, marker, onClear, points } from './charts.js';
-import { unitOf } from './editor.js';
+import { addPlot, color, errorBars, line, marker, onClear, points, unitText } from './charts.js';
+import { fieldInfo, fieldLabel, quantityLabel, unitOf } from './editor.js';
 import { drawHeatmap } from './heatmap.js';
 import { table } from './report.js';
 
@@ -38,10 +38,14 @@ export function optionValues(axis) {
 }
 // Index of the entry of `list` nearest `value` (the changes' values are rounded to 12 digits).
 const nearest = (list, value) => list.reduce((best, v, i) => (Math.abs(v - value) < Math.abs(list[best] - value) ? i : best), 0);
+// A swept field as an axis names it: its title and unit from the document ("Lubricant
+// viscosity [Pa·s]"), else its pointer and the unit the answer gives.
 const axisLabel = (doc, pointer, unit) => {
+  if (doc && fieldInfo(doc, pointer).title !== pointer) return fieldLabel(doc, pointer);
   const u = (doc && unitOf(doc, pointer)) || (unit && unit !== '1' ? unit : '');
   return u ? `${pointer} [${u}]` : pointer;
 };
+const fieldName = (doc, pointer) => (doc ? fieldInfo(doc, pointer).title : pointer);
 
 // A figure holding tables or controls rather than a plot (full width of the plots grid).
 function panel(plots, title) {
@@ -780,7 +784,7 @@ export const views = {
       const changes = (r.chatter_type_changes || []).map((c) => (c.from + c.to) / 2);
       const known = speeds.filter((s) => s !== null);
       addPlot(plots, {
-        id: 'sweep', title: `${critical ? 'Critical speed' : 'Amplitude'} over ${r.parameter}${response.partial ? ' (running: the finished points)' : ''}`,
+        id: 'sweep', title: `${critical ? 'Critical speed' : 'Amplitude'} over ${fieldName(doc, r.parameter).toLowerCase()}${response.partial ? ' (running: the finished points)' : ''}`,
         description: critical ? 'symbols: the chatter type of the mode that goes unstable; dashed lines: the chatter type changes' : '',
         x: axisLabel(doc, r.parameter, r.unit), pointLegend: critical,
         y: critical ? 'critical speed [m/s]' : 'gap amplitude [µm]', y2: critical ? 'chatter frequency [Hz]' : undefined,
@@ -791,7 +795,7 @@ export const views = {
           ...(known.length ? changes.map((x) => ({ ...marker('chatter type changes', x, min(known), max(known), '#d0021b'), pointRadius: 0 })) : []),
         ] : [line('gap amplitude [µm]', points(v, y('gap_amplitude_um')), 0, { pointRadius: 3 })] },
       });
-      const rows = [row('parameter', r.parameter), row('values', r.points.filter((p) => !p.missing).length), row('quantity', r.quantity)];
+      const rows = [['parameter', fieldName(doc, r.parameter), r.parameter], row('values', r.points.filter((p) => !p.missing).length), row('quantity', r.quantity)];
       if (critical && !response.partial) {  // the changes come with the complete result
         rows.push(row('chatter type changes', (r.chatter_type_changes || []).length));
         for (const c of r.chatter_type_changes || []) rows.push([`between ${fmt(c.from)} and ${fmt(c.to)}`, `${chatterName(c.from_chatter_type)} → ${chatterName(c.to_chatter_type)}`, '']);
@@ -843,7 +847,7 @@ export const views = {
         + 'Thick black outline: stable at the operating speed (below the critical speed). Dashed red edge: the chatter type changes between the two cells.';
       controls.append(label, input, key);
       const map = drawHeatmap(plots, {
-        id: 'map', title: `Critical speed over ${rowsAxis.parameter} and ${columnsAxis.parameter}${response.partial ? ' (running: the finished cells)' : ''}`,
+        id: 'map', title: `Critical speed over ${fieldName(doc, rowsAxis.parameter).toLowerCase()} and ${fieldName(doc, columnsAxis.parameter).toLowerCase()}${response.partial ? ' (running: the finished cells)' : ''}`,
         description: key.textContent,
         rows: { label: axisLabel(doc, rowsAxis.parameter, rowsAxis.unit), values: rowsAxis.values },
         columns: { label: axisLabel(doc, columnsAxis.parameter, columnsAxis.unit), values: columnsAxis.values },
@@ -857,11 +861,11 @@ export const views = {
       const details = document.createElement('details');
       const summary = document.createElement('summary');
       summary.textContent = 'The cells as a table';
-      details.append(summary, numberTable('Critical speed per cell', [rowsAxis.parameter, columnsAxis.parameter, 'status', 'critical speed [m/s]', 'frequency [Hz]', 'chatter type'],
+      details.append(summary, numberTable('Critical speed per cell', [axisLabel(doc, rowsAxis.parameter, rowsAxis.unit), axisLabel(doc, columnsAxis.parameter, columnsAxis.unit), 'status', 'critical speed [m/s]', 'frequency [Hz]', 'chatter type'],
         done.map((c) => [c.values[0], c.values[1], c.status, c.critical_speed_m_per_s, c.frequency_Hz, chatterName(c.chatter_type)])));
       panel(plots, 'Cells').append(details);
       return [
-        row('rows', `${rowsAxis.parameter} (${rowsAxis.values.length})`), row('columns', `${columnsAxis.parameter} (${nc})`),
+        ['rows', `${fieldName(doc, rowsAxis.parameter)} (${rowsAxis.values.length})`, rowsAxis.parameter], ['columns', `${fieldName(doc, columnsAxis.parameter)} (${nc})`, columnsAxis.parameter],
         row('cells done', `${done.length} of ${r.cells.length}`),
         row('lowest critical speed', found.length ? min(found) : null, 'm/s'), row('highest critical speed', found.length ? max(found) : null, 'm/s'),
         row('chatter type changes', response.partial ? null : (r.chatter_type_changes || []).length),
@@ -900,7 +904,7 @@ export const views = {
     },
   },
   speed_limit: {
-    render(response, plots) {
+    render(response, plots, { doc } = {}) {
       const r = response.result;
       speedLimitAxis(plots, response);
       const u = r.uncertainty;
@@ -914,7 +918,7 @@ export const views = {
         row('critical speed', r.critical_speed && r.critical_speed.critical_speed_m_per_s, 'm/s'),
         row('its standard deviation', u ? u.standard_deviation_m_per_s : null, 'm/s'),
         row('its lower bound', u ? u.lower_bound_m_per_s : null, 'm/s'),
-        ...changes.slice(0, 3).map((c) => [`to run faster: ${c.direction} ${c.field} by ${fmt(c.step)}`, fmt(c.speed_gain_m_per_s), 'm/s']),
+        ...changes.slice(0, 3).map((c) => row(`to run faster: ${c.direction} ${fieldName(doc, c.field).toLowerCase()} (${c.field}) by ${fmt(c.step)}${fieldInfo(doc, c.field).unit ? ` ${fieldInfo(doc, c.field).unit}` : ''}`, c.speed_gain_m_per_s, 'm/s')),
       ];
     },
   },
@@ -960,7 +964,7 @@ export const views = {
   },
   calibrate: {
     job: true,
-    render(response, plots) {
+    render(response, plots, { doc } = {}) {
       const r = response.result;
       const observations = r.observations || [];
       const quantities = [...new Set(observations.map((o) => o.quantity))];
@@ -973,28 +977,29 @@ export const views = {
       const fitted = panel(plots, 'Fitted parameters');
       fitted.append(numberTable('Fitted scenario fields (standard errors from the posterior covariance)',
         ['field', 'unit', 'start', 'fitted value', 'standard error', 'min', 'max', 'at bound'],
-        r.parameters.map((p) => [p.field, p.unit === '1' ? '-' : p.unit, p.start, p.value, p.standard_error, p.min, p.max, p.at_bound || 'no'])), apply);
+        r.parameters.map((p) => [fieldName(doc, p.field), p.unit === '1' ? '-' : unitText(p.unit), p.start, p.value, p.standard_error, p.min, p.max, p.at_bound || 'no'])), apply);
+      // Each fitted field's pointer, for experts (the row's tooltip).
+      [...fitted.querySelector('tbody').rows].forEach((tr, i) => { tr.title = r.parameters[i].field; tr.dataset.field = r.parameters[i].field; });
       if (Array.isArray(r.correlation) && r.correlation.length > 1) {
-        fitted.append(numberTable('Correlation of the fitted values', ['', ...r.parameters.map((p) => p.field)],
-          r.correlation.map((line, i) => [r.parameters[i].field, ...line])));
+        fitted.append(numberTable('Correlation of the fitted values', ['', ...r.parameters.map((p) => fieldName(doc, p.field))],
+          r.correlation.map((line, i) => [fieldName(doc, r.parameters[i].field), ...line])));
       }
       const warnings = panel(plots, `Warnings (${(r.warnings || []).length})`);
       const list = document.createElement('ul');
       list.id = 'calibration-warnings';
       for (const w of r.warnings || []) {
         const item = document.createElement('li');
-        item.textContent = `${w.code}: ${w.fields.join(', ')} — ${w.detail}`;
+        item.textContent = `${w.code}: ${w.fields.map((f) => fieldName(doc, f)).join(', ')} — ${w.detail}`;
         list.append(item);
       }
       if (!(r.warnings || []).length) list.append(Object.assign(document.createElement('li'), { textContent: 'none' }));
       warnings.append(list);
       quantities.forEach((quantity) => {
-        const unit = (/_(kN_m|kN|m_per_s|Hz)$/.exec(quantity) || [])[1];
-        const unitText = unit ? unit.replace('_per_', '/').replace('kN_m', 'kN·m') : '-';
+        const named = quantityLabel(quantity);
         const mine = observations.map((o, i) => ({ o, n: i + 1 })).filter(({ o }) => o.quantity === quantity);
         addPlot(plots, {
-          id: `calibration-${quantity}`, title: `${quantity}: observed ± standard uncertainty and fitted`, small: true, pointLegend: true,
-          description: 'error bars: one standard uncertainty of the observation', x: 'observation number', y: `${quantity} [${unitText}]`,
+          id: `calibration-${quantity}`, title: `${named.replace(/ \[.*\]$/, '')}: observed ± standard uncertainty and fitted`, small: true, pointLegend: true,
+          description: 'error bars: one standard uncertainty of the observation', x: 'observation number', y: /\]$/.test(named) ? named : `${named} [-]`,
           xTicks: { stepSize: 1, precision: 0 },
           plugins: [errorBars],
           data: { datasets: [
