@@ -2,7 +2,7 @@
 // report together. Everything it knows about fields and analyses comes from /openapi.json (the
 // analyses: its x-rollgap-analyses, the rows of the service's analysis table).
 import { ProblemError, call, fetchBlob, getJson, setToken, token } from './api.js';
-import { clearPlots } from './charts.js';
+import { clearPlots, setUnitsShown, unitsShown } from './charts.js';
 import { MillForm, OptionsForm, ScenarioForm, clearFieldErrors, fieldLabel, mergePatch, resolve, showFieldErrors } from './editor.js';
 import { JobRunner, openJob, recentJobs, useServerJobList } from './jobs.js';
 import { saveMill, storedMill, storedMills, storedScenario, storedScenarios } from './scenarios.js';
@@ -70,7 +70,16 @@ function buildTabs() {
 }
 
 function saveState() {
-  return writeState({ analysis: app.analysis.name, base: app.baseName, millBase: app.millBase, scenario: app.scenario.patch(), tandem: app.mill.patch(), options: app.options.options(), view: app.report ? 'report' : null });
+  return writeState({ analysis: app.analysis.name, base: app.baseName, millBase: app.millBase, scenario: app.scenario.patch(), tandem: app.mill.patch(), options: app.options.options(), view: app.report ? 'report' : null, units: unitsShown() });
+}
+
+// SI or plant units (m/min, mPa·s) for what the page shows; the result on screen is drawn again
+// in them (the answer is kept: nothing is computed again).
+function setUnits(mode, { redraw = true } = {}) {
+  setUnitsShown(mode);
+  $('units-si').checked = unitsShown() === 'si';
+  $('units-plant').checked = unitsShown() === 'plant';
+  if (redraw && app.response) render(app.response, app.source);
 }
 
 // One changed field: its name and unit, the base's value and the value; its pointer as the tooltip.
@@ -396,10 +405,12 @@ function setReport(on) {
 async function downloadResultCsv() {
   const { response, source } = app;
   if (!response || !source) return;
+  // In plant units the service writes the table in them (speeds in m/min, viscosities in mPa·s).
+  const query = unitsShown() === 'plant' ? '?units=plant' : '';
   try {
     const csv = source.job
-      ? await fetchBlob('GET', `/v1/jobs/${encodeURIComponent(source.job)}`, undefined, 'text/csv')
-      : await fetchBlob('POST', source.path, source.body, 'text/csv');
+      ? await fetchBlob('GET', `/v1/jobs/${encodeURIComponent(source.job)}${query}`, undefined, 'text/csv')
+      : await fetchBlob('POST', `${source.path}${query}`, source.body, 'text/csv');
     downloadCsv(response.analysis, csv);
   } catch (error) {
     showProblem(error instanceof ProblemError ? error.problem : { title: 'Download failed', detail: String(error) });
@@ -448,6 +459,7 @@ async function start() {
   });
   $('report').addEventListener('click', () => setReport(!app.report));
   $('print').addEventListener('click', () => window.print());
+  for (const id of ['units-si', 'units-plant']) $(id).addEventListener('change', (event) => { setUnits(event.target.value); saveState(); });
   $('token').value = token();
   $('token').addEventListener('change', (event) => setToken(event.target.value.trim()));
 
@@ -463,6 +475,7 @@ async function start() {
 
 // The view a link names: its analysis, stored scenario, fields, mill and options.
 async function restore(state) {
+  setUnits(state.units, { redraw: false });  // the result is cleared below
   selectAnalysis(state.analysis);
   await offerStoredScenarios(state.base);
   app.scenario.apply(state.scenario);

@@ -15,6 +15,45 @@ export function unitText(code) {
   return code.replace(/(^|[./])um\b/g, '$1µm').replace(/m2\b/g, 'm²').replace(/m3\b/g, 'm³')
     .replace(/\./g, '·').replace(/^\//, '1/');
 }
+// SI (the API's units) or plant units: the JSON is always SI; in plant units the page shows
+// speeds in m/min and viscosities in mPa·s (axes, tables, headline), converting what it shows,
+// and asks the service for CSV with ?units=plant (docs/http-api.md, "Plant units").
+const plantUnits = { 'm/s': ['m/min', 60], 'Pa·s': ['mPa·s', 1000] };
+let unitMode = 'si';
+export const unitsShown = () => unitMode;
+export function setUnitsShown(mode) { unitMode = mode === 'plant' ? 'plant' : 'si'; }
+// How a value in `unit` (as printed) is shown: { unit, factor }.
+export function shown(unit) {
+  const plant = unitMode === 'plant' && plantUnits[unitText(unit) || unit];
+  return plant ? { unit: plant[0], factor: plant[1] } : { unit, factor: 1 };
+}
+// A number in `unit` as shown (null and text unchanged).
+export const inShown = (value, unit) => (typeof value === 'number' ? value * shown(unit).factor : value);
+// Every "[unit]" of a label in the units shown: 'rolling speed [m/s]' → 'rolling speed [m/min]'.
+export const labelShown = (text) => (typeof text === 'string' ? text.replace(/\[([^\]]+)\]/g, (_, u) => `[${shown(u).unit}]`) : text);
+// The factor of the unit a label ends with ('critical speed [m/s]': 60 in plant units).
+export function factorOf(text) {
+  const unit = /\[([^\]]+)\]\s*$/.exec(typeof text === 'string' ? text : '');
+  return unit ? shown(unit[1]).factor : 1;
+}
+const scaled = (v, f) => (f === 1 || typeof v !== 'number' ? v : v * f);
+// A chart's datasets in the units its axis titles show (the titles say the API's units).
+function datasetsShown(datasets, factors) {
+  return datasets.map((d) => {
+    const fx = factors.x || 1;
+    const fy = factors[d.yAxisID || 'y'] || 1;
+    const data = fx === 1 && fy === 1 ? d.data : d.data.map((p) => (p && typeof p === 'object'
+      ? { ...p, x: scaled(p.x, fx), y: scaled(p.y, fy), ...(p.yError !== undefined ? { yError: scaled(p.yError, fy) } : {}) }
+      : scaled(p, fy)));
+    return { ...d, label: labelShown(d.label), data };
+  });
+}
+// New datasets for a chart made by addPlot (a running job's points), in the units it shows.
+export function setDatasets(chart, datasets) {
+  chart.data.datasets = datasetsShown(datasets, chart.$factors || {});
+  chart.update('none');
+}
+
 export function clearPlots(container) {
   while (charts.length) charts.pop().destroy();
   while (cleanups.length) cleanups.pop()();
@@ -87,7 +126,12 @@ export const errorBars = {
 
 // `yScale`: more options of the y axis (min, max, the ticks of lanes drawn on a linear axis);
 // `wide`: the full width of the plots grid.
+// Axis titles end with the API's unit ("[m/s]"): in plant units the data on that axis is
+// converted and the title says the unit shown.
 export function addPlot(container, { id, title, description, type = 'line', data, x, y, y2, stacked = false, plugins = [], xTicks, yTicks, yScale, small = false, pointLegend = false, wide = false }) {
+  const factors = { x: type === 'bar' ? 1 : factorOf(x), y: factorOf(y), y2: factorOf(y2) };
+  [title, description, x, y, y2] = [title, description, x, y, y2].map(labelShown);
+  data = { ...data, datasets: datasetsShown(data.datasets, factors) };
   const { canvas } = plotFigure(container, { id, title, description, frameClass: small ? 'plot-frame small' : 'plot-frame', wide });
   const scales = {
     x: { type: type === 'bar' ? 'category' : 'linear', title: { display: Boolean(x), text: x }, stacked, ...(xTicks ? { ticks: xTicks } : {}) },
@@ -115,6 +159,7 @@ export function addPlot(container, { id, title, description, type = 'line', data
       scales,
     },
   });
+  chart.$factors = factors;
   charts.push(chart);
   return chart;
 }

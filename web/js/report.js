@@ -1,5 +1,6 @@
 // Downloads of a result (JSON as the service answered it, CSV as the service writes it) and the
 // printable report: headline, plots, the full scenario and the rollgap version.
+import { inShown, shown } from './charts.js';
 
 // `data`: a string or a Blob, saved as it is.
 function save(name, type, data) {
@@ -55,21 +56,23 @@ export function table(caption, rows, header) {
 // Fills the report's head (title, version, time, link) and the full scenario (or mill).
 // One sentence a process engineer can put in a shift report, from the answer's own numbers.
 const number = (value, digits = 3) => Number(value.toPrecision(digits)).toString();
+// A speed in the units shown: "15 m/s", or "900 m/min" in plant units.
+const speedText = (value) => `${number(inShown(value, 'm/s'))} ${shown('m/s').unit}`;
 export function conclusion(response, stand) {
   const r = response.result || {};
   const speed = response.scenario && response.scenario.rolls && response.scenario.rolls.speed_m_per_s;
   const critical = (r.critical_speed && r.critical_speed.critical_speed_m_per_s)
     ?? (r.stability && r.stability.critical_speed && r.stability.critical_speed.critical_speed_m_per_s);
   if (response.analysis === 'speed_limit' && r.advised_speed_m_per_s != null) {
-    return `${stand}: advised speed ${number(r.advised_speed_m_per_s)} m/s${r.binding_limit ? ` (binding: ${r.binding_limit.replace(/_/g, ' ')})` : ''}${r.operating_speed_m_per_s != null ? `; it runs at ${number(r.operating_speed_m_per_s)} m/s` : ''}.`;
+    return `${stand}: advised speed ${speedText(r.advised_speed_m_per_s)}${r.binding_limit ? ` (binding: ${r.binding_limit.replace(/_/g, ' ')})` : ''}${r.operating_speed_m_per_s != null ? `; it runs at ${speedText(r.operating_speed_m_per_s)}` : ''}.`;
   }
   if (speed != null && critical != null) {
-    return `${stand} runs at ${number(speed)} m/s, ${Math.round((100 * speed) / critical)} % of its ${number(critical)} m/s chatter limit.`;
+    return `${stand} runs at ${speedText(speed)}, ${Math.round((100 * speed) / critical)} % of its ${speedText(critical)} chatter limit.`;
   }
   if (speed != null && r.critical_speed && critical == null) {
-    return `${stand} runs at ${number(speed)} m/s; no chatter limit was found in the searched speeds.`;
+    return `${stand} runs at ${speedText(speed)}; no chatter limit was found in the searched speeds.`;
   }
-  if (speed != null && r.force_kN != null) return `${stand} at ${number(speed)} m/s: roll force ${number(r.force_kN, 4)} kN.`;
+  if (speed != null && r.force_kN != null) return `${stand} at ${speedText(speed)}: roll force ${number(r.force_kN, 4)} kN.`;
   return '';
 }
 

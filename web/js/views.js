@@ -5,7 +5,7 @@
 // unchanged) and returns its headline rows. `job`: the page runs it as a job; `partial`: a
 // running job's finished points as a result to draw.
 import { call, getJson } from './api.js';
-import { addPlot, color, errorBars, line, marker, onClear, points, unitText } from './charts.js';
+import { addPlot, color, errorBars, factorOf, inShown, labelShown, line, marker, onClear, points, setDatasets, shown, unitText } from './charts.js';
 import { fieldInfo, fieldLabel, quantityLabel, unitOf } from './editor.js';
 import { drawHeatmap } from './heatmap.js';
 import { table } from './report.js';
@@ -15,7 +15,10 @@ const fmt = (value, digits = 4) => {
   if (typeof value !== 'number') return String(value);
   return Math.abs(value) >= 1e5 || (Math.abs(value) < 1e-3 && value !== 0) ? value.toExponential(3) : Number(value.toPrecision(digits)).toString();
 };
-const row = (label, value, unit = '') => [label, fmt(value), unit];
+// A headline row: the value in the units shown (plant units: m/min, mPa·s) and that unit.
+const row = (label, value, unit = '') => [label, fmt(inShown(value, unit)), shown(unit).unit];
+// A speed in the units shown, with its unit: "15 m/s" or "900 m/min".
+const speedText = (value, digits) => `${fmt(inShown(value, 'm/s'), digits)} ${shown('m/s').unit}`;
 const max = (values) => Math.max(...values.filter((v) => v !== null));
 const min = (values) => Math.min(...values.filter((v) => v !== null));
 
@@ -57,8 +60,12 @@ function panel(plots, title) {
   plots.append(figure);
   return figure;
 }
-// A table whose numeric cells keep the exact number in data-value (what a test compares).
+// A table whose numeric cells keep the exact number in data-value (what a test compares); a
+// column whose header ends with a unit ("[m/s]") in the units shown.
 function numberTable(caption, header, rows) {
+  const factors = header.map(factorOf);
+  rows = rows.map((r) => r.map((cell, j) => (typeof cell === 'number' && factors[j] !== 1 ? cell * factors[j] : cell)));
+  header = header.map(labelShown);
   const t = table(caption, rows.map((r) => r.map((cell) => (typeof cell === 'number' ? fmt(cell) : cell ?? '—'))), header);
   [...t.tBodies[0].rows].forEach((tr, i) => rows[i].forEach((cell, j) => { if (typeof cell === 'number') tr.cells[j].dataset.value = String(cell); }));
   return t;
@@ -146,7 +153,7 @@ function drawCritical(plots, critical) {
     description: 'below zero the mode grows: chatter; the dashed line is the critical speed',
     x: 'rolling speed [m/s]', y: 'damping ratio [-]',
     data: { datasets: [
-      ...branches.map((b, i) => line(`mode ${i + 1} (${fmt(b.frequency_Hz[0], 3)} Hz at ${fmt(b.speed_m_per_s[0], 3)} m/s)`, points(b.speed_m_per_s, b.damping_ratio), i)),
+      ...branches.map((b, i) => line(`mode ${i + 1} (${fmt(b.frequency_Hz[0], 3)} Hz at ${speedText(b.speed_m_per_s[0], 3)})`, points(b.speed_m_per_s, b.damping_ratio), i)),
       ...(speed != null && all.length ? [marker('critical speed', speed, min(all), max(all), '#000')] : []),
     ] },
   });
@@ -182,7 +189,7 @@ function rangeText(crossing) {
   return `${outsideRange}${why.length ? `: ${why.join('; ')}` : ''}`;
 }
 const searchText = (crossing, options) => ({
-  stable_in_range: `none up to ${fmt(options && options.speed_max_m_per_s)} m/s`,
+  stable_in_range: `none up to ${speedText(options && options.speed_max_m_per_s)}`,
   unstable_at_lower_bound: 'unstable already at the lowest speed searched',
   no_steady_state: 'no steady state in the range',
   cancelled: 'cancelled',
@@ -194,7 +201,7 @@ const searchText = (crossing, options) => ({
 function criticalRoot(result) {
   const c = result.critical_speeds;
   if (c && c.headline && c[c.headline]) {
-    return { root: c[c.headline], what: `the headline critical speed, the ${crossingShort[c.headline]} crossing at ${fmt(c.critical_speed_m_per_s)} m/s` };
+    return { root: c[c.headline], what: `the headline critical speed, the ${crossingShort[c.headline]} crossing at ${speedText(c.critical_speed_m_per_s)}` };
   }
   const root = result.stability && result.stability.rightmost_root;
   if (!root) return null;
@@ -209,6 +216,8 @@ function node(tag, className, text) {
 }
 // "label" and its value with the unit; the exact number in data-value (what a test compares).
 function quantity(list, name, label, value, unit) {
+  value = inShown(value, unit);
+  unit = shown(unit).unit;
   const dd = node('dd');
   const number = node('span', 'num', fmt(value));
   number.dataset.quantity = name;
@@ -313,7 +322,7 @@ function criticalSpeeds(plots, response) {
     ] },
   });
   const figure = panel(plots, 'The three critical speeds');
-  const t = numberTable(`Critical speeds (searched ${fmt(response.options.speed_min_m_per_s)}–${fmt(response.options.speed_max_m_per_s)} m/s)`,
+  const t = numberTable(`Critical speeds (searched ${fmt(inShown(response.options.speed_min_m_per_s, 'm/s'))}–${speedText(response.options.speed_max_m_per_s)})`,
     ['crossing', 'critical speed [m/s]', 'frequency [Hz]', 'moving stand', 'feeding stand', 'chatter band', 'chatter type', "model's range"],
     crossingKinds.filter((k) => c[k]).map((k) => [
       `${crossingNames[k]}${c.headline === k ? ' — headline' : ''}`,
@@ -420,7 +429,7 @@ function speedSweepDatasets(response, points, xs = []) {
       const headline = c.headline === k;
       const range = c[k].validity && c[k].validity.valid ? '' : `, ${outsideRange}`;
       datasets.push({
-        ...marker(`${crossingShort[k]} critical speed ${fmt(speed)} m/s${headline ? ' — headline' : ''}${range}`, speed, gLow, gHigh, headline ? '#000' : colours[k], 'y2'),
+        ...marker(`${crossingShort[k]} critical speed ${speedText(speed)}${headline ? ' — headline' : ''}${range}`, speed, gLow, gHigh, headline ? '#000' : colours[k], 'y2'),
         borderWidth: headline ? 4 : 2, borderDash: headline ? [] : [6, 4], pointRadius: 0, order: 0, kind: k,
       });
     }
@@ -468,10 +477,7 @@ function speedSweep(plots, response) {
     if (job && !job.polling) cancel(job);
   };
   onClear(stop);
-  const draw = (points, xs) => {
-    chart.data.datasets = speedSweepDatasets(response, points, xs);
-    chart.update('none');
-  };
+  const draw = (points, xs) => setDatasets(chart, speedSweepDatasets(response, points, xs));
   const start = async () => {
     stop();
     stopped = false;
@@ -595,7 +601,7 @@ function speedLimitAxis(plots, response, mill = false) {
   const u = r.uncertainty;
   const chatterLane = checked.findIndex((l) => l.limit === 'chatter') + 1;
   if (u && u.propagated && chatterLane > 0 && u.lower_bound_m_per_s != null) {
-    datasets.push({ ...segment(`critical speed: ${fmt(100 * u.confidence, 3)} % lower bound to the mean (σ ${fmt(u.standard_deviation_m_per_s, 3)} m/s)`,
+    datasets.push({ ...segment(`critical speed: ${fmt(100 * u.confidence, 3)} % lower bound to the mean (σ ${speedText(u.standard_deviation_m_per_s, 3)})`,
       u.lower_bound_m_per_s, u.critical_speed_m_per_s, chatterLane + 0.25, 5, { borderWidth: 10, borderColor: 'rgba(245,166,35,0.6)', backgroundColor: 'rgba(245,166,35,0.6)' }) });
   }
   if (r.status === 'ok') datasets.push(segment('permitted window', r.window_min_m_per_s, r.window_max_m_per_s, top, 3, { borderColor: '#2a7a2a', backgroundColor: '#2a7a2a' }));
@@ -660,7 +666,7 @@ function batchTable(plots, result) {
       columns.forEach(([key], i) => {
         const cell = document.createElement(i === 0 ? 'th' : 'td');
         if (i === 0) cell.scope = 'row';
-        const v = value(item, key);
+        const v = inShown(value(item, key), /_m_per_s$/.test(key) ? 'm/s' : '');
         cell.textContent = typeof v === 'number' ? fmt(v) : v === true ? 'yes' : v === false ? 'no' : v ?? '—';
         if (typeof v === 'number') cell.dataset.value = String(v);
         tr.append(cell);
@@ -675,7 +681,7 @@ function batchTable(plots, result) {
     button.type = 'button';
     button.className = 'sort';
     button.id = `batch-sort-${key.replace(/[^A-Za-z0-9]+/g, '-')}`;
-    button.textContent = title;
+    button.textContent = labelShown(title);
     button.addEventListener('click', () => { order = { key, ascending: order.key === key ? !order.ascending : true }; fill(); });
     th.append(button);
     head.append(th);
@@ -731,13 +737,13 @@ export const views = {
         ] },
       });
       p.filter((q) => q.time_series).forEach((q, i) => addPlot(plots, {
-        id: `series-${i}`, title: `Time series at ${fmt(q.speed_m_per_s)} m/s`, x: 'time [s]', y: 'work-roll gap change [µm]', y2: 'roll force change [kN]',
+        id: `series-${i}`, title: `Time series at ${speedText(q.speed_m_per_s)}`, x: 'time [s]', y: 'work-roll gap change [µm]', y2: 'roll force change [kN]',
         data: { datasets: [
           line('gap change [µm]', points(q.time_series.time_s, q.time_series.work_roll_gap_change_um), 0),
           line('force change [kN]', points(q.time_series.time_s, q.time_series.roll_force_change_kN), 2, { yAxisID: 'y2' }),
         ] },
       }));
-      return p.map((q) => row(`gap amplitude at ${fmt(q.speed_m_per_s)} m/s (${q.status})`, q.gap_amplitude_um, 'µm'));
+      return p.map((q) => row(`gap amplitude at ${speedText(q.speed_m_per_s)} (${q.status})`, q.gap_amplitude_um, 'µm'));
     },
   },
   tension_cycle: {
@@ -795,7 +801,7 @@ export const views = {
           ...(known.length ? changes.map((x) => ({ ...marker('chatter type changes', x, min(known), max(known), '#d0021b'), pointRadius: 0 })) : []),
         ] : [line('gap amplitude [µm]', points(v, y('gap_amplitude_um')), 0, { pointRadius: 3 })] },
       });
-      const rows = [['parameter', fieldName(doc, r.parameter), r.parameter], row('values', r.points.filter((p) => !p.missing).length), row('quantity', r.quantity)];
+      const rows = [row('parameter', fieldName(doc, r.parameter)), row('values', r.points.filter((p) => !p.missing).length), row('quantity', r.quantity)];
       if (critical && !response.partial) {  // the changes come with the complete result
         rows.push(row('chatter type changes', (r.chatter_type_changes || []).length));
         for (const c of r.chatter_type_changes || []) rows.push([`between ${fmt(c.from)} and ${fmt(c.to)}`, `${chatterName(c.from_chatter_type)} → ${chatterName(c.to_chatter_type)}`, '']);
@@ -826,8 +832,13 @@ export const views = {
         if (!c) return null;
         const extra = classes[c.status] || {};
         const symbol = c.chatter_type ? chatterTypes[c.chatter_type].symbol : extra.symbol || '?';
-        return { value: c.critical_speed_m_per_s, symbol, fill: extra.fill, cell: c };
+        return { value: inShown(c.critical_speed_m_per_s, 'm/s'), symbol, fill: extra.fill, cell: c };
       });
+      // The axes in the units shown (a viscosity in mPa·s in plant units).
+      const axis = (a) => {
+        const title = axisLabel(doc, a.parameter, a.unit);
+        return { label: labelShown(title), values: a.values.map((v) => v * factorOf(title)) };
+      };
       // The changes name the two cells by their values; find them on the axes.
       const edges = (r.chatter_type_changes || []).map((c) => [
         nearest(rowsAxis.values, c.from[0]) * nc + nearest(columnsAxis.values, c.from[1]),
@@ -836,9 +847,10 @@ export const views = {
       const controls = panel(plots, 'Operating window');
       const label = document.createElement('label');
       label.htmlFor = 'map-speed';
-      label.textContent = 'Operating speed [m/s]: cells stable at it are outlined ';
+      label.textContent = `Operating speed [${shown('m/s').unit}]: cells stable at it are outlined `;
       const input = document.createElement('input');
-      Object.assign(input, { id: 'map-speed', type: 'number', step: 'any', min: '0', value: rolling != null ? String(rolling) : '' });
+      const operating = Number.isFinite(rolling) ? inShown(rolling, 'm/s') : null;
+      Object.assign(input, { id: 'map-speed', type: 'number', step: 'any', min: '0', value: operating != null ? String(operating) : '' });
       const key = document.createElement('p');
       key.className = 'help';
       key.id = 'map-key';
@@ -849,9 +861,8 @@ export const views = {
       const map = drawHeatmap(plots, {
         id: 'map', title: `Critical speed over ${fieldName(doc, rowsAxis.parameter).toLowerCase()} and ${fieldName(doc, columnsAxis.parameter).toLowerCase()}${response.partial ? ' (running: the finished cells)' : ''}`,
         description: key.textContent,
-        rows: { label: axisLabel(doc, rowsAxis.parameter, rowsAxis.unit), values: rowsAxis.values },
-        columns: { label: axisLabel(doc, columnsAxis.parameter, columnsAxis.unit), values: columnsAxis.values },
-        cells, valueLabel: 'critical speed [m/s]', speed: Number.isFinite(rolling) ? rolling : null, edges,
+        rows: axis(rowsAxis), columns: axis(columnsAxis),
+        cells, valueLabel: labelShown('critical speed [m/s]'), speed: operating, edges,
         stableAt: (c, v) => c.cell.status === 'stable_in_range' || (c.value != null && v < c.value),
       });
       input.addEventListener('input', () => { const v = Number(input.value); map.model.setSpeed(input.value !== '' && Number.isFinite(v) ? v : null); });
@@ -865,7 +876,7 @@ export const views = {
         done.map((c) => [c.values[0], c.values[1], c.status, c.critical_speed_m_per_s, c.frequency_Hz, chatterName(c.chatter_type)])));
       panel(plots, 'Cells').append(details);
       return [
-        ['rows', `${fieldName(doc, rowsAxis.parameter)} (${rowsAxis.values.length})`, rowsAxis.parameter], ['columns', `${fieldName(doc, columnsAxis.parameter)} (${nc})`, columnsAxis.parameter],
+        row('rows', `${fieldName(doc, rowsAxis.parameter)} (${rowsAxis.values.length})`), row('columns', `${fieldName(doc, columnsAxis.parameter)} (${nc})`),
         row('cells done', `${done.length} of ${r.cells.length}`),
         row('lowest critical speed', found.length ? min(found) : null, 'm/s'), row('highest critical speed', found.length ? max(found) : null, 'm/s'),
         row('chatter type changes', response.partial ? null : (r.chatter_type_changes || []).length),
@@ -945,7 +956,7 @@ export const views = {
         row('its standard deviation', u ? u.standard_deviation_m_per_s : null, 'm/s'),
         row('its lower bound', u ? u.lower_bound_m_per_s : null, 'm/s'),
         ...(u && u.sampled ? [row(`its standard deviation over ${u.sampled.samples} seeded draws`, u.sampled.standard_deviation_m_per_s, 'm/s')] : []),
-        ...changes.slice(0, 3).map((x) => [`to run faster: ${x.direction} ${x.field} by ${fmt(x.step)}`, fmt(x.speed_gain_m_per_s), 'm/s']),
+        ...changes.slice(0, 3).map((x) => row(`to run faster: ${x.direction} ${x.field} by ${fmt(x.step)}`, x.speed_gain_m_per_s, 'm/s')),
       ];
     },
   },
