@@ -117,6 +117,12 @@ const chartData = (id) => page.evaluate((canvasId) => {
 // The titles of a chart's axes ({ x, y, y2 }).
 const axisTitles = (id, target = page) => target.evaluate((canvasId) => Object.fromEntries(Object.entries(Chart.getChart(document.getElementById(canvasId)).options.scales)
   .map(([axis, scale]) => [axis, scale.title.text])), `plot-${id}`);
+// The dataset whose label starts with `prefix` (a label carrying a number, e.g. the operating speed's).
+const datasetStarting = (chart, prefix) => {
+  const found = chart.datasets.filter((d) => d.label.startsWith(prefix));
+  check(found.length === 1, `one dataset '${prefix}…' among ${chart.datasets.map((d) => d.label).join(', ')}`);
+  return found[0];
+};
 const dataset = (chart, label) => {
   const found = chart.datasets.find((d) => d.label === label);
   check(found, `no dataset '${label}' among ${chart.datasets.map((d) => d.label).join(', ')}`);
@@ -316,6 +322,13 @@ try {
       equalArrays(plotted.map((p) => p.y), branch.damping_ratio, `branch ${i} damping ratio`);
     });
     check(dataset(chart, 'critical speed')[0].x === critical.critical_speed_m_per_s, 'critical speed marker');
+    // The operating speed (the scenario's roll speed) beside it, on both charts, named with its value.
+    const speed = (await post('/v1/stability', { scenario: patch })).body.scenario.rolls.speed_m_per_s;
+    for (const id of ['damping', 'growth']) {
+      const operating = datasetStarting(await chartData(id), 'operating speed');
+      equalArrays(operating.data.map((p) => p.x), [speed, speed], `${id}: the operating speed line`);
+      check(operating.label === `operating speed (roll speed ${Number(speed.toPrecision(4))} m/s)`, `${id}: ${operating.label}`);
+    }
     const shape = await chartData('mode-shape');
     equalArrays(shape.datasets[0].data, critical.unstable_mode.shape, 'unstable mode shape');
     const caption = await page.textContent('figure:has(#plot-mode-shape) figcaption');
@@ -444,6 +457,11 @@ try {
     equalArrays(plotted.map((p) => p.x), api.points.map((p) => p.value), 'swept values');
     equalArrays(plotted.map((p) => p.y), api.points.map((p) => p.critical_speed_m_per_s), 'critical speeds');
     check(/job succeeded/.test(await page.textContent('#status')), 'status says the job succeeded');
+    // The operating speed across the swept values: the margin to each critical speed.
+    const speed = (await post('/v1/sweeps', { scenario: patch, options })).body.scenario.rolls.speed_m_per_s;
+    const operating = datasetStarting(chart, 'operating speed').data;
+    equalArrays(operating.map((p) => p.y), [speed, speed], 'the operating speed line');
+    equalArrays(operating.map((p) => p.x), [api.points[0].value, api.points.at(-1).value], 'across the swept values');
     check((await page.$$('#job-list li')).length >= 1, 'the job is listed');
     await shot('sweep');
     // A job's result: its CSV is the service's for the same request.
@@ -1051,6 +1069,7 @@ try {
       check(marked[0].label.includes('— headline') === (k === c.headline), `${k}: ${marked[0].label}`);
       check(marked[0].label.includes("outside the model's range") === !c[k].validity.valid, `${k}: ${marked[0].label}`);
     }
+    equalArrays(datasetStarting(chart, 'mill speed').data.map((p) => p.x), [millAnswer.tandem.speed_m_per_s, millAnswer.tandem.speed_m_per_s], 'the mill speed line');
     const titles = await scaleTitles('speed-sweep');
     check(titles.x === "mill speed, the last stand's roll speed [m/s]" && titles.y === 'regenerative margin ρ [-]' && titles.y2 === 'growth rate of the rightmost root [1/s]', `axes: ${JSON.stringify(titles)}`);
     check(/job succeeded/.test(await page.textContent('#speed-sweep-status')), 'the sweep\'s status');

@@ -136,8 +136,11 @@ function modeShape(plots, mode, title) {
   });
 }
 
-function drawCritical(plots, critical) {
+// `operating`: the scenario's roll speed, a line on both charts: the margin to the critical speed.
+function drawCritical(plots, critical, operating) {
   if (!critical) return;
+  const at = (low, high) => (Number.isFinite(operating)
+    ? [{ ...marker(`operating speed (roll speed ${speedText(operating)})`, operating, low, high, '#2a7a2a'), borderDash: [2, 3], borderWidth: 3, pointStyle: 'line' }] : []);
   const speed = critical.critical_speed_m_per_s;
   const branches = critical.damping_branches || [];
   const all = branches.flatMap((b) => b.damping_ratio);
@@ -150,11 +153,12 @@ function drawCritical(plots, critical) {
   }
   if (branches.length) addPlot(plots, {
     id: 'damping', title: 'Damping ratio of each mode branch over rolling speed',
-    description: 'below zero the mode grows: chatter; the dashed line is the critical speed',
+    description: 'below zero the mode grows: chatter; the dashed black line is the critical speed, the dotted green one the operating speed',
     x: 'rolling speed [m/s]', y: 'damping ratio [-]',
     data: { datasets: [
       ...branches.map((b, i) => line(`mode ${i + 1} (${fmt(b.frequency_Hz[0], 3)} Hz at ${speedText(b.speed_m_per_s[0], 3)})`, points(b.speed_m_per_s, b.damping_ratio), i)),
       ...(speed != null && all.length ? [marker('critical speed', speed, min(all), max(all), '#000')] : []),
+      ...(all.length ? at(min(all), max(all)) : []),
     ] },
   });
   const growth = scan.map((s) => s.max_growth_rate_per_s);
@@ -163,6 +167,7 @@ function drawCritical(plots, critical) {
     data: { datasets: [
       line('max growth rate [1/s]', points(scan.map((s) => s.speed_m_per_s), growth), 1),
       ...(speed != null && growth.length ? [marker('critical speed', speed, min(growth), max(growth), '#000')] : []),
+      ...(growth.length ? at(min(growth), max(growth)) : []),
     ] },
   });
 }
@@ -420,6 +425,8 @@ function speedSweepDatasets(response, points, xs = []) {
   const rhos = done.map(rho).filter((v) => v != null);
   if (rhos.length) datasets.push({ label: 'ρ = 1 (below: stable whatever the delays)', data: [{ x: lo, y: 1 }, { x: hi, y: 1 }], borderColor: color(0), borderDash: [2, 3], borderWidth: 1, pointRadius: 0, order: 3 });
   datasets.push({ label: 'growth rate 0 (above: the mill chatters)', data: [{ x: lo, y: 0 }, { x: hi, y: 0 }], yAxisID: 'y2', borderColor: color(1), borderDash: [2, 3], borderWidth: 1, pointRadius: 0, order: 3 });
+  const mill = response.tandem.speed_m_per_s;
+  datasets.push({ ...marker(`mill speed ${speedText(mill)} (the operating speed)`, mill, gLow, gHigh, '#2a7a2a', 'y2'), borderDash: [2, 3], borderWidth: 3, pointRadius: 0, order: 0 });
   const c = response.result.critical_speeds;
   if (c) {
     const colours = { frozen: color(2), delay_independent: color(3), nominal_delay: color(4) };
@@ -709,7 +716,7 @@ export const views = {
     render(response, plots) {
       const r = response.result;
       const c = r.critical_speed || {};
-      drawCritical(plots, r.critical_speed);
+      drawCritical(plots, r.critical_speed, response.scenario ? response.scenario.rolls.speed_m_per_s : r.speed_m_per_s);
       const mode = c.unstable_mode || r.least_damped_mode;
       modeShape(plots, mode, c.unstable_mode ? 'Shape of the mode that turns unstable' : 'Shape of the least-damped mode');
       return [
@@ -776,7 +783,7 @@ export const views = {
         chatter_type_changes: [],
       };
     },
-    render(response, plots, { doc } = {}) {
+    render(response, plots, { doc, speed } = {}) {
       const r = response.result;
       const critical = r.quantity !== 'amplitude';
       const name = r.value_name || 'value';
@@ -789,9 +796,18 @@ export const views = {
       }).filter((d) => d.data.length) : [];
       const changes = (r.chatter_type_changes || []).map((c) => (c.from + c.to) / 2);
       const known = speeds.filter((s) => s !== null);
+      // The operating speed against the critical speeds: the scenario's roll speed, or the swept
+      // value itself when the roll speed is what is swept.
+      const operating = response.scenario && response.scenario.rolls ? response.scenario.rolls.speed_m_per_s : speed;
+      const xs = v.filter((x) => x != null);
+      const operatingLine = !critical || !xs.length ? [] : r.parameter === '/rolls/speed_m_per_s'
+        ? [{ label: 'operating speed (the swept roll speed)', data: [{ x: min(xs), y: min(xs) }, { x: max(xs), y: max(xs) }], borderColor: '#2a7a2a', borderDash: [2, 3], borderWidth: 3, pointRadius: 0, pointStyle: 'line', order: 2 }]
+        : Number.isFinite(operating)
+          ? [{ label: `operating speed (roll speed ${speedText(operating)})`, data: [{ x: min(xs), y: operating }, { x: max(xs), y: operating }], borderColor: '#2a7a2a', borderDash: [2, 3], borderWidth: 3, pointRadius: 0, pointStyle: 'line', order: 2 }]
+          : [];
       addPlot(plots, {
         id: 'sweep', title: `${critical ? 'Critical speed' : 'Amplitude'} over ${fieldName(doc, r.parameter).toLowerCase()}${response.partial ? ' (running: the finished points)' : ''}`,
-        description: critical ? 'symbols: the chatter type of the mode that goes unstable; dashed lines: the chatter type changes' : '',
+        description: critical ? 'symbols: the chatter type of the mode that goes unstable; dashed red lines: the chatter type changes; dotted green line: the operating speed' : '',
         x: axisLabel(doc, r.parameter, r.unit), pointLegend: critical,
         y: critical ? 'critical speed [m/s]' : 'gap amplitude [µm]', y2: critical ? 'chatter frequency [Hz]' : undefined,
         data: { datasets: critical ? [
@@ -799,6 +815,7 @@ export const views = {
           line('frequency of the unstable mode [Hz]', points(v, y('frequency_Hz')), 1, { pointRadius: 3, yAxisID: 'y2', order: 1, borderDash: [2, 2] }),
           ...typed,
           ...(known.length ? changes.map((x) => ({ ...marker('chatter type changes', x, min(known), max(known), '#d0021b'), pointRadius: 0 })) : []),
+          ...operatingLine,
         ] : [line('gap amplitude [µm]', points(v, y('gap_amplitude_um')), 0, { pointRadius: 3 })] },
       });
       const rows = [row('parameter', fieldName(doc, r.parameter)), row('values', r.points.filter((p) => !p.missing).length), row('quantity', r.quantity)];
