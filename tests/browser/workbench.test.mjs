@@ -152,7 +152,7 @@ async function holdJob(fake) {
 }
 const heatmap = () => page.evaluate(() => {
   const m = document.getElementById('plot-map').heatmap;
-  return { axes: m.axes, rows: m.rows, columns: m.columns, values: m.values, symbols: m.symbols, legend: m.legend, edges: m.edges, stable: m.stable, speed: m.speed,
+  return { axes: m.axes, rows: m.rows, columns: m.columns, values: m.values, symbols: m.symbols, texts: m.texts, legend: m.legend, edges: m.edges, stable: m.stable, speed: m.speed,
     pixels: m.values.map((_, k) => m.pixel(Math.floor(k / m.columns.length), k % m.columns.length)),
     colours: m.values.map((v) => (v === null ? null : m.colorOf(v))) };
 });
@@ -584,8 +584,14 @@ try {
       check(drawn.pixels[k].every((c, i) => Math.abs(c - drawn.colours[k][i]) <= 1), `cell ${k}: drawn ${drawn.pixels[k]}, its value's colour ${drawn.colours[k]}`);
     });
     check(new Set(drawn.colours.filter(Boolean).map(String)).size > 1, 'different values, different colours');
-    const symbols = { third_octave: '3', fifth_octave: '5', other: 'o' };
-    equalArrays(drawn.symbols, api.cells.map((c) => (c.chatter_type ? symbols[c.chatter_type] : { stable_in_range: 'S', unstable_at_lower_bound: 'U', no_steady_state: '×' }[c.status])), 'symbols');
+    // Each cell says its critical speed (3 digits) and its chatter type as a symbol, the legend names them.
+    const symbols = { third_octave: '●', fifth_octave: '▲', other: '■' };
+    const classLetters = { stable_in_range: 'S', unstable_at_lower_bound: 'U', no_steady_state: '×' };
+    equalArrays(drawn.symbols, api.cells.map((c) => (c.chatter_type ? symbols[c.chatter_type] : classLetters[c.status])), 'symbols');
+    equalArrays(drawn.texts, api.cells.map((c, k) => (c.critical_speed_m_per_s === null ? drawn.symbols[k] : `${Number(c.critical_speed_m_per_s.toPrecision(3))} ${drawn.symbols[k]}`)), 'the numbers in the cells');
+    const legend = await page.$$eval('#map-legend li', (all) => Object.fromEntries(all.map((li) => [li.dataset.symbol, li.textContent])));
+    for (const [type, symbol] of Object.entries(symbols)) check(legend[symbol] && legend[symbol].includes(chatterNames[type]), `legend of ${symbol}: ${legend[symbol]}`);
+    for (const letter of Object.values(classLetters)) check(legend[letter], `legend of ${letter}`);
     const at = (values) => api.cells.findIndex((c) => c.values[0] === values[0] && c.values[1] === values[1]);
     equalArrays(drawn.edges.map(String), api.chatter_type_changes.map((c) => String([at(c.from), at(c.to)])), 'chatter type change edges');
     check(api.chatter_type_changes.length > 0, 'the map chosen has type changes');

@@ -1,6 +1,6 @@
 // A heat map on a plain canvas (Chart.js 3 has none): one cell per pair of values, its colour
-// the value on a colour-blind-safe scale (viridis) with a colour bar, a symbol per cell for its
-// class (never colour alone), outlines around the cells stable at an operating speed and marks
+// the value on a colour-blind-safe scale (viridis) with a colour bar, its value and a symbol for
+// its class written in it (never colour alone), outlines around the cells stable at an operating speed and marks
 // on the edges between cells whose class changes. What it draws is kept on the canvas element
 // (`canvas.heatmap`) so a test can compare it with the API's numbers.
 import { onClear, plotFigure } from './charts.js';
@@ -23,7 +23,8 @@ const tick = (v) => (Math.abs(v) >= 1e4 || (Math.abs(v) < 1e-2 && v !== 0) ? v.t
 const margin = { left: 96, right: 104, top: 12, bottom: 56 };
 
 // rows/columns: { label, values }; cells: row-major, each null (not computed yet) or
-// { value, symbol, fill? } (fill: a colour for cells without a value); stableAt(cell, speed):
+// { value, symbol, text?, fill? } (text: what the cell says, its symbol where it does not fit;
+// fill: a colour for cells without a value); stableAt(cell, speed):
 // whether the cell is stable at that speed; edges: pairs of cell indices to mark.
 export function drawHeatmap(container, { id, title, description, rows, columns, cells, valueLabel, stableAt, speed, edges = [] }) {
   const { canvas, frame } = plotFigure(container, { id, title, description, frameClass: 'plot-frame heatmap-frame', wide: true });
@@ -33,7 +34,7 @@ export function drawHeatmap(container, { id, title, description, rows, columns, 
     rows: rows.values, columns: columns.values, values, axes: [rows.label, columns.label],
     symbols: cells.map((c) => (c ? c.symbol : null)),
     legend: { min: finite.length ? Math.min(...finite) : null, max: finite.length ? Math.max(...finite) : null, label: valueLabel },
-    edges, speed, stable: [],
+    edges, speed, stable: [], texts: [],
     colorOf(v) {
       const { min, max } = model.legend;
       return viridis(max > min ? (v - min) / (max - min) : 0.5);
@@ -77,6 +78,7 @@ export function drawHeatmap(container, { id, title, description, rows, columns, 
     // Cells: colour (or the class's own fill), symbol (as large as the cell allows).
     const { w: cellW, h: cellH } = model.rect(0, 0);
     const symbolSize = Math.floor(Math.min(14, cellW * 0.7, cellH * 0.7));
+    model.texts = cells.map(() => null);
     for (let i = 0; i < nr; i++) {
       for (let j = 0; j < nc; j++) {
         const cell = cells[index(i, j)];
@@ -92,7 +94,11 @@ export function drawHeatmap(container, { id, title, description, rows, columns, 
         ctx.textAlign = 'center';
         ctx.textBaseline = 'middle';
         ctx.font = `bold ${symbolSize}px system-ui, sans-serif`;
-        ctx.fillText(cell.symbol, r.x + r.w / 2, r.y + r.h / 2);
+        // The number and the symbol where they fit inside the cell (clear of where pixel() reads
+        // its colour), else the symbol alone.
+        const text = cell.text && ctx.measureText(cell.text).width <= r.w - 2 * Math.max(10, r.w * 0.15 + 2) ? cell.text : cell.symbol;
+        model.texts[index(i, j)] = text;
+        ctx.fillText(text, r.x + r.w / 2, r.y + r.h / 2);
         ctx.font = '12px system-ui, sans-serif';
       }
     }

@@ -23,11 +23,11 @@ const max = (values) => Math.max(...values.filter((v) => v !== null));
 const min = (values) => Math.min(...values.filter((v) => v !== null));
 
 // Chatter types (docs/model.md, "Chatter type"): a name and a symbol each, so a plot never
-// tells them apart by colour alone.
+// tells them apart by colour alone; a map cell's symbol is the shape a sweep's points have.
 const chatterTypes = {
-  third_octave: { name: 'third-octave', symbol: '3', pointStyle: 'circle' },
-  fifth_octave: { name: 'fifth-octave', symbol: '5', pointStyle: 'triangle' },
-  other: { name: 'other', symbol: 'o', pointStyle: 'rect' },
+  third_octave: { name: 'third-octave', symbol: '●', pointStyle: 'circle' },
+  fifth_octave: { name: 'fifth-octave', symbol: '▲', pointStyle: 'triangle' },
+  other: { name: 'other', symbol: '■', pointStyle: 'rect' },
 };
 const chatterName = (type) => (type ? (chatterTypes[type] || { name: type }).name : '—');
 
@@ -845,11 +845,14 @@ export const views = {
         unstable_at_lower_bound: { symbol: 'U', fill: [90, 90, 90] },
         no_steady_state: { symbol: '×', fill: [255, 255, 255] },
       };
+      // A cell says its critical speed (in the units shown) and the chatter type's symbol; one
+      // without a critical speed its class's letter.
       const cells = r.cells.map((c) => {
         if (!c) return null;
         const extra = classes[c.status] || {};
         const symbol = c.chatter_type ? chatterTypes[c.chatter_type].symbol : extra.symbol || '?';
-        return { value: inShown(c.critical_speed_m_per_s, 'm/s'), symbol, fill: extra.fill, cell: c };
+        const value = inShown(c.critical_speed_m_per_s, 'm/s');
+        return { value, symbol, text: value != null ? `${fmt(value, 3)} ${symbol}` : symbol, fill: extra.fill, cell: c };
       });
       // The axes in the units shown (a viscosity in mPa·s in plant units).
       const axis = (a) => {
@@ -871,10 +874,24 @@ export const views = {
       const key = document.createElement('p');
       key.className = 'help';
       key.id = 'map-key';
-      key.textContent = 'Colour: critical speed. Symbols: chatter type of the mode that goes unstable — 3 third-octave, 5 fifth-octave, o other; '
-        + 'S stable over the whole search range, U unstable already at its lowest speed, × no steady bite. '
+      key.textContent = `Each cell: its critical speed [${shown('m/s').unit}] (also its colour) and the chatter type of the mode that goes unstable as a symbol; `
+        + 'a cell without a critical speed: its letter. '
         + 'Thick black outline: stable at the operating speed (below the critical speed). Dashed red edge: the chatter type changes between the two cells.';
-      controls.append(label, input, key);
+      const legend = document.createElement('ul');
+      legend.id = 'map-legend';
+      legend.className = 'legend';
+      legend.setAttribute('aria-label', 'Symbols of the map');
+      for (const [symbol, meaning] of [...Object.values(chatterTypes).map((t) => [t.symbol, `${t.name} chatter`]),
+        ...Object.entries(classes).map(([status, c]) => [c.symbol, { stable_in_range: 'stable over the whole search range', unstable_at_lower_bound: 'unstable already at the lowest speed searched', no_steady_state: 'no steady bite' }[status]])]) {
+        const item = document.createElement('li');
+        const mark = document.createElement('span');
+        mark.className = 'symbol';
+        mark.textContent = symbol;
+        item.append(mark, ` ${meaning}`);
+        item.dataset.symbol = symbol;
+        legend.append(item);
+      }
+      controls.append(label, input, key, legend);
       const map = drawHeatmap(plots, {
         id: 'map', title: `Critical speed over ${fieldName(doc, rowsAxis.parameter).toLowerCase()} and ${fieldName(doc, columnsAxis.parameter).toLowerCase()}${response.partial ? ' (running: the finished cells)' : ''}`,
         description: key.textContent,
