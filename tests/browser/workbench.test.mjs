@@ -163,6 +163,22 @@ async function runAndWait(plot) {
   await page.waitForSelector(`#plot-${plot}`, { timeout: 120000 });
 }
 
+// JSON with every object's members sorted: two documents compared whatever their members' order.
+const canon = (value) => JSON.stringify(value, (_, v) => (v && typeof v === 'object' && !Array.isArray(v) ? Object.fromEntries(Object.entries(v).sort(([a], [b]) => (a < b ? -1 : 1))) : v));
+// Fills a list's rows (a map's axes, a fit's parameters and observations): `items`, each cell's
+// value by the member's path ('range/from'); a select by its value. Adds rows where it may.
+async function fillRows(list, items) {
+  for (const [i, item] of items.entries()) {
+    if (!(await page.$(`#${list}-${i}-${Object.keys(item)[0].replace(/\//g, '-')}`))) await page.click(`#${list}-add`);
+    for (const [path, value] of Object.entries(item)) {
+      const id = `#${list}-${i}-${path.replace(/\//g, '-')}`;
+      if ((await page.$eval(id, (e) => e.tagName)) === 'SELECT') await page.selectOption(id, value);
+      else await page.fill(id, String(value));
+    }
+  }
+}
+const listValue = (id) => page.$eval(`#${id}`, (t) => (t.value.trim() ? JSON.parse(t.value) : null));
+
 // The JSON bodies the page POSTs to `path` while `action` runs.
 async function postedDuring(path, action) {
   const sent = [];
@@ -556,7 +572,21 @@ try {
     const response = (await post('/v1/maps', { scenario: patch, options })).body;
     const api = response.result;
     await page.click('#tab-map');
+    // The two axes as rows: a field picked by its title (its unit beside it), a range or values.
+    const rows = await page.$$eval('#f-options-parameters-0-parameter option', (all) => all.map((o) => [o.value, o.textContent]));
+    check(rows.some(([v, text]) => v === '/strip/flow_stress_MPa' && text === 'Flow stress [MPa]') && !rows.some(([v]) => v === '/rolls/speed_m_per_s'), 'the map\'s fields by title (not the roll speed)');
+    await fillRows('f-options-parameters', [{ parameter: '/mill/rayleigh/damping_ratio', 'range/from': 0.03, 'range/to': 0.1, 'range/count': 3 }, { parameter: '/strip/flow_stress_MPa' }]);
+    check(canon(await listValue('f-options-parameters')) === canon([{ parameter: '/mill/rayleigh/damping_ratio', range: { from: 0.03, to: 0.1, count: 3 } }, { parameter: '/strip/flow_stress_MPa' }]), `the axes: ${JSON.stringify(await listValue('f-options-parameters'))}`);
+    check(await page.textContent('#f-options-parameters-1-parameter >> xpath=../following-sibling::td[1]') === 'MPa', 'the unit beside the field');
+    // Values typed replace the range (one of the two).
+    await fillRows('f-options-parameters', [{ 'range/from': '', 'range/to': '', 'range/count': '', values: '0.03, 0.06, 0.1' }, { values: '400, 600, 800, 1000' }]);
+    check(canon(await listValue('f-options-parameters')) === canon(options.parameters), `the axes: ${JSON.stringify(await listValue('f-options-parameters'))}`);
+    // A list pasted as JSON fills the rows.
+    await page.click('#f-options-parameters >> xpath=ancestor::details[1]/summary');
+    await page.fill('#f-options-parameters', JSON.stringify([{ parameter: '/strip/reduction', range: { from: 0.1, to: 0.3, count: 4 } }, options.parameters[1]]));
+    check(await page.inputValue('#f-options-parameters-0-parameter') === '/strip/reduction' && await page.inputValue('#f-options-parameters-0-range-count') === '4', 'the pasted axes in the rows');
     await page.fill('#f-options-parameters', JSON.stringify(options.parameters));
+    await page.click('#f-options-parameters >> xpath=ancestor::details[1]/summary');
     // While the job runs: cells 0, 5 and 11 done.
     const doneCells = [0, 5, 11];
     const release = await holdJob((job) => ({ ...job, state: 'running', result: undefined, progress: 0.25, points_total: 12, points_done: 3,
@@ -708,16 +738,25 @@ try {
     };
     await page.click('#reset');  // the calibration example starts from the default scenario
     await page.click('#tab-calibrate');
-    await page.fill('#f-options-parameters', JSON.stringify(options.parameters));
-    await page.fill('#f-options-observations', JSON.stringify(options.observations));
-    const [api] = await Promise.all([post('/v1/calibrate', { options }).then((r) => r.body.result), runAndWait('calibration-residuals')]);
+    // The fields to fit picked by title, their bounds as placeholders; the measurements as a table.
+    await fillRows('f-options-parameters', options.parameters.map((p) => ({ field: p.field, min: p.min, max: p.max })));
+    const doc = await (await fetch(base + '/openapi.json')).json();
+    const titleOf = (pointer) => pointer.split('/').slice(1).reduce((node, key) => node.properties[key], doc.components.schemas.Scenario);
+    check(await page.getAttribute('#f-options-parameters-0-min', 'placeholder') === String(titleOf('/strip/flow_stress_MPa').minimum ?? titleOf('/strip/flow_stress_MPa').exclusiveMinimum), 'the field\'s lower bound as the placeholder');
+    await fillRows('f-options-observations', options.observations.map((o) => ({
+      quantity: o.quantity, value: o.value, standard_uncertainty: o.standard_uncertainty,
+      ...(o.scenario ? { 'scenario/rolls/speed_m_per_s': o.scenario.rolls.speed_m_per_s } : {}),
+      ...(o.mode ? { 'mode/near_frequency_Hz': o.mode.near_frequency_Hz } : {}),
+    })));
+    check(canon(await listValue('f-options-parameters')) === canon(options.parameters) && canon(await listValue('f-options-observations')) === canon(options.observations),
+      `the rows make the example's options: ${JSON.stringify(await listValue('f-options-observations'))}`);
+    const [api, sent] = await Promise.all([post('/v1/calibrate', { options }).then((r) => r.body.result), postedDuring('/v1/jobs', () => runAndWait('calibration-residuals'))]);
+    check(sent.length === 1 && canon(sent[0].options) === canon(options), `the page sent: ${JSON.stringify(sent.map((b) => b.options))}`);
     await page.waitForFunction(() => /job succeeded/.test(document.getElementById('status').textContent), null, { timeout: 120000 });
     const cells = await page.$$eval('#plots table:first-of-type tbody tr', (rows) => rows.map((tr) => [...tr.cells].map((c) => c.dataset.value ?? c.textContent)));
     const fittedFields = await page.$$eval('#plots table:first-of-type tbody tr', (rows) => rows.map((tr) => tr.title));
-    const doc = await (await fetch(base + '/openapi.json')).json();
-    const titleOf = (pointer) => pointer.split('/').slice(1).reduce((node, key) => node.properties[key], doc.components.schemas.Scenario).title;
     equalArrays(fittedFields, api.parameters.map((p) => p.field), 'fitted fields (the rows\' pointers)');
-    equalArrays(cells.map((c) => c[0]), api.parameters.map((p) => titleOf(p.field)), 'fitted fields by their titles');
+    equalArrays(cells.map((c) => c[0]), api.parameters.map((p) => titleOf(p.field).title), 'fitted fields by their titles');
     equalArrays(cells.map((c) => Number(c[3])), api.parameters.map((p) => p.value), 'fitted values');
     equalArrays(cells.map((c) => Number(c[4])), api.parameters.map((p) => p.standard_error), 'standard errors');
     equalArrays(cells.map((c) => c[1]), api.parameters.map((p) => (p.unit === '1' ? '-' : p.unit)), 'units');
@@ -807,8 +846,9 @@ try {
     await touch.goto(`${base}/#${map}`);
     await touch.reload();
     await touch.waitForSelector('body[data-ready="true"]');
-    // a map runs as a job: a link to one waits for Run
+    // a map runs as a job: a link to one waits for Run; its axes in the rows
     check(/press Run/.test(await touch.textContent('#status')), `status: ${await touch.textContent('#status')}`);
+    check(await touch.inputValue('#f-options-parameters-1-values') === mapOptions.parameters[1].values.join(', '), 'the link\'s axes in the rows');
     await touch.click('#run');
     await touch.waitForSelector('#plot-map', { timeout: 120000 });
     const mapWidth = await touch.evaluate(() => document.documentElement.scrollWidth);
@@ -880,8 +920,8 @@ try {
     await page.click('#calibrate-stored summary');
     const parameters = [{ field: '/strip/flow_stress_MPa' }];
     const observations = [{ quantity: 'roll_force_kN', value: 9000, standard_uncertainty: 50 }];
-    await page.fill('#calibrate-stored-parameters', JSON.stringify(parameters));
-    await page.fill('#calibrate-stored-observations', JSON.stringify(observations));
+    await fillRows('calibrate-stored-parameters', parameters);
+    await fillRows('calibrate-stored-observations', observations);
     const sent = [];
     const listen = (request) => { if (request.method() === 'POST' && request.url().endsWith('/v1/scenarios/stand-3/calibrate')) sent.push({ headers: request.headers(), body: request.postDataJSON() }); };
     page.on('request', listen);
@@ -935,7 +975,6 @@ try {
   // The mill view: a two-stand mill (critical speeds in ~0.1 s), its numbers read back from the
   // page's text (display rounding only) and compared with the API's answer to the request the
   // page sent.
-  const canon = (value) => JSON.stringify(value, (_, v) => (v && typeof v === 'object' && !Array.isArray(v) ? Object.fromEntries(Object.entries(v).sort(([a], [b]) => (a < b ? -1 : 1))) : v));
   // A number the page shows to 4 significant digits (views.js fmt) is the API's, rounded.
   const near = (shown, exact, what) => check(Number.isFinite(shown) && Math.abs(shown - exact) <= 5e-4 * Math.abs(exact) * (1 + 1e-9), `${what}: the page shows ${shown}, the API gave ${exact}`);
   const headlineTable = () => page.$$eval('#headline tbody tr', (rows) => Object.fromEntries(rows.map((tr) => [tr.cells[0].textContent, tr.cells[1].textContent])));

@@ -3,7 +3,7 @@
 // analyses: its x-rollgap-analyses, the rows of the service's analysis table).
 import { ProblemError, call, fetchBlob, getJson, setToken, token } from './api.js';
 import { clearPlots, setUnitsShown, unitsShown } from './charts.js';
-import { MillForm, OptionsForm, ScenarioForm, clearFieldErrors, fieldLabel, mergePatch, resolve, showFieldErrors } from './editor.js';
+import { MillForm, OptionsForm, ScenarioForm, attachRows, clearFieldErrors, fieldLabel, mergePatch, resolve, showFieldErrors } from './editor.js';
 import { JobRunner, openJob, recentJobs, useServerJobList } from './jobs.js';
 import { saveMill, storedMill, storedMills, storedScenario, storedScenarios } from './scenarios.js';
 import { downloadCsv, downloadJson, fillReport, table } from './report.js';
@@ -436,6 +436,11 @@ async function start() {
   $('scenario-form').addEventListener('input', showDiff);
   $('scenario-form').addEventListener('change', showDiff);
   $('calibrate-stored-run').addEventListener('click', calibrateStored);
+  // The stored stand's calibration: its fields and measurements as rows, as the analysis' are.
+  const calibrateOptions = resolve(doc, doc.components.schemas.CalibrateOptions || {});
+  for (const member of ['parameters', 'observations']) {
+    if (calibrateOptions.properties && calibrateOptions.properties[member]) attachRows($(`calibrate-stored-${member}`), doc, calibrateOptions.properties[member]);
+  }
   $('reset').addEventListener('click', () => { app.scenario.apply({}); showDiff(); clearFieldErrors(document.body); });
   // The mill's rows are rebuilt when the number of stands changes: the diff follows every input.
   $('mill-form').addEventListener('input', showMillDiff);

@@ -153,8 +153,234 @@ function field(doc, schema, name, pointer, optional) {
   if (bound) input.title = `allowed ${bound}${unit && unit !== '1' ? ' ' + unit : ''}`;
   const error = el('p', { class: 'field-error', id: `${input.id}-error`, hidden: true });
   if (input.dataset.kind === 'json') wrapper.classList.add('wide');
+  const spec = input.dataset.kind === 'json' && rowsSpec(doc, resolve(doc, schema.items || {}), schema);
+  if (spec) {  // rows of inputs over the JSON, which folds away under them
+    const editor = new RowsEditor(input, doc, spec);
+    const json = el('details', { class: 'as-json' });
+    json.append(el('summary', {}, 'as JSON (to paste a list)'), input, error);
+    wrapper.append(label, editor.element, json, help);
+    return wrapper;
+  }
   wrapper.append(label, input, error, help);
   return wrapper;
+}
+
+// ---- lists of objects as rows of inputs -------------------------------------------------------
+// A map's two axes, a fit's parameters and its observations are lists of objects: edited as a
+// table, one row per item, each cell an input for one member (a field picked by its title, its
+// unit beside it). The JSON textarea under the rows stays the value the options form reads,
+// writes and links, and experts may paste a list into it: the rows are rebuilt from it and
+// write it back on every input, keeping the members they do not show (a parameter's prior, an
+// observation's other conditions). A problem's pointer into the list lands at its cell.
+
+// Rows over a JSON textarea outside the options form (a stored stand's calibration): `list`, the
+// list's schema; the textarea folds away under the rows. False when the list has no rows.
+export function attachRows(textarea, doc, list) {
+  list = resolve(doc, list);
+  const spec = rowsSpec(doc, resolve(doc, list.items || {}), list);
+  if (!spec) return false;
+  const editor = new RowsEditor(textarea, doc, spec);
+  const json = el('details', { class: 'as-json' });
+  textarea.replaceWith(editor.element);
+  editor.element.after(json);
+  json.append(el('summary', {}, 'as JSON (to paste a list)'), textarea);
+  return true;
+}
+
+// A leaf schema's bounds ({ min, max }, undefined where open).
+function boundsOf(doc, pointer) {
+  const schema = leafSchema(doc, pointer, 'Scenario');
+  return { min: schema.minimum ?? schema.exclusiveMinimum, max: schema.maximum ?? schema.exclusiveMaximum };
+}
+const quantityUnit = (quantity) => (/\[(.*)\]$/.exec(quantityLabel(quantity || '')) || [])[1] || '';
+
+// What rows a list's items get: columns (a member's path in the item, its header, its kind),
+// the unit of a row's numbers, how a row is named; null for a list edited as JSON only.
+function rowsSpec(doc, items, list) {
+  const p = items.properties || {};
+  const fields = (values) => values.map((v) => [v, fieldLabel(doc, v)]);
+  const fieldUnit = (item) => (item.parameter || item.field ? fieldInfo(doc, item.parameter || item.field).unit : '');
+  if (p.parameter && Array.isArray(p.parameter.enum) && p.range) {  // a map's axes
+    const fixed = list.minItems && list.minItems === list.maxItems ? list.minItems : 0;
+    return {
+      what: 'axis', fixed, rowName: (i) => (fixed === 2 ? ['rows', 'columns'][i] : `axis ${i + 1}`), unit: fieldUnit,
+      columns: [
+        { path: ['parameter'], header: 'field', kind: 'choice', choices: fields(p.parameter.enum), row: true },
+        { path: ['range', 'from'], header: 'from', kind: 'number' },
+        { path: ['range', 'to'], header: 'to', kind: 'number' },
+        { path: ['range', 'count'], header: 'count', kind: 'integer', min: 2 },
+        { path: ['values'], header: 'or values', kind: 'numbers', placeholder: 'a, b, c' },
+      ],
+      // One of values and range: values typed replace the range.
+      finish(item) { if (item.values) delete item.range; },
+    };
+  }
+  if (p.field && Array.isArray(p.field.enum) && (p.min || p.max)) {  // a fit's parameters
+    return {
+      what: 'parameter', rowName: (i) => `parameter ${i + 1}`, rowHead: (i) => String(i + 1), unit: fieldUnit,
+      columns: [
+        { path: ['field'], header: 'field', kind: 'choice', choices: fields(p.field.enum), row: true },
+        { path: ['min'], header: 'from (lower bound)', kind: 'number', placeholder: (item) => boundsOf(doc, item.field || '').min },
+        { path: ['max'], header: 'to (upper bound)', kind: 'number', placeholder: (item) => boundsOf(doc, item.field || '').max },
+      ],
+    };
+  }
+  if (p.quantity && Array.isArray(p.quantity.enum) && p.standard_uncertainty) {  // a fit's observations
+    return {
+      what: 'observation', rowName: (i) => `observation ${i + 1}`, rowHead: (i) => String(i + 1), unit: (item) => quantityUnit(item.quantity),
+      columns: [
+        { path: ['quantity'], header: 'quantity', kind: 'choice', choices: p.quantity.enum.map((q) => [q, quantityLabel(q)]), row: true },
+        { path: ['value'], header: 'measured', kind: 'number' },
+        { path: ['standard_uncertainty'], header: 'uncertainty (1σ)', kind: 'number', min: 0 },
+        // The condition a coil is usually measured at; other conditions stay in the JSON.
+        ...(p.scenario ? [{ path: ['scenario', 'rolls', 'speed_m_per_s'], header: `at ${fieldLabel(doc, '/rolls/speed_m_per_s').toLowerCase()}`, kind: 'number', placeholder: () => 'scenario' }] : []),
+        ...(p.mode ? [{ path: ['mode', 'near_frequency_Hz'], header: 'mode near [Hz]', kind: 'number', placeholder: () => 'modal only' }] : []),
+      ],
+      // A mode given near a frequency is not also given by its index.
+      finish(item) { if (item.mode && item.mode.near_frequency_Hz !== undefined) delete item.mode.index; },
+    };
+  }
+  return null;
+}
+
+const numberText = (v) => (typeof v === 'number' ? String(v) : v === undefined || v === null ? '' : String(v));
+function getPath(item, path) { return path.reduce((node, key) => (node == null ? undefined : node[key]), item); }
+function setPath(item, path, value) {
+  let node = item;
+  for (const key of path.slice(0, -1)) node = node[key] = node[key] && typeof node[key] === 'object' ? node[key] : {};
+  node[path[path.length - 1]] = value;
+}
+// Removes the member at path, and the objects on the way it leaves empty.
+function deletePath(item, path) {
+  const parents = [item];
+  for (const key of path.slice(0, -1)) { const next = parents.at(-1)[key]; if (!next || typeof next !== 'object') return; parents.push(next); }
+  delete parents.at(-1)[path.at(-1)];
+  for (let k = parents.length - 1; k > 0; k--) if (!Object.keys(parents[k]).length) delete parents[k - 1][path[k - 1]];
+}
+
+class RowsEditor {
+  constructor(textarea, doc, spec) {
+    this.textarea = textarea;
+    this.spec = spec;
+    this.items = [];
+    this.element = el('div', { class: 'rows-editor' });
+    this.body = el('tbody');
+    const table = el('table', { class: 'rows' });
+    const head = el('tr');
+    head.append(el('th', { scope: 'col' }, spec.what), ...spec.columns.map((c) => el('th', { scope: 'col' }, c.header)));
+    head.insertBefore(el('th', { scope: 'col' }, 'unit'), head.children[2]);
+    if (!spec.fixed) head.append(el('th', { scope: 'col' }, 'remove'));
+    table.append(el('thead'), this.body);
+    table.tHead.append(head);
+    // Focusable, so a keyboard can scroll it when it is wider than its panel.
+    const scroll = el('div', { class: 'table-scroll', tabindex: '0', role: 'region', 'aria-label': `${spec.what}s` });
+    scroll.append(table);
+    this.element.append(scroll);
+    if (!spec.fixed) {
+      const add = el('button', { type: 'button', class: 'add-row', id: `${textarea.id}-add` }, `Add ${/^[aeiou]/.test(spec.what) ? 'an' : 'a'} ${spec.what}`);
+      add.addEventListener('click', () => { this.items.push({}); this.render(); this.body.lastElementChild.querySelector('select, input').focus(); });
+      this.element.append(add);
+    }
+    textarea.rowsEditor = this;
+    textarea.addEventListener('input', () => this.refresh());
+    this.refresh();
+  }
+
+  // The rows anew from the JSON (a list that does not parse leaves them as they are).
+  refresh() {
+    let items = [];
+    const text = this.textarea.value.trim();
+    if (text) {
+      try { items = JSON.parse(text); } catch { return; }
+      if (!Array.isArray(items)) return;
+    }
+    this.items = items.map((item) => (item && typeof item === 'object' ? item : {}));
+    this.render();
+  }
+
+  // The rows of the items held (a row just added is empty until typed into).
+  render() {
+    const count = Math.max(this.items.length, this.spec.fixed || 0);
+    this.body.replaceChildren(...Array.from({ length: count }, (_, i) => this.row(i, this.items[i] || {})));
+  }
+
+  row(i, item) {
+    const { spec } = this;
+    const pointer = `${this.textarea.dataset.pointer || ''}/${i}`;
+    const tr = el('tr');
+    tr.append(el('th', { scope: 'row' }, spec.rowHead ? spec.rowHead(i) : spec.rowName(i)));
+    const unit = el('td', { class: 'unit' }, spec.unit(item) || '-');
+    spec.columns.forEach((column, k) => {
+      const id = `${this.textarea.id}-${i}-${column.path.join('-')}`;
+      const value = getPath(item, column.path);
+      let input;
+      if (column.kind === 'choice') {
+        input = el('select', { id });
+        input.append(el('option', { value: '' }, `(choose a ${column.header})`));
+        for (const [v, text] of column.choices) input.append(el('option', { value: v, title: v.startsWith('/') ? v : undefined }, text));
+        input.value = value ?? '';
+      } else {
+        const placeholder = typeof column.placeholder === 'function' ? column.placeholder(item) : column.placeholder;
+        input = el('input', {
+          id, type: column.kind === 'numbers' ? 'text' : 'number', inputmode: 'decimal', step: column.kind === 'integer' ? '1' : 'any',
+          min: column.min, placeholder: placeholder === undefined ? undefined : numberText(placeholder),
+        });
+        input.value = Array.isArray(value) ? value.join(', ') : numberText(value);
+      }
+      const cellUnit = column.header.startsWith('mode') || column.header.startsWith('at ') || column.kind === 'integer' || k === 0 ? '' : spec.unit(item);
+      input.setAttribute('aria-label', `${spec.rowName(i)}: ${column.header}${cellUnit ? ` [${cellUnit}]` : ''}`);
+      // Where a problem's pointer lands: this member, and for the first cell the row itself.
+      input.dataset.errorAt = `${pointer}/${column.path.join('/')}${column.row ? ` ${pointer}` : ''}`;
+      const help = el('p', { class: 'help visually-hidden', id: `${id}-help` }, `${spec.what} ${i + 1}, ${column.header}`);
+      input.setAttribute('aria-describedby', help.id);
+      input.addEventListener('input', () => { this.read(i, tr); if (k === 0) unit.textContent = spec.unit(this.items[i]) || '-'; });
+      input.addEventListener('change', () => { if (k === 0) this.refreshRow(i); });
+      const cell = el('td');
+      cell.append(input, el('p', { class: 'field-error', id: `${id}-error`, hidden: true }), help);
+      tr.append(cell);
+      if (k === 0) tr.append(unit);
+    });
+    if (!spec.fixed) {
+      const remove = el('button', { type: 'button', class: 'remove-row', 'aria-label': `Remove ${spec.rowName(i)}` }, 'Remove');
+      remove.addEventListener('click', () => { this.items.splice(i, 1); this.write(); this.render(); });
+      const cell = el('td');
+      cell.append(remove);
+      tr.append(cell);
+    }
+    return tr;
+  }
+
+  // A row's new field or quantity: its placeholders (the field's bounds) follow it.
+  refreshRow(i) {
+    const fresh = this.row(i, this.items[i] || {});
+    this.body.children[i].replaceWith(fresh);
+    fresh.querySelector('select').focus();
+  }
+
+  // Row i's inputs into its item (members not shown kept), then the JSON.
+  read(i, tr) {
+    const item = structuredClone(this.items[i] || {});
+    this.spec.columns.forEach((column, k) => {
+      const input = tr.querySelectorAll('td > select, td > input')[k];
+      const raw = input.value.trim();
+      if (raw === '') { deletePath(item, column.path); return; }
+      let value = raw;
+      if (column.kind === 'number' || column.kind === 'integer') value = Number.isNaN(Number(raw)) ? raw : Number(raw);
+      if (column.kind === 'numbers') value = raw.split(/[\s,;]+/).filter(Boolean).map((v) => (Number.isNaN(Number(v)) ? v : Number(v)));
+      setPath(item, column.path, value);
+    });
+    if (this.spec.finish) this.spec.finish(item);
+    while (this.items.length <= i) this.items.push({});
+    this.items[i] = item;
+    this.write();
+  }
+
+  // The list into the JSON: nothing when every row is empty (the option is then left out).
+  write() {
+    const items = this.items.slice(0, Math.max(this.items.length, this.spec.fixed || 0)).map((item) => item || {});
+    this.textarea.value = items.some((item) => Object.keys(item).length)
+      ? `[\n${items.map((item) => ' ' + JSON.stringify(item)).join(',\n')}\n]` : '';
+  }
 }
 
 // Builds the fieldsets and inputs of an object schema into `container`.
@@ -195,6 +421,7 @@ function writeInput(input, value) {
   else if (input.dataset.kind === 'json') input.value = Array.isArray(value) ? `[\n${value.map((item) => ' ' + JSON.stringify(item)).join(',\n')}\n]` : JSON.stringify(value);
   else if (Array.isArray(value)) input.value = value.join(', ');
   else input.value = String(value);
+  if (input.rowsEditor) input.rowsEditor.refresh();
 }
 
 const getAt = (object, pointer) => pointer.split('/').slice(1).reduce((node, key) => (node == null ? undefined : node[key]), object);
@@ -292,7 +519,9 @@ export function showFieldErrors(root, errors) {
   for (const error of errors || []) {
     let pointer = error.pointer || '';
     let input = null;
-    while (pointer && !(input = root.querySelector(`[data-pointer="${CSS.escape(pointer)}"]`))) pointer = pointer.replace(/\/[^/]*$/, '');
+    // A row's cell (data-error-at) before the list's JSON that holds it (data-pointer).
+    const at = (p) => root.querySelector(`[data-error-at~="${CSS.escape(p)}"]`) || root.querySelector(`[data-pointer="${CSS.escape(p)}"]`);
+    while (pointer && !(input = at(pointer))) pointer = pointer.replace(/\/[^/]*$/, '');
     if (!input) { unplaced.push(error); continue; }
     const message = input.parentElement.querySelector('.field-error');
     const bound = error.bound ? ` Allowed: ${error.bound}${error.unit && error.unit !== '1' ? ' ' + error.unit : ''}.` : '';
