@@ -99,10 +99,12 @@ const browser = await chromium.launch({
 const context = await browser.newContext({ viewport: { width: 1280, height: 800 }, acceptDownloads: true });
 const consoleErrors = [];
 let expected422 = 0;
+let expected412 = 0;  // a save refused as stale: the page says so
 function watch(page) {
   page.on('console', (message) => {
     if (message.type() !== 'error') return;
     if (/status of 422/.test(message.text()) && expected422 > 0) { expected422--; return; }
+    if (/status of 412/.test(message.text()) && expected412 > 0) { expected412--; return; }
     consoleErrors.push(message.text());
   });
   page.on('pageerror', (error) => consoleErrors.push(String(error)));
@@ -945,6 +947,61 @@ try {
     await checkAxe();
     await page.selectOption('#base', '');
     await page.waitForSelector('#calibrate-stored[hidden]', { state: 'attached' });
+  });
+
+  await test("the editor's stand saved: a new name created (PUT, If-None-Match), its next version an edit (PATCH, If-Match); a stale save (412) says what to do", async () => {
+    check(await page.isVisible('#save-row'), 'saving is offered');
+    const writes = [];
+    const listen = (request) => { if (['PUT', 'PATCH'].includes(request.method()) && /\/v1\/scenarios\/stand-9$/.test(request.url())) writes.push({ method: request.method(), headers: request.headers(), body: request.postDataJSON() }); };
+    page.on('request', listen);
+    const saved = (version) => page.waitForFunction((v) => document.getElementById('save-status').textContent === `saved as stand-9, version ${v}`, version, { timeout: 30000 });
+    await page.fill('#f-scenario-strip-reduction', '0.22');
+    await page.fill('#save-name', 'stand-9');
+    await page.click('#save');
+    await saved(1);
+    check(writes.length === 1 && writes[0].method === 'PUT' && writes[0].headers['if-none-match'] === '*', `created only: ${JSON.stringify(writes.map((w) => [w.method, w.headers['if-none-match']]))}`);
+    // What is stored is the stand the editor showed: the complete scenario the API echoes for its patch.
+    const stored = await (await fetch(`${base}/v1/scenarios/stand-9`)).json();
+    const echo = (await post('/v1/roll-gap', { scenario: { strip: { reduction: 0.22 } }, options: { distributions: false } })).body.scenario;
+    check(canon(stored) === canon(echo), 'the stored stand is the editor\'s');
+    check(await page.inputValue('#base') === 'stand-9' && /version 1$/.test(await page.textContent('#base-version')), 'the editor now starts from it');
+    check(await page.$$eval('#base option', (all) => all.filter((o) => o.value === 'stand-9').length) === 1, 'the stored list has it once');
+    // An edit of it: the changes as a merge patch onto the version loaded.
+    await page.fill('#f-scenario-rolls-speed-m-per-s', '18');
+    await page.click('#save');
+    await saved(2);
+    check(writes.length === 2 && writes[1].method === 'PATCH' && writes[1].headers['if-match'] === '"1"' && canon(writes[1].body) === canon({ rolls: { speed_m_per_s: 18 } }), `the edit: ${JSON.stringify(writes[1])}`);
+    const second = await (await fetch(`${base}/v1/scenarios/stand-9`)).json();
+    check(second.rolls.speed_m_per_s === 18 && second.strip.reduction === 0.22, 'version 2 has both');
+    // Someone else edits version 2 meanwhile: the page's save is refused and says what to do.
+    const theirs = await fetch(`${base}/v1/scenarios/stand-9`, { method: 'PATCH', headers: { 'Content-Type': 'application/json', 'If-Match': '"2"' }, body: JSON.stringify({ strip: { flow_stress_MPa: 610 } }) });
+    check(theirs.status === 200, `their edit: ${theirs.status}`);
+    await page.fill('#f-scenario-rolls-speed-m-per-s', '19');
+    expected412 = 1;
+    await page.click('#save');
+    await page.waitForSelector('#problem:not([hidden]) #save-rebase');
+    const problem = await page.textContent('#problem');
+    check(/changed meanwhile/.test(problem) && /version 2/.test(problem) && /412/.test(problem), `the conflict: ${problem}`);
+    check((await (await fetch(`${base}/v1/scenarios/stand-9`)).json()).strip.flow_stress_MPa === 610, 'their edit is kept');
+    await page.click('#save-rebase');
+    await page.waitForFunction(() => /version 3$/.test(document.getElementById('base-version').textContent));
+    check(await page.inputValue('#f-scenario-strip-flow-stress-MPa') === '610' && await page.inputValue('#f-scenario-rolls-speed-m-per-s') === '19', 'their change and mine in the editor');
+    await page.click('#save');
+    await saved(4);
+    const fourth = await (await fetch(`${base}/v1/scenarios/stand-9`)).json();
+    check(fourth.strip.flow_stress_MPa === 610 && fourth.rolls.speed_m_per_s === 19, 'version 4 has both edits');
+    // A new name that is taken: refused, the stand there untouched.
+    const taken = (await fetch(`${base}/v1/scenarios/stand-3`)).headers.get('etag');
+    await page.fill('#save-name', 'stand-3');
+    expected412 = 1;
+    await page.click('#save');
+    await page.waitForFunction(() => /exists/.test(document.getElementById('problem').textContent));
+    check((await fetch(`${base}/v1/scenarios/stand-3`)).headers.get('etag') === taken, 'stand-3 untouched');
+    page.off('request', listen);
+    await shot('save-stand');
+    await checkAxe();
+    await page.selectOption('#base', '');
+    await page.click('#reset');
   });
 
   await test('an analysis the document offers without a view of the page still runs (its headline numbers)', async () => {

@@ -5,7 +5,7 @@ import { ProblemError, call, fetchBlob, getJson, setToken, token } from './api.j
 import { clearPlots, setUnitsShown, unitsShown } from './charts.js';
 import { MillForm, OptionsForm, ScenarioForm, attachRows, clearFieldErrors, fieldLabel, mergePatch, resolve, showFieldErrors } from './editor.js';
 import { JobRunner, openJob, recentJobs, useServerJobList } from './jobs.js';
-import { saveMill, storedMill, storedMills, storedScenario, storedScenarios } from './scenarios.js';
+import { createScenario, saveMill, storedMill, storedMills, storedScenario, storedScenarios, updateScenario } from './scenarios.js';
 import { downloadCsv, downloadJson, fillReport, table } from './report.js';
 import { readState, writeState } from './state.js';
 import { viewOf } from './views.js';
@@ -288,6 +288,8 @@ async function chooseBase(name, patch = {}) {
   $('calibrate-stored-status').textContent = '';
   app.baseName = name;
   $('base').value = name;
+  $('save-name').value = name;
+  $('save-status').textContent = '';
   app.scenario.apply(patch);
   showDiff();
 }
@@ -318,13 +320,74 @@ async function calibrateStored() {
   }
 }
 
-async function offerStoredScenarios(wanted) {
+// The stored stands in the "Start from" list (asked again after a save); null when the service has none.
+async function listStoredScenarios() {
   const list = await storedScenarios(app.doc).catch(() => null);
+  if (!list) return null;
+  $('base').replaceChildren(Object.assign(document.createElement('option'), { value: '', textContent: 'the default scenario' }),
+    ...list.map((s) => Object.assign(document.createElement('option'), { value: s.name, textContent: `${s.name}${s.updated_at ? ` (${s.updated_at})` : ''}` })));
+  $('base').value = app.baseName;
+  return list;
+}
+
+async function offerStoredScenarios(wanted) {
+  const list = await listStoredScenarios();
   if (!list) return;
-  $('base').append(...list.map((s) => Object.assign(document.createElement('option'), { value: s.name, textContent: `${s.name}${s.updated_at ? ` (${s.updated_at})` : ''}` })));
-  $('base-row').hidden = false;
-  $('base').addEventListener('change', () => chooseBase($('base').value).then(saveState).catch((error) => showProblem(error.problem || { detail: String(error) })));
+  $('base-row').hidden = $('save-row').hidden = false;
+  if (!app.storedOffered) {  // once: a changed fragment offers them again
+    app.storedOffered = true;
+    $('base').addEventListener('change', () => chooseBase($('base').value).then(saveState).catch((error) => showProblem(error.problem || { detail: String(error) })));
+    $('save').addEventListener('click', saveCurrentStand);
+  }
   if (wanted && list.some((s) => s.name === wanted)) await chooseBase(wanted);
+}
+
+// The stand the editor shows, stored under the name given: the stored stand it starts from gets
+// the editor's changes as its next version (PATCH, If-Match the version loaded: its calibration
+// posterior is kept unless a field it describes changes); any other name is created
+// (PUT, If-None-Match: *, the complete scenario). A 412 says what happened and what to do.
+async function saveCurrentStand() {
+  const name = $('save-name').value.trim();
+  const status = $('save-status');
+  $('problem').hidden = true;
+  if (!name) { status.textContent = 'give the stand a name'; return; }
+  const update = name === app.baseName;
+  const patch = app.scenario.patch();
+  if (update && !Object.keys(patch).length) { status.textContent = `nothing to save: no field differs from ${name}, version ${app.baseVersion.replace(/"/g, '')}`; return; }
+  try {
+    const version = update
+      ? await updateScenario(name, patch, app.baseVersion)
+      : await createScenario(name, mergePatch(structuredClone(app.scenario.base), patch));
+    await chooseBase(name);
+    await listStoredScenarios();
+    saveState();
+    status.textContent = `saved as ${name}, version ${version.replace(/"/g, '')}`;
+  } catch (error) {
+    status.textContent = 'not saved';
+    if (!(error instanceof ProblemError)) { showProblem({ title: 'Saving the stand failed', detail: String(error) }); return; }
+    if (error.status !== 412) { showProblem(error.problem); return; }
+    const loaded = app.baseVersion.replace(/"/g, '');
+    showProblem(update
+      ? { ...error.problem, title: `Not saved: ${name} was changed meanwhile`,
+        detail: `Someone stored a newer version of ${name} after you loaded version ${loaded}, so saving would overwrite their change. Your changes are still in the editor: load the latest version with them on top (below), check it, and save again — or save under another name.` }
+      : { ...error.problem, title: `Not saved: a stand named ${name} exists`,
+        detail: `A stand named ${name} is stored already and a new name never replaces one. To update it, choose it under "Start from" and save; otherwise give another name.` });
+    if (update) {
+      const rebase = document.createElement('button');
+      rebase.type = 'button';
+      rebase.id = 'save-rebase';
+      rebase.textContent = `Load the latest ${name} with my changes on top`;
+      rebase.addEventListener('click', async () => {
+        try {
+          await chooseBase(name, patch);
+          $('problem').hidden = true;
+          status.textContent = `your changes are on ${name}, version ${app.baseVersion.replace(/"/g, '')}: check them and save`;
+          saveState();
+        } catch (again) { showProblem(again.problem || { detail: String(again) }); }
+      });
+      $('problem').append(rebase);
+    }
+  }
 }
 
 // Start the mill editor from a stored mill (or the default, name ''): the editor shows it, the
@@ -359,8 +422,11 @@ async function listStoredMills() {
 async function offerStoredMills(wanted, patch) {
   if (!(await listStoredMills())) return;
   $('mill-base-row').hidden = $('mill-save-row').hidden = false;
-  $('mill-base').addEventListener('change', () => chooseMillBase($('mill-base').value).then(saveState).catch((error) => showProblem(error.problem || { detail: String(error) })));
-  $('mill-save').addEventListener('click', saveCurrentMill);
+  if (!app.millsOffered) {  // once: a changed fragment offers them again
+    app.millsOffered = true;
+    $('mill-base').addEventListener('change', () => chooseMillBase($('mill-base').value).then(saveState).catch((error) => showProblem(error.problem || { detail: String(error) })));
+    $('mill-save').addEventListener('click', saveCurrentMill);
+  }
   if (wanted && [...$('mill-base').options].some((o) => o.value === wanted)) await chooseMillBase(wanted, patch);
 }
 

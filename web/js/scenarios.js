@@ -1,4 +1,4 @@
-// Stored scenarios (GET /v1/scenarios, GET /v1/scenarios/{name}) and stored tandem mills
+// Stored scenarios (GET /v1/scenarios, GET, PUT and PATCH /v1/scenarios/{name}) and stored tandem mills
 // (GET /v1/mills, GET and PUT /v1/mills/{name}), used when the service offers them: its OpenAPI
 // document lists the operation and the list does not answer 404. A request then names its base
 // (`base`) and carries only the differences from it.
@@ -29,6 +29,20 @@ export const storedScenarios = (doc) => storedList(doc, '/v1/scenarios', 'scenar
 export async function storedScenario(name) {
   const { body, version } = await storedItem('/v1/scenarios', name);
   return { scenario: body, version };
+}
+
+// Stores `scenario` (a merge patch onto the default scenario; a complete scenario is one) under a
+// new `name` only (If-None-Match: *: a name someone holds is never overwritten, 412); its version.
+export async function createScenario(name, scenario) {
+  const { etag } = await call('PUT', `/v1/scenarios/${encodeURIComponent(name)}`, scenario, { 'If-None-Match': '*' });
+  return etag || '';
+}
+// Edits the stored stand `name`: `patch` (RFC 7396) merged onto the version `version` (its ETag)
+// names, stored as the next; 412 when another write came in between. A PATCH, not a PUT: the
+// stand keeps its calibration posterior unless a field it describes changes (docs/http-api.md).
+export async function updateScenario(name, patch, version) {
+  const { etag } = await call('PATCH', `/v1/scenarios/${encodeURIComponent(name)}`, patch, { 'If-Match': version });
+  return etag || '';
 }
 
 export const offersStoredMills = (doc) => offers(doc, '/v1/mills');
