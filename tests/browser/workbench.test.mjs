@@ -385,6 +385,32 @@ try {
     await runAndWait('damping');
   });
 
+  await test('a pinned run drawn beside the next: two stabilities on the damping and growth-rate charts, the legend naming both', async () => {
+    await page.click('#pin');
+    const name = await page.textContent('#pinned-name');
+    check(await page.isVisible('#pinned') && name === 'default stand: Reduction 0.2', `pinned: ${name}`);
+    await page.fill('#f-scenario-strip-reduction', '0.25');
+    await runAndWait('damping');
+    const [pinnedApi, currentApi] = await Promise.all([patch, { strip: { reduction: 0.25 } }].map(async (p) => (await post('/v1/stability', { scenario: p })).body.result.critical_speed));
+    const damping = await chartData('damping');
+    // The pinned modes share one legend entry that names the run; this run's keep theirs.
+    const theirs = damping.datasets.filter((d) => d.label === `pinned (${name}): each mode, dashed`);
+    equalArrays(theirs.map((d) => d.data.map((p) => p.y).join()), pinnedApi.damping_branches.map((b) => b.damping_ratio.join()), 'the pinned modes');
+    currentApi.damping_branches.forEach((b, i) => equalArrays(damping.datasets[i].data.map((p) => p.y), b.damping_ratio, `this run's mode ${i + 1}`));
+    check(dataset(damping, 'critical speed — pinned')[0].x === pinnedApi.critical_speed_m_per_s, 'the pinned critical speed');
+    check(dataset(damping, 'critical speed — this run')[0].x === currentApi.critical_speed_m_per_s, 'this run\'s critical speed');
+    check((await page.textContent('figure:has(#plot-damping) figcaption')).includes(`this run (default stand: Reduction 0.25, solid) and the pinned (${name}, dashed)`), 'the caption names both runs');
+    const growth = await chartData('growth');
+    equalArrays(dataset(growth, `max growth rate [1/s] — pinned (${name})`).map((p) => p.y), pinnedApi.scan.map((q) => q.max_growth_rate_per_s), 'the pinned growth rate');
+    equalArrays(dataset(growth, 'max growth rate [1/s] — this run (default stand: Reduction 0.25)').map((p) => p.y), currentApi.scan.map((q) => q.max_growth_rate_per_s), 'this run\'s growth rate');
+    await shot('stability-pinned');
+    // Unpinned: one run again, its labels as before.
+    await page.click('#unpin');
+    check(await page.isHidden('#pinned') && !(await chartData('damping')).datasets.some((d) => /pinned|this run/.test(d.label)), 'unpinned');
+    await page.fill('#f-scenario-strip-reduction', '0.2');
+    await runAndWait('damping');
+  });
+
   let link = '';
   await test('a shared URL restores the view', async () => {
     link = page.url();

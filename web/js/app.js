@@ -3,7 +3,7 @@
 // analyses: its x-rollgap-analyses, the rows of the service's analysis table).
 import { ProblemError, call, fetchBlob, getJson, setToken, token } from './api.js';
 import { clearPlots, setUnitsShown, unitsShown } from './charts.js';
-import { MillForm, OptionsForm, ScenarioForm, attachRows, clearFieldErrors, fieldLabel, mergePatch, resolve, showFieldErrors } from './editor.js';
+import { MillForm, OptionsForm, ScenarioForm, attachRows, clearFieldErrors, diffPatch, fieldInfo, fieldLabel, mergePatch, patchLeaves, resolve, showFieldErrors } from './editor.js';
 import { JobRunner, openJob, recentJobs, useServerJobList } from './jobs.js';
 import { createScenario, saveMill, storedMill, storedMills, storedScenario, storedScenarios, updateScenario } from './scenarios.js';
 import { downloadCsv, downloadJson, fillReport, table } from './report.js';
@@ -132,10 +132,34 @@ function showProblem(problem) {
 
 // What a view needs besides the answer: the document (units of the fields) and the rolling
 // speed the editor shows (a running map's operating speed).
-function context() {
-  if (ofMill(app.analysis)) return { doc: app.doc, speed: app.mill.full().speed_m_per_s };
+// `pinned`: a run kept to compare with ({ response, name }), drawn beside this one where the
+// views can (the same sweep, two stabilities); `name`: what the legend calls this run.
+function context(response) {
+  const compare = { pinned: app.pinned, name: response ? runName(response) : 'this run' };
+  if (ofMill(app.analysis)) return { doc: app.doc, speed: app.mill.full().speed_m_per_s, ...compare };
   const full = mergePatch(structuredClone(app.scenario.base), app.scenario.patch());
-  return { doc: app.doc, speed: full.rolls && full.rolls.speed_m_per_s };
+  return { doc: app.doc, speed: full.rolls && full.rolls.speed_m_per_s, ...compare };
+}
+
+// A run named for a legend: its stand and its first differences from it, by title
+// ("default stand: Reduction 0.25, Flow stress 610").
+function runName(response) {
+  const from = response.base ? response.base.name : 'default stand';
+  if (!response.scenario) return from;
+  const stand = response.base && response.base.name === app.baseName ? app.scenario.base : app.defaults;
+  const leaves = patchLeaves(diffPatch(stand, response.scenario, { nulls: false }) || {});
+  const what = leaves.slice(0, 2).map(([pointer, value]) => `${fieldInfo(app.doc, pointer).title} ${Array.isArray(value) ? value.join(', ') : value}`);
+  if (leaves.length > 2) what.push(`${leaves.length - 2} more`);
+  return what.length ? `${from}: ${what.join(', ')}` : from;
+}
+
+// Pins the result shown (or unpins): the next runs draw it beside theirs.
+function setPinned(response) {
+  app.pinned = response ? { response, name: runName(response) } : null;
+  $('pinned').hidden = !app.pinned;
+  $('pinned-name').textContent = app.pinned ? app.pinned.name : '';
+  $('pin').textContent = app.pinned ? 'Pin this run instead' : 'Pin this run to compare';
+  if (app.response) render(app.response, app.source);
 }
 
 // `source`: { path, body } posted, or { job } (its id): where the same result's CSV is asked.
@@ -145,7 +169,7 @@ function render(response, source) {
   const plots = $('plots');
   clearPlots(plots);
   const row = rowOf(response.analysis);
-  const headline = viewOf(response.analysis).render(response, plots, context());
+  const headline = viewOf(response.analysis).render(response, plots, context(response));
   $('headline').replaceChildren(table(`${row.label}: headline figures`, headline, ['quantity', 'value', 'unit']));
   $('download-csv').hidden = !row.csv;
   $('result-actions').hidden = false;
@@ -524,6 +548,8 @@ async function start() {
   $('cancel').addEventListener('click', () => runner.cancel().catch(() => {}));
   $('download-json').addEventListener('click', () => downloadJson(app.response));
   $('download-csv').addEventListener('click', downloadResultCsv);
+  $('pin').addEventListener('click', () => setPinned(app.response));
+  $('unpin').addEventListener('click', () => setPinned(null));
   $('copy-link').addEventListener('click', async () => {
     const link = saveState();
     try { await navigator.clipboard.writeText(link); setStatus('link copied'); } catch { setStatus(`link: ${link}`); }

@@ -582,7 +582,7 @@ export function schemaDefaults(doc, schema) {
 }
 
 // Leaves of a merge patch as [pointer, value] (arrays whole).
-function patchLeaves(patch, prefix = '', out = []) {
+export function patchLeaves(patch, prefix = '', out = []) {
   for (const [key, value] of Object.entries(patch || {})) {
     if (isPlain(value) && Object.keys(value).length) patchLeaves(value, `${prefix}/${key}`, out);
     else out.push([`${prefix}/${key}`, value]);

@@ -137,8 +137,14 @@ function modeShape(plots, mode, title) {
 }
 
 // `operating`: the scenario's roll speed, a line on both charts: the margin to the critical speed.
-function drawCritical(plots, critical, operating) {
+// `compare`: { pinned: a pinned stability's critical_speed, name, pinnedName }: drawn dashed
+// beside this run's, the legend naming both runs.
+function drawCritical(plots, critical, operating, compare) {
   if (!critical) return;
+  const other = compare && compare.pinned;
+  // Each run named once in a legend (the modes of the pinned run share one entry, dashed).
+  const mine = (label, named = false) => (other ? `${label} — this run${named ? ` (${compare.name})` : ''}` : label);
+  const theirs = (label, named = false) => `${label} — pinned${named ? ` (${compare.pinnedName})` : ''}`;
   const at = (low, high) => (Number.isFinite(operating)
     ? [{ ...marker(`operating speed (roll speed ${speedText(operating)})`, operating, low, high, '#2a7a2a'), borderDash: [2, 3], borderWidth: 3, pointStyle: 'line' }] : []);
   const speed = critical.critical_speed_m_per_s;
@@ -152,22 +158,26 @@ function drawCritical(plots, critical, operating) {
     return;
   }
   if (branches.length) addPlot(plots, {
-    id: 'damping', title: 'Damping ratio of each mode branch over rolling speed',
+    id: 'damping', title: `Damping ratio of each mode branch over rolling speed${other ? `: this run (${compare.name}, solid) and the pinned (${compare.pinnedName}, dashed)` : ''}`,
     description: 'below zero the mode grows: chatter; the dashed black line is the critical speed, the dotted green one the operating speed',
     x: 'rolling speed [m/s]', y: 'damping ratio [-]',
     data: { datasets: [
       ...branches.map((b, i) => line(`mode ${i + 1} (${fmt(b.frequency_Hz[0], 3)} Hz at ${speedText(b.speed_m_per_s[0], 3)})`, points(b.speed_m_per_s, b.damping_ratio), i)),
-      ...(speed != null && all.length ? [marker('critical speed', speed, min(all), max(all), '#000')] : []),
+      ...(speed != null && all.length ? [marker(mine('critical speed'), speed, min(all), max(all), '#000')] : []),
       ...(all.length ? at(min(all), max(all)) : []),
+      ...(other ? (other.damping_branches || []).map((b, i) => ({ ...line(`pinned (${compare.pinnedName}): each mode, dashed`, points(b.speed_m_per_s, b.damping_ratio), i, { borderDash: [6, 3], borderWidth: 1.5 }), mode: i + 1 })) : []),
+      ...(other && other.critical_speed_m_per_s != null && all.length ? [{ ...marker(theirs('critical speed'), other.critical_speed_m_per_s, min(all), max(all), '#7f8c8d'), borderDash: [2, 2] }] : []),
     ] },
   });
   const growth = scan.map((s) => s.max_growth_rate_per_s);
   if (scan.length) addPlot(plots, {
     id: 'growth', title: 'Largest growth rate over rolling speed', x: 'rolling speed [m/s]', y: 'growth rate [1/s]',
     data: { datasets: [
-      line('max growth rate [1/s]', points(scan.map((s) => s.speed_m_per_s), growth), 1),
-      ...(speed != null && growth.length ? [marker('critical speed', speed, min(growth), max(growth), '#000')] : []),
+      line(mine('max growth rate [1/s]', true), points(scan.map((s) => s.speed_m_per_s), growth), 1),
+      ...(speed != null && growth.length ? [marker(mine('critical speed'), speed, min(growth), max(growth), '#000')] : []),
       ...(growth.length ? at(min(growth), max(growth)) : []),
+      ...(other && (other.scan || []).length ? [line(theirs('max growth rate [1/s]', true), points(other.scan.map((q) => q.speed_m_per_s), other.scan.map((q) => q.max_growth_rate_per_s)), 6, { borderDash: [6, 3] })] : []),
+      ...(other && other.critical_speed_m_per_s != null && growth.length ? [{ ...marker(theirs('critical speed'), other.critical_speed_m_per_s, min(growth), max(growth), '#7f8c8d'), borderDash: [2, 2] }] : []),
     ] },
   });
 }
@@ -713,10 +723,13 @@ export const views = {
     },
   },
   stability: {
-    render(response, plots) {
+    render(response, plots, { pinned, name } = {}) {
       const r = response.result;
       const c = r.critical_speed || {};
-      drawCritical(plots, r.critical_speed, response.scenario ? response.scenario.rolls.speed_m_per_s : r.speed_m_per_s);
+      // A pinned stability (another run's) beside this one.
+      const other = pinned && pinned.response !== response && pinned.response.analysis === 'stability' && pinned.response.result.critical_speed;
+      drawCritical(plots, r.critical_speed, response.scenario ? response.scenario.rolls.speed_m_per_s : r.speed_m_per_s,
+        other ? { pinned: other, name, pinnedName: pinned.name } : null);
       const mode = c.unstable_mode || r.least_damped_mode;
       modeShape(plots, mode, c.unstable_mode ? 'Shape of the mode that turns unstable' : 'Shape of the least-damped mode');
       return [
@@ -783,9 +796,13 @@ export const views = {
         chatter_type_changes: [],
       };
     },
-    render(response, plots, { doc, speed } = {}) {
+    render(response, plots, { doc, speed, pinned, name: thisRun } = {}) {
       const r = response.result;
       const critical = r.quantity !== 'amplitude';
+      // A pinned sweep of the same field and quantity (another run's) beside this one.
+      const other = pinned && pinned.response !== response && pinned.response.analysis === 'sweep' && pinned.response.result.parameter === r.parameter
+        && pinned.response.result.quantity === r.quantity ? pinned : null;
+      const mine = (label) => (other ? `${label} — this run (${thisRun})` : label);
       const name = r.value_name || 'value';
       const v = r.points.map((p) => p[name]);
       const y = (key) => r.points.map((p) => (p.missing ? null : p[key]));
@@ -811,12 +828,14 @@ export const views = {
         x: axisLabel(doc, r.parameter, r.unit), pointLegend: critical,
         y: critical ? 'critical speed [m/s]' : 'gap amplitude [µm]', y2: critical ? 'chatter frequency [Hz]' : undefined,
         data: { datasets: critical ? [
-          line('critical speed [m/s]', points(v, speeds), 0, { pointRadius: 3, order: 1 }),
+          line(mine('critical speed [m/s]'), points(v, speeds), 0, { pointRadius: 3, order: 1 }),
+          ...(other ? [line(`critical speed [m/s] — pinned (${other.name})`, points(other.response.result.points.map((p) => p[other.response.result.value_name || 'value']), other.response.result.points.map((p) => p.critical_speed_m_per_s)), 6, { pointRadius: 3, pointStyle: 'rectRot', borderDash: [6, 3], order: 1 })] : []),
           line('frequency of the unstable mode [Hz]', points(v, y('frequency_Hz')), 1, { pointRadius: 3, yAxisID: 'y2', order: 1, borderDash: [2, 2] }),
           ...typed,
           ...(known.length ? changes.map((x) => ({ ...marker('chatter type changes', x, min(known), max(known), '#d0021b'), pointRadius: 0 })) : []),
           ...operatingLine,
-        ] : [line('gap amplitude [µm]', points(v, y('gap_amplitude_um')), 0, { pointRadius: 3 })] },
+        ] : [line(mine('gap amplitude [µm]'), points(v, y('gap_amplitude_um')), 0, { pointRadius: 3 }),
+          ...(other ? [line(`gap amplitude [µm] — pinned (${other.name})`, points(other.response.result.points.map((p) => p[other.response.result.value_name || 'value']), other.response.result.points.map((p) => p.gap_amplitude_um)), 6, { pointRadius: 3, borderDash: [6, 3] })] : [])] },
       });
       const rows = [row('parameter', fieldName(doc, r.parameter)), row('values', r.points.filter((p) => !p.missing).length), row('quantity', r.quantity)];
       if (critical && !response.partial) {  // the changes come with the complete result
