@@ -269,6 +269,48 @@ try {
     await page.click('#tab-roll_gap');
   });
 
+  await test('every default shown in full: placeholders fit their inputs and read back as the document\'s default (1e-6, not "0.00000")', async () => {
+    const doc = await (await fetch(base + '/openapi.json')).json();
+    const components = doc.components.schemas;
+    const resolve = (schema) => (schema && schema.$ref ? resolve(components[schema.$ref.split('/').pop()]) : schema || {});
+    // Each option's numeric default, by its pointer in the form (/options/critical_speed/...).
+    const defaultsOf = (schema, prefix, out = new Map()) => {
+      for (const [name, child] of Object.entries(resolve(schema).properties || {})) {
+        const leaf = resolve(child);
+        if (typeof leaf.default === 'number') out.set(`${prefix}/${name}`, leaf.default);
+        else if (leaf.properties) defaultsOf(leaf, `${prefix}/${name}`, out);
+      }
+      return out;
+    };
+    let shownCount = 0;
+    let small = 0;
+    try {
+      for (const row of (await documentAnalyses()).filter((r) => r.on_page)) {
+        await page.click(`#tab-${row.name}`);
+        const schema = row.options_schema ? components[row.options_schema] : resolve(doc.paths[row.path].post.requestBody.content['application/json'].schema).properties.options;
+        const defaults = defaultsOf(schema, '/options');
+        const shown = await page.$$eval('#options-form input[placeholder^="default "]', (all) => all.map((input) => {
+          const style = getComputedStyle(input);
+          const ctx = document.createElement('canvas').getContext('2d');
+          ctx.font = `${style.fontStyle} ${style.fontWeight} ${style.fontSize} ${style.fontFamily}`;
+          const room = input.clientWidth - parseFloat(style.paddingLeft) - parseFloat(style.paddingRight);
+          return { pointer: input.dataset.pointer, text: input.placeholder, width: ctx.measureText(input.placeholder).width, room };
+        }));
+        for (const s of shown) {
+          check(s.width <= s.room, `${row.name} ${s.pointer}: "${s.text}" is ${Math.ceil(s.width)} px in ${Math.floor(s.room)} px`);
+          if (!defaults.has(s.pointer)) continue;
+          const value = Number(s.text.replace(/^default /, ''));
+          check(value === defaults.get(s.pointer), `${row.name} ${s.pointer}: shows "${s.text}", the document's default is ${defaults.get(s.pointer)}`);
+          shownCount++;
+          if (value !== 0 && Math.abs(value) < 1e-3) small++;
+        }
+      }
+    } finally {
+      await page.click('#tab-roll_gap');
+    }
+    check(shownCount > 20 && small > 0, `${shownCount} numeric defaults compared, ${small} of them below 1e-3`);
+  });
+
   await test("the analysis selector is the document's analysis list: its on_page rows, in order, labelled", async () => {
     const rows = await documentAnalyses();
     check(Array.isArray(rows) && rows.length > 0, 'the document lists the analyses (x-rollgap-analyses)');

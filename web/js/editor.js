@@ -82,11 +82,18 @@ function el(tag, attributes = {}, text) {
   return node;
 }
 
+// A number in few characters and never rounded: the shortest text that reads back as it, in
+// exponent form when small or large (1e-6, not 0.000001 cut to "0.00000" by a narrow input).
+export function numberText(x) {
+  if (typeof x !== 'number' || !Number.isFinite(x)) return String(x);
+  return x !== 0 && (Math.abs(x) < 1e-3 || Math.abs(x) >= 1e6) ? x.toExponential().replace('e+', 'e') : String(x);
+}
+
 function boundText(schema) {
   const low = schema.minimum ?? schema.exclusiveMinimum;
   const high = schema.maximum ?? schema.exclusiveMaximum;
   if (low === undefined && high === undefined) return '';
-  return `${schema.exclusiveMinimum !== undefined ? '(' : '['}${low ?? '−∞'}, ${high ?? '∞'}${schema.exclusiveMaximum !== undefined ? ')' : ']'}`;
+  return `${schema.exclusiveMinimum !== undefined ? '(' : '['}${low !== undefined ? numberText(low) : '−∞'}, ${high !== undefined ? numberText(high) : '∞'}${schema.exclusiveMaximum !== undefined ? ')' : ']'}`;
 }
 
 // One input for a leaf of the schema; `optional`: the field may stay empty (the service's
@@ -131,7 +138,9 @@ function leafInput(doc, schema, pointer, optional) {
     input.dataset.kind = 'text';
   }
   input.dataset.pointer = pointer;
-  if (optional && schema.default !== undefined && input.tagName === 'INPUT') input.placeholder = `default ${schema.default}`;
+  if (optional && schema.default !== undefined && input.tagName === 'INPUT') {
+    input.placeholder = `default ${Array.isArray(schema.default) ? schema.default.map(numberText).join(', ') : numberText(schema.default)}`;
+  }
   return input;
 }
 
@@ -153,6 +162,7 @@ function field(doc, schema, name, pointer, optional) {
   if (bound) input.title = `allowed ${bound}${unit && unit !== '1' ? ' ' + unit : ''}`;
   const error = el('p', { class: 'field-error', id: `${input.id}-error`, hidden: true });
   if (input.dataset.kind === 'json') wrapper.classList.add('wide');
+  if (input.dataset.kind === 'array') wrapper.classList.add('list');  // room for its default's numbers
   const spec = input.dataset.kind === 'json' && rowsSpec(doc, resolve(doc, schema.items || {}), schema);
   if (spec) {  // rows of inputs over the JSON, which folds away under them
     const editor = new RowsEditor(input, doc, spec);
@@ -243,7 +253,7 @@ function rowsSpec(doc, items, list) {
   return null;
 }
 
-const numberText = (v) => (typeof v === 'number' ? String(v) : v === undefined || v === null ? '' : String(v));
+const cellText = (v) => (typeof v === 'number' ? String(v) : v === undefined || v === null ? '' : String(v));
 function getPath(item, path) { return path.reduce((node, key) => (node == null ? undefined : node[key]), item); }
 function setPath(item, path, value) {
   let node = item;
@@ -323,9 +333,9 @@ class RowsEditor {
         const placeholder = typeof column.placeholder === 'function' ? column.placeholder(item) : column.placeholder;
         input = el('input', {
           id, type: column.kind === 'numbers' ? 'text' : 'number', inputmode: 'decimal', step: column.kind === 'integer' ? '1' : 'any',
-          min: column.min, placeholder: placeholder === undefined ? undefined : numberText(placeholder),
+          min: column.min, placeholder: placeholder === undefined ? undefined : typeof placeholder === 'number' ? numberText(placeholder) : placeholder,
         });
-        input.value = Array.isArray(value) ? value.join(', ') : numberText(value);
+        input.value = Array.isArray(value) ? value.join(', ') : cellText(value);
       }
       const cellUnit = column.header.startsWith('mode') || column.header.startsWith('at ') || column.kind === 'integer' || k === 0 ? '' : spec.unit(item);
       input.setAttribute('aria-label', `${spec.rowName(i)}: ${column.header}${cellUnit ? ` [${cellUnit}]` : ''}`);
