@@ -597,39 +597,56 @@ try {
     const options = { parameter: '/strip/flow_stress_MPa', range: { from: 500, to: 1000, count: 6 } };
     const api = (await post('/v1/sweeps', { scenario: patch, options })).body.result;
     await page.check('#units-plant');
-    check(page.url().includes('units=plant'), `the units are in the link: ${page.url()}`);
-    let chart = await chartData('sweep');
-    equalArrays(dataset(chart, 'critical speed [m/min]').map((p) => p.y), api.points.map((p) => (p.critical_speed_m_per_s === null ? null : p.critical_speed_m_per_s * 60)), 'critical speeds in m/min');
-    equalArrays(dataset(chart, 'critical speed [m/min]').map((p) => p.x), api.points.map((p) => p[api.value_name]), 'flow stresses (MPa either way)');
-    check((await axisTitles('sweep')).y === 'critical speed [m/min]', `y axis: ${(await axisTitles('sweep')).y}`);
-    // The CSV: the service's in plant units, for the job shown.
-    const sent = [];
-    const listen = (request) => { if (/\/v1\/jobs\/[0-9a-f]{32}/.test(request.url()) && request.headers().accept === 'text/csv') sent.push(request.url()); };
-    page.on('request', listen);
-    const saved = await downloadCsv('sweep');
-    page.off('request', listen);
-    check(sent.length === 1 && new URL(sent[0]).searchParams.get('units') === 'plant', `the page asked ${sent}`);
-    const served = await postCsv('/v1/sweeps?units=plant', { scenario: patch, options });
-    equalBytes(saved, served, 'sweep CSV in plant units');
-    check(/critical_speed_m_per_min/.test(saved.toString('utf8').split('\n')[0]), `plant header: ${saved.toString('utf8').split('\n')[0]}`);
-    // A viscosity swept: its axis in mPa·s, the values the API's × 1000.
-    const viscosity = { parameter: '/lubricant/viscosity_Pa_s', values: [0.0004, 0.0006] };
-    await page.selectOption('#f-options-parameter', viscosity.parameter);
-    for (const id of ['#f-options-range-from', '#f-options-range-to', '#f-options-range-count']) await page.fill(id, '');
-    await page.fill('#f-options-values', viscosity.values.join(', '));
-    await runAndWait('sweep');
-    await page.waitForFunction(() => /job succeeded/.test(document.getElementById('status').textContent), null, { timeout: 60000 });
-    const viscous = (await post('/v1/sweeps', { scenario: patch, options: viscosity })).body.result;
-    chart = await chartData('sweep');
-    equalArrays(dataset(chart, 'critical speed [m/min]').map((p) => p.x), viscous.points.map((p) => p[viscous.value_name] * 1000), 'viscosities in mPa·s');
-    check((await axisTitles('sweep')).x === 'Lubricant viscosity [mPa·s]', `x axis: ${(await axisTitles('sweep')).x}`);
-    // Opened again from the link: still in plant units; back to SI, the API's numbers.
-    await page.reload();
-    await page.waitForSelector('body[data-ready="true"]');
-    check(await page.isChecked('#units-plant'), 'plant units after a reload');
-    await page.check('#units-si');
+    try {
+      check(page.url().includes('units=plant'), `the units are in the link: ${page.url()}`);
+      let chart = await chartData('sweep');
+      equalArrays(dataset(chart, 'critical speed [m/min]').map((p) => p.y), api.points.map((p) => (p.critical_speed_m_per_s === null ? null : p.critical_speed_m_per_s * 60)), 'critical speeds in m/min');
+      equalArrays(dataset(chart, 'critical speed [m/min]').map((p) => p.x), api.points.map((p) => p[api.value_name]), 'flow stresses (MPa either way)');
+      check((await axisTitles('sweep')).y === 'critical speed [m/min]', `y axis: ${(await axisTitles('sweep')).y}`);
+      // The CSV: the service's in plant units, for the job shown.
+      const sent = [];
+      const listen = (request) => { if (/\/v1\/jobs\/[0-9a-f]{32}/.test(request.url()) && request.headers().accept === 'text/csv') sent.push(request.url()); };
+      page.on('request', listen);
+      const saved = await downloadCsv('sweep');
+      page.off('request', listen);
+      check(sent.length === 1 && new URL(sent[0]).searchParams.get('units') === 'plant', `the page asked ${sent}`);
+      const served = await postCsv('/v1/sweeps?units=plant', { scenario: patch, options });
+      equalBytes(saved, served, 'sweep CSV in plant units');
+      check(/critical_speed_m_per_min/.test(saved.toString('utf8').split('\n')[0]), `plant header: ${saved.toString('utf8').split('\n')[0]}`);
+      // A viscosity swept: its axis in mPa·s, the values the API's × 1000.
+      const viscosity = { parameter: '/lubricant/viscosity_Pa_s', values: [0.0004, 0.0006] };
+      await page.selectOption('#f-options-parameter', viscosity.parameter);
+      for (const id of ['#f-options-range-from', '#f-options-range-to', '#f-options-range-count']) await page.fill(id, '');
+      await page.fill('#f-options-values', viscosity.values.join(', '));
+      await runAndWait('sweep');
+      await page.waitForFunction(() => /job succeeded/.test(document.getElementById('status').textContent), null, { timeout: 60000 });
+      const viscous = (await post('/v1/sweeps', { scenario: patch, options: viscosity })).body.result;
+      chart = await chartData('sweep');
+      equalArrays(dataset(chart, 'critical speed [m/min]').map((p) => p.x), viscous.points.map((p) => p[viscous.value_name] * 1000), 'viscosities in mPa·s');
+      check((await axisTitles('sweep')).x === 'Lubricant viscosity [mPa·s]', `x axis: ${(await axisTitles('sweep')).x}`);
+      // Pinned, and the same sweep on a thinner pass: both runs' critical speeds, each the API's, named.
+      await page.click('#pin');
+      await page.fill('#f-scenario-strip-reduction', '0.25');
+      await runAndWait('sweep');
+      await page.waitForFunction(() => /job succeeded/.test(document.getElementById('status').textContent), null, { timeout: 60000 });
+      const thinner = (await post('/v1/sweeps', { scenario: { strip: { reduction: 0.25 } }, options: viscosity })).body.result;
+      chart = await chartData('sweep');
+      const m = (points) => points.map((p) => (p.critical_speed_m_per_s === null ? null : p.critical_speed_m_per_s * 60));
+      equalArrays(dataset(chart, 'critical speed [m/min] — pinned (default stand: Reduction 0.2)').map((p) => p.y), m(viscous.points), 'the pinned sweep');
+      equalArrays(dataset(chart, 'critical speed [m/min] — this run (default stand: Reduction 0.25)').map((p) => p.y), m(thinner.points), 'this run\'s sweep');
+      await page.click('#unpin');
+      await page.fill('#f-scenario-strip-reduction', '0.2');
+      // Opened again from the link: still in plant units.
+      await page.reload();
+      await page.waitForSelector('body[data-ready="true"]');
+      check(await page.isChecked('#units-plant'), 'plant units after a reload');
+    } finally {  // the tests after this one read SI numbers from one run
+      if (await page.isVisible('#unpin')) await page.click('#unpin');
+      await page.fill('#f-scenario-strip-reduction', '0.2');
+      await page.check('#units-si');
+      await page.fill('#f-options-values', '');
+    }
     check(!page.url().includes('units='), `SI is the default: ${page.url()}`);
-    await page.fill('#f-options-values', '');
   });
 
   // A 3 x 4 map with changes of chatter type and cells stable over the whole search range.
