@@ -49,6 +49,7 @@ struct CalibrationQuantity {
     std::string_view name;  // as in the request: "roll_force_kN"
     core::Observable observable;
     Unit unit;
+    std::string_view title;  // what a label or a form calls it (the OpenAPI x-enum-descriptions)
 };
 const std::vector<CalibrationQuantity>& calibration_quantities();
 

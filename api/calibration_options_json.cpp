@@ -293,15 +293,21 @@ const ScenarioField* read_fitted_field(const nlohmann::json* value, const std::s
 
 const std::vector<CalibrationQuantity>& calibration_quantities() {
     static const std::vector<CalibrationQuantity> table{
-        {"roll_force_kN", core::Observable::roll_force, units::kilonewton},
-        {"torque_kN_m", core::Observable::torque, units::kilonewton_metre},
-        {"forward_slip", core::Observable::forward_slip, units::one},
-        {"critical_speed_m_per_s", core::Observable::critical_speed, units::metre_per_second},
-        {"chatter_frequency_Hz", core::Observable::chatter_frequency, units::hertz},
-        {"natural_frequency_Hz", core::Observable::natural_frequency, units::hertz},
-        {"damping_ratio", core::Observable::damping_ratio, units::one},
-        {"running_frequency_Hz", core::Observable::running_frequency, units::hertz},
-        {"running_damping_ratio", core::Observable::running_damping_ratio, units::one},
+        {"roll_force_kN", core::Observable::roll_force, units::kilonewton, "Roll force"},
+        {"torque_kN_m", core::Observable::torque, units::kilonewton_metre,
+         "Rolling torque per work roll"},
+        {"forward_slip", core::Observable::forward_slip, units::one, "Forward slip"},
+        {"critical_speed_m_per_s", core::Observable::critical_speed, units::metre_per_second,
+         "Critical speed"},
+        {"chatter_frequency_Hz", core::Observable::chatter_frequency, units::hertz,
+         "Chatter frequency"},
+        {"natural_frequency_Hz", core::Observable::natural_frequency, units::hertz,
+         "Natural frequency of a mode"},
+        {"damping_ratio", core::Observable::damping_ratio, units::one, "Damping ratio of a mode"},
+        {"running_frequency_Hz", core::Observable::running_frequency, units::hertz,
+         "Frequency of the running stand's least-damped mode"},
+        {"running_damping_ratio", core::Observable::running_damping_ratio, units::one,
+         "Damping ratio of the running stand's least-damped mode"},
     };
     return table;
 }

@@ -229,10 +229,12 @@ const std::vector<Option>& rows() {
              "§13.4), ranked by the speed one typical step gains."},
         };
         static_assert(option_names.size() == static_cast<std::size_t>(what_to_change) + 1);
+        static_assert(option_titles.size() == option_names.size());
         assert(all.size() == option_names.size());
         for (std::size_t i = 0; i < all.size(); ++i) {
             assert(static_cast<std::size_t>(all[i].id) == i && "rows in OptionId order");
             all[i].name = option_name(all[i].id);
+            all[i].title = option_titles[i];
         }
         return all;
     }();

@@ -94,6 +94,39 @@ constexpr std::string_view option_name(OptionId id) {
     return option_names[static_cast<std::size_t>(id)];
 }
 
+// What a label or a form calls each option (the OpenAPI `title`), by OptionId: the name column
+// the field tables have, so that no page shows `relative_tolerance` for "Search tolerance".
+inline constexpr std::array<std::string_view, 28> option_titles{
+    "Lowest search speed",
+    "Highest search speed",
+    "Search scan step",
+    "Search tolerance",
+    "Search the critical speed",
+    "Distributions along the bite",
+    "Simulated time per speed",
+    "Excitation amplitude",
+    "Excitation frequency",
+    "Integration tolerance",
+    "Time series",
+    "Time series points",
+    "Tension cycles",
+    "Iterations at most",
+    "Mill time series",
+    "Simulated time",
+    "Gap kick",
+    "Kicked stand",
+    "Largest roll force",
+    "Largest torque per work roll",
+    "Rated drive power",
+    "Smallest forward slip",
+    "Chatter as a limit",
+    "Chatter margin",
+    "Confidence",
+    "Posterior draws",
+    "Seed of the draws",
+    "What to change",
+};
+
 enum class OptionType { number, integer, boolean };
 
 struct Option {
@@ -102,7 +135,8 @@ struct Option {
     OptionType type;
     Unit unit;       // the unit the client writes (units::one: dimensionless, and every integer)
     Interval range;  // in `unit`; unused for booleans
-    std::string description;  // the glossary sentence; type, unit and bounds are appended
+    std::string description;   // the glossary sentence; type, unit and bounds are appended
+    std::string_view title{};  // option_titles[id]: what a label or a form calls it
 };
 
 // Every row, in OptionId order.

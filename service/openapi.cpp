@@ -6,6 +6,7 @@
 #include <string_view>
 #include <vector>
 
+#include "api/calibration_json.h"
 #include "api/csv.h"
 #include "api/field_errors.h"
 #include "api/option_table.h"
@@ -117,6 +118,7 @@ json option_schema(const api::Option& option) {
             schema["description"] = option.description;
             break;
     }
+    schema["title"] = option.title;  // what a label or a form calls it
     return schema;
 }
 
@@ -635,6 +637,21 @@ json openapi_document() {
     schemas["MapAxis"]["properties"]["parameter"]["enum"] = std::move(map_paths);
     schemas["CalibrateOptions"]["properties"]["parameters"]["items"]["properties"]["field"]
            ["enum"] = std::move(fitted_paths);
+    // A fit's observed quantities from their table, each with its title and UCUM unit, in the
+    // enum's order (x-enum-descriptions as generators read it; x-units for a label's unit).
+    json quantities = json::array();
+    json quantity_titles = json::array();
+    json quantity_units = json::array();
+    for (const api::CalibrationQuantity& q : api::calibration_quantities()) {
+        quantities.push_back(q.name);
+        quantity_titles.push_back(q.title);
+        quantity_units.push_back(q.unit.code);
+    }
+    json& quantity = schemas["CalibrateOptions"]["properties"]["observations"]["items"]
+                            ["properties"]["quantity"];
+    quantity["enum"] = std::move(quantities);
+    quantity["x-enum-descriptions"] = std::move(quantity_titles);
+    quantity["x-units"] = std::move(quantity_units);
     add_analysis_request_options(schemas);
     add_base(schemas);
     add_option_members(schemas);

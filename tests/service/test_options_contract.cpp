@@ -161,3 +161,58 @@ TEST_CASE(
         CHECK_MESSAGE(walk.components_seen.count(std::string(component.schema)) == 1,
                       component.schema, " is reached by no analysis");
 }
+
+TEST_CASE(
+    "options: every member of every options component has a title, unique within it, and a "
+    "fit's quantities their titles and units") {
+    const json document = service::openapi_document();
+    const json& schemas = document.at("components").at("schemas");
+    int titled = 0;
+    for (const auto& [name, schema] : schemas.items()) {
+        if (name.find("Options") == std::string::npos && name != "MapAxis") continue;
+        CAPTURE(name);
+        std::set<std::string> titles;
+        const json properties = schema.value("properties", json::object());
+        for (const auto& [member, property] : properties.items()) {
+            CAPTURE(member);
+            REQUIRE(property.contains("title"));
+            const std::string title = property.at("title").get<std::string>();
+            CHECK(!title.empty());
+            CHECK(title != member);  // a name, not the key again
+            CHECK_MESSAGE(titles.insert(title).second, "two members titled ", title);
+            ++titled;
+        }
+    }
+    MESSAGE(titled << " option members titled");
+    // The scalar rows' titles are the document's (one table for both).
+    const json& search = schemas.at("CriticalSpeedSearchOptions").at("properties");
+    CHECK(search.at("relative_tolerance").at("title") ==
+          api::option(api::OptionId::search_tolerance).title);
+    CHECK(schemas.at("AmplitudeOptions").at("properties").at("relative_tolerance").at("title") ==
+          api::option(api::OptionId::integration_tolerance).title);
+
+    // A fit's quantities: the enum, its titles and units in the same order, the unit the one
+    // the quantity's name ends with.
+    const json& quantity = schemas.at("CalibrateOptions")
+                               .at("properties")
+                               .at("observations")
+                               .at("items")
+                               .at("properties")
+                               .at("quantity");
+    const json& names = quantity.at("enum");
+    REQUIRE(quantity.at("x-enum-descriptions").size() == names.size());
+    REQUIRE(quantity.at("x-units").size() == names.size());
+    for (std::size_t i = 0; i < names.size(); ++i) {
+        const std::string name = names[i].get<std::string>();
+        const std::string unit = quantity.at("x-units")[i].get<std::string>();
+        CAPTURE(name);
+        CHECK(!quantity.at("x-enum-descriptions")[i].get<std::string>().empty());
+        const std::string suffix = unit == "kN.m"  ? "_kN_m"
+                                   : unit == "m/s" ? "_m_per_s"
+                                                   : "_" + unit;
+        if (unit == "1") CHECK(name.find("_Hz") == std::string::npos);
+        else CHECK(name.size() > suffix.size());
+        if (unit != "1")
+            CHECK(name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0);
+    }
+}
