@@ -311,9 +311,11 @@ std::optional<double> tension_cross_section_m2(const core::Scenario& scenario,
     return std::nullopt;
 }
 
-void resolve_tension_forces(const nlohmann::json& document, const std::string& pointer,
-                            core::Scenario& scenario, FieldErrors& errors) {
-    if (!document.is_object()) return;
+std::vector<GivenAs> resolve_tension_forces(const nlohmann::json& document,
+                                            const std::string& pointer, core::Scenario& scenario,
+                                            FieldErrors& errors) {
+    std::vector<GivenAs> converted;
+    if (!document.is_object()) return converted;
     for (const std::string_view group :
          {std::string_view("/tension/back"), std::string_view("/tension/front")}) {
         const nlohmann::json::json_pointer at{std::string(group)};
@@ -355,9 +357,12 @@ void resolve_tension_forces(const nlohmann::json& document, const std::string& p
                     continue;
                 }
                 field->number(scenario) = to_si(stress, field->unit);
+                converted.push_back({field->path, concat(group, "/", alternate), area * 1000.0,
+                                     unit->unit, force_kn});
             }
         }
     }
+    return converted;
 }
 
 std::vector<std::pair<std::string, const AlternateUnit*>> alternates_of(std::string_view member) {

@@ -81,12 +81,25 @@ std::vector<std::string> deferred_alternates(std::span<const std::string_view> m
 std::optional<double> tension_cross_section_m2(const core::Scenario& scenario,
                                                std::string_view group);
 
+// A field the client gave in another unit by another member (a tension as a force): a rule
+// that involves the canonical field (scenario_consistency.h) reports at the member given, with
+// its bound in that unit (bound × per_canonical).
+struct GivenAs {
+    std::string canonical;  // "/tension/back/stress_MPa"
+    std::string given;      // "/tension/back/force_kN"
+    double per_canonical;   // given unit per canonical unit: kN per MPa is the area in m² × 1000
+    std::string_view unit;  // "kN"
+    double value;           // as given, in `unit`
+};
+
 // Tensions given as forces (`/tension/{back,front}/force_kN`, `amplitude_kN` in the merged
 // scenario document at `pointer`): the stresses over that side's cross-section, written into
 // `scenario` once its strip has been read (a force whose stress leaves the stress's bounds is
-// an error at the force's pointer, with the bound in kN).
-void resolve_tension_forces(const nlohmann::json& document, const std::string& pointer,
-                            core::Scenario& scenario, FieldErrors& errors);
+// an error at the force's pointer, with the bound in kN). Returns the forces converted, for
+// the cross-field rules to name.
+std::vector<GivenAs> resolve_tension_forces(const nlohmann::json& document,
+                                            const std::string& pointer, core::Scenario& scenario,
+                                            FieldErrors& errors);
 
 // A table column in its plant unit (CSV with units=plant, docs/http-api.md "Plant units"): a
 // column whose name ends in a canonical unit suffix that has a plant unit (`_m_per_s` →

@@ -18,8 +18,28 @@ struct Context {
     const core::Scenario& scenario;
     const std::string& pointer;
     FieldErrors& errors;
+    std::span<const GivenAs> given_as;
 
     std::string at(std::string_view path) const { return pointer + std::string(path); }
+
+    // A violation at `path` with its bound in `unit`; at the member the client gave instead
+    // (a tension as a force: its pointer, the bound in kN, the force named in the detail).
+    void report(const std::string& path, std::string detail, const Interval& allowed,
+                std::string_view unit) const {
+        for (const GivenAs& given : given_as) {
+            if (given.canonical != path) continue;
+            const Interval in_given{allowed.min * given.per_canonical,
+                                    allowed.max * given.per_canonical, allowed.min_open,
+                                    allowed.max_open};
+            errors.add({at(given.given),
+                        concat(detail, " (", format_number(given.value), " ", given.unit,
+                               " over the strip's cross-section, ",
+                               format_number(given.per_canonical / 1000.0 * 1e6), " mm²)"),
+                        in_given.text(), std::string(given.unit)});
+            return;
+        }
+        errors.add({at(path), std::move(detail), allowed.text(), std::string(unit)});
+    }
 
     // A rule runs only if all its inputs passed their own checks.
     bool inputs_valid(std::initializer_list<std::string_view> paths) const {
@@ -38,11 +58,11 @@ void check_tension_below_flow_stress(const Context& context, const std::string& 
     const double flow_stress = context.scenario.strip.flow_stress;
     if (tension.stress < flow_stress) return;
     const Interval allowed = closed_open(0.0, from_si(flow_stress, units::megapascal));
-    context.errors.add({context.at(path),
-                        concat(side, " tension ", mpa_text(tension.stress),
-                               " must be below the flow stress ", mpa_text(flow_stress),
-                               " (/strip/flow_stress_MPa): the strip would yield in the span"),
-                        allowed.text(), std::string(units::megapascal.code)});
+    context.report(path,
+                   concat(side, " tension ", mpa_text(tension.stress),
+                          " must be below the flow stress ", mpa_text(flow_stress),
+                          " (/strip/flow_stress_MPa): the strip would yield in the span"),
+                   allowed, units::megapascal.code);
 }
 
 // s(t) = s + A sin(2 pi f t) must stay in [0, sigma): never slack, never yielding.
@@ -65,10 +85,10 @@ void check_sinusoid_within_limits(const Context& context, const std::string& sid
         goes_slack ? "would go slack (below 0): the amplitude must not exceed the mean tension"
                    : concat("would reach the flow stress ", mpa_text(flow_stress),
                             ": mean + amplitude must stay below it");
-    context.errors.add({context.at(amplitude_path),
-                        concat("sinusoidal ", side, " tension ", mpa_text(tension.stress), " ± ",
-                               mpa_text(tension.amplitude), " ", reason),
-                        allowed.text(), std::string(units::megapascal.code)});
+    context.report(amplitude_path,
+                   concat("sinusoidal ", side, " tension ", mpa_text(tension.stress), " ± ",
+                          mpa_text(tension.amplitude), " ", reason),
+                   allowed, units::megapascal.code);
 }
 
 // The model's roll profile y = y2 + x^2 / a is the small-angle form of the circle (docs/model.md
@@ -115,8 +135,8 @@ void check_rayleigh_frequencies_ordered(const Context& context) {
 }  // namespace
 
 void check_scenario_consistency(const core::Scenario& scenario, const std::string& pointer,
-                                FieldErrors& errors) {
-    const Context context{scenario, pointer, errors};
+                                FieldErrors& errors, std::span<const GivenAs> given_as) {
+    const Context context{scenario, pointer, errors, given_as};
     check_tension_below_flow_stress(context, "back", scenario.tensions.back);
     check_tension_below_flow_stress(context, "front", scenario.tensions.front);
     check_sinusoid_within_limits(context, "back", scenario.tensions.back);

@@ -121,9 +121,10 @@ core::Scenario scenario_from_json(const nlohmann::json& document, const std::str
     read_group("", document, pointer, scenario, errors);
     // Tensions given as forces, over the strip's cross-section as read (docs/http-api.md,
     // "Plant units").
-    resolve_tension_forces(document, pointer, scenario, errors);
-    // Cross-field rules on a document that is not even an object would only add noise.
-    if (document.is_object()) check_scenario_consistency(scenario, pointer, errors);
+    const std::vector<GivenAs> forces = resolve_tension_forces(document, pointer, scenario, errors);
+    // Cross-field rules on a document that is not even an object would only add noise; a rule
+    // on a tension given as a force names the force.
+    if (document.is_object()) check_scenario_consistency(scenario, pointer, errors, forces);
     return scenario;
 }
 

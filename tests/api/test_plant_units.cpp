@@ -409,6 +409,55 @@ TEST_CASE("plant units: a tension far above the typical stresses warns that it i
           rollgap::test::approx(600e3 / (1.8 * 1.6e-3) / 1e6).epsilon(1e-14));
 }
 
+TEST_CASE(
+    "plant units: a tension in kN that breaks a rule across fields is reported at the force, its "
+    "bound in kN") {
+    const auto refused = [](json patch) {
+        CAPTURE(patch.dump());
+        api::FieldErrors errors;
+        api::canonicalise_scenario_patch(patch, "/scenario", errors);
+        (void)api::scenario_from_patch(patch, "/scenario", errors);
+        REQUIRE(errors.reported().size() == 1);
+        return errors.reported().front();
+    };
+    // The default strip: 1.8 m wide, 1.6 mm in, 15 % reduction (1.36 mm out), σ = 380 MPa.
+    const double back_area = 1.8 * 1.6e-3;
+    const double front_area = 1.8 * 1.6e-3 * 0.85;
+    // 1200 kN over the back cross-section is 416.7 MPa: inside the stress's own bound
+    // [0, 3000) MPa, above the flow stress.
+    const api::FieldError back = refused({{"tension", {{"back", {{"force_kN", 1200}}}}}});
+    CHECK(back.pointer == "/scenario/tension/back/force_kN");
+    CHECK(back.unit == "kN");
+    REQUIRE(back.bound.has_value());
+    CHECK(back.bound->starts_with("[0, "));
+    CHECK(back.bound->ends_with(")"));
+    // below the flow stress: σ · w · h in kN
+    CHECK(std::stod(back.bound->substr(4)) ==
+          rollgap::test::approx(380e6 * back_area / 1e3).epsilon(1e-12));
+    CHECK(back.detail.find("flow stress") != std::string::npos);
+    CHECK(back.detail.find("1200 kN") != std::string::npos);
+    // The front over the exit thickness: 1000 kN is 408.5 MPa there (367.6 MPa over the entry's)
+    const api::FieldError front = refused({{"tension", {{"front", {{"force_kN", 1000}}}}}});
+    CHECK(front.pointer == "/scenario/tension/front/force_kN");
+    REQUIRE(front.bound.has_value());
+    CHECK(std::stod(front.bound->substr(4)) ==
+          rollgap::test::approx(380e6 * front_area / 1e3).epsilon(1e-12));
+    // The same rule on a stress given as a stress stays at the stress, in MPa.
+    const api::FieldError stress = refused({{"tension", {{"back", {{"stress_MPa", 400}}}}}});
+    CHECK(stress.pointer == "/scenario/tension/back/stress_MPa");
+    CHECK(stress.unit == "MPa");
+    // A ripple in kN that would slacken the strip: at the amplitude's force, bounded by the
+    // mean's force (100 kN over the back cross-section).
+    const api::FieldError ripple =
+        refused({{"tension",
+                  {{"back", {{"mode", "sinusoid"}, {"force_kN", 100}, {"amplitude_kN", 150}}}}}});
+    CHECK(ripple.pointer == "/scenario/tension/back/amplitude_kN");
+    CHECK(ripple.unit == "kN");
+    REQUIRE(ripple.bound.has_value());
+    CHECK(ripple.bound->starts_with("[0, "));
+    CHECK(std::stod(ripple.bound->substr(4)) == rollgap::test::approx(100.0).epsilon(1e-12));
+}
+
 TEST_CASE("plant units: a mill's tensions in kN over the strip's cross-section in each span") {
     // three stands, 2.0 → 1.6 → 1.3 → 1.1 mm, the mill's strip 1000 mm wide
     json patch = {{"entry_thickness_mm", 2.0},
