@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "api/field_column.h"
 #include "api/json_pointer.h"
 #include "api/text.h"
 
@@ -416,13 +417,7 @@ std::vector<ScenarioField> build_fields() {
         {"/tension/back/stress_MPa", closed(0.0, 400.0)},
         {"/tension/front/stress_MPa", closed(0.0, 400.0)},
     };
-    for (const auto& entry : typical) {
-        const std::string_view path = entry.first;
-        const auto field = std::find_if(fields.begin(), fields.end(),
-                                        [path](const ScenarioField& f) { return f.path == path; });
-        if (field == fields.end()) throw std::logic_error("a typical range of no field");
-        field->typical = entry.second;
-    }
+    set_column(fields, typical, &ScenarioField::typical, "a typical range");
     // The name column: what a label or an axis calls each field (every field has one; a test
     // checks).
     const std::pair<std::string_view, std::string_view> names[] = {
@@ -477,13 +472,7 @@ std::vector<ScenarioField> build_fields() {
         {"/mill/rayleigh/high_frequency_Hz", "Rayleigh upper frequency"},
         {"/numerics/bite_intervals", "Bite integration steps"},
     };
-    for (const auto& entry : names) {
-        const std::string_view path = entry.first;
-        const auto field = std::find_if(fields.begin(), fields.end(),
-                                        [path](const ScenarioField& f) { return f.path == path; });
-        if (field == fields.end()) throw std::logic_error("a name of no field");
-        field->name = entry.second;
-    }
+    set_column(fields, names, &ScenarioField::name, "a name");
     return fields;
 }
 

@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "api/field_column.h"
 #include "api/scenario_schema.h"
 #include "api/text.h"
 
@@ -242,13 +243,7 @@ std::vector<TandemField> make_fields() {
         {"/exit/span_length_m", "Exit span length"},
         {"/exit/tension_MPa", "Exit tension"},
     };
-    for (const auto& entry : names) {
-        const std::string_view path = entry.first;
-        const auto field = std::find_if(fields.begin(), fields.end(),
-                                        [path](const TandemField& f) { return f.path == path; });
-        if (field == fields.end()) throw std::logic_error("a name of no tandem field");
-        field->name = entry.second;
-    }
+    set_column(fields, names, &TandemField::name, "a name");
     return fields;
 }
 

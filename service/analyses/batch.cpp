@@ -139,6 +139,17 @@ std::string batch_pointer(const json& options, std::size_t index, const std::str
     return item + pointer;
 }
 
+// The pointers of the entries of `body[list]` (a problem's errors, an answer's warnings),
+// rebased into the batch by batch_pointer.
+void rebase_pointers(json& body, std::string_view list, const json& options, std::size_t index) {
+    const auto entries = body.find(list);
+    if (entries == body.end() || !entries->is_array()) return;
+    for (json& entry : *entries) {
+        if (entry.contains("pointer") && entry["pointer"].is_string())
+            entry["pointer"] = batch_pointer(options, index, entry["pointer"]);
+    }
+}
+
 json item_row(const Batch& batch, std::size_t index, const core::Control& control) {
     const json& item = batch.options["items"][index];
     const std::string label = item.value("label", std::string());
@@ -150,23 +161,13 @@ json item_row(const Batch& batch, std::size_t index, const core::Control& contro
         // A coil's atypical value (a likely unit slip) is said in its row, pointing into the
         // batch as its problems do.
         json answer = outcome.body;
-        if (answer.contains("warnings") && answer["warnings"].is_array()) {
-            for (json& warning : answer["warnings"]) {
-                if (warning.contains("pointer") && warning["pointer"].is_string())
-                    warning["pointer"] = batch_pointer(batch.options, index, warning["pointer"]);
-            }
-        }
+        rebase_pointers(answer, "warnings", batch.options, index);
         return api::batch_row(index, label, false, answer);
     }
     // The problem's pointers into the batch: /scenario/strip/reduction of item 7 is
     // /options/items/7/scenario/strip/reduction (the batch's shared parts merged under it).
     json problem = outcome.body;
-    if (problem.contains("errors") && problem["errors"].is_array()) {
-        for (json& error : problem["errors"]) {
-            if (error.contains("pointer") && error["pointer"].is_string())
-                error["pointer"] = batch_pointer(batch.options, index, error["pointer"]);
-        }
-    }
+    rebase_pointers(problem, "errors", batch.options, index);
     return api::batch_row(index, label, true, problem);
 }
 
