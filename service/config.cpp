@@ -111,6 +111,9 @@ constexpr std::array settings{
                   "min (default 1000)"},
     ConfigSetting{"--webhook-max-attempts", "ROLLGAP_WEBHOOK_MAX_ATTEMPTS", "N",
                   "attempts at a callback before it is given up (default 10)"},
+    ConfigSetting{"--webhook-timeout-ms", "ROLLGAP_WEBHOOK_TIMEOUT_MS", "MS",
+                  "longest a callback attempt may take, connect to answer, however its receiver "
+                  "dribbles; then it is a failed attempt (default 15000, below the 30 s lease)"},
     ConfigSetting{"--max-scenarios", "ROLLGAP_MAX_SCENARIOS", "N",
                   "stored scenarios at once; a new name beyond: 507 (default 1000)"},
     ConfigSetting{"--instance", "ROLLGAP_INSTANCE", "NAME",
@@ -190,6 +193,8 @@ constexpr std::array integer_settings{
     IntegerSetting{
         "ROLLGAP_WEBHOOK_MAX_ATTEMPTS", 1, 100, "1..100",
         [](ServerConfig& c, long long n) { c.webhook_max_attempts = static_cast<std::size_t>(n); }},
+    IntegerSetting{"ROLLGAP_WEBHOOK_TIMEOUT_MS", 100, 20'000, "100..20000 ms",
+                   [](ServerConfig& c, long long n) { c.webhook_timeout = milliseconds(n); }},
     IntegerSetting{
         "ROLLGAP_MAX_SCENARIOS", 1, 1'000'000, "1..1000000",
         [](ServerConfig& c, long long n) { c.max_scenarios = static_cast<std::size_t>(n); }},
@@ -501,6 +506,7 @@ std::string describe(const ServerConfig& config) {
          << " webhook_secret=" << (config.webhook_secret ? "set" : "unset")
          << " webhook_backoff_ms=" << config.webhook_backoff.count()
          << " webhook_max_attempts=" << config.webhook_max_attempts
+         << " webhook_timeout_ms=" << config.webhook_timeout.count()
          << " max_scenarios=" << config.max_scenarios << " allowed_hosts="
          << (config.allowed_hosts.empty() ? std::string("any") : join(config.allowed_hosts))
          << " allowed_origins="

@@ -75,6 +75,10 @@ struct ServerConfig {
     std::optional<std::string> webhook_secret;
     std::chrono::milliseconds webhook_backoff{1000};
     std::size_t webhook_max_attempts = 10;
+    // An attempt as a whole, connect to the answer's last byte (a receiver that dribbles passes
+    // every per-read timeout); below the deliverer's lease, so no other replica claims it
+    // meanwhile.
+    std::chrono::milliseconds webhook_timeout{15'000};
     std::size_t max_scenarios = 1000;  // stored scenarios (names), beyond: 507
     std::string instance;              // names this replica in job documents; default: host name
     // The job store (docs/job-store.md). `store` empty: sqlite:<data_dir>/jobs.db, so one

@@ -2,6 +2,10 @@
 
 #include <spdlog/spdlog.h>
 
+#include <mutex>
+#include <string>
+#include <thread>
+
 #include "service/jobs.h"
 #include "service/version.h"
 #include "service/webhooks.h"
@@ -101,9 +105,32 @@ bool WebhookDeliverer::deliver_one() {
              webhook_signature(*state_.config.webhook_secret, timestamp, body)},
             {"User-Agent", "rollgap/" + std::string(version())},
         };
+        // The attempt as a whole ends at --webhook-timeout-ms, or when the deliverer stops: a
+        // receiver that sends its answer a byte every few seconds passes every per-read
+        // timeout and would hold this thread past the lease. The watchdog shuts the socket
+        // (httplib's stop() is the thread-safe way), and Post returns.
+        bool attempt_over = false;
+        bool cut = false;
+        std::thread watchdog([&] {
+            std::unique_lock lock(mutex_);
+            wake_.wait_for(lock, state_.config.webhook_timeout,
+                           [&] { return attempt_over || stopping_; });
+            if (attempt_over) return;
+            cut = true;
+            client.stop();
+        });
         const auto answer = client.Post(url->target(), headers, body, "application/json");
+        {
+            std::lock_guard lock(mutex_);
+            attempt_over = true;
+        }
+        wake_.notify_all();
+        watchdog.join();
         if (!answer) {
-            error = webhook_deliverer_detail::transport_error(answer.error());
+            error = cut ? "no complete answer within " +
+                              std::to_string(state_.config.webhook_timeout.count()) +
+                              " ms (--webhook-timeout-ms), or the replica was stopping"
+                        : webhook_deliverer_detail::transport_error(answer.error());
         } else if (answer->status < 200 || answer->status > 299) {
             error = "HTTP " + std::to_string(answer->status);
         }

@@ -24,11 +24,12 @@ public:
     WebhookDeliverer& operator=(const WebhookDeliverer&) = delete;
 
     void start();  // nothing when --webhook-allow is empty
-    void stop();   // an attempt in flight ends within its timeouts; idempotent
+    void stop();   // an attempt in flight is cut (a failed attempt, retried); idempotent
 
     // How often the outbox is looked at when nothing was due (a read, no lock taken).
     static constexpr std::chrono::milliseconds poll_interval{250};
-    // A claimed delivery's lease: longer than one attempt can take (connect + write + read).
+    // A claimed delivery's lease: longer than one attempt can take (--webhook-timeout-ms, at
+    // most 20 s, cuts an attempt whatever the receiver does).
     static constexpr std::chrono::milliseconds lease{30'000};
     static constexpr std::chrono::seconds connect_timeout{2};
     static constexpr std::chrono::seconds io_timeout{5};

@@ -7,6 +7,8 @@
 
 #include <doctest/doctest.h>
 
+#include <atomic>
+#include <chrono>
 #include <mutex>
 #include <set>
 #include <string>
@@ -216,6 +218,74 @@ TEST_CASE("callbacks: attempts run out into failed, with the last error") {
     CHECK(job["callback"]["attempts"] == 2);
     CHECK(job["callback"]["last_error"] == "could not connect");
     CHECK(log.text().find("callback failed") != std::string::npos);
+}
+
+namespace webhooks_http_test {
+
+// A receiver that answers 200 at once and then dribbles its body, a byte every 200 ms for 40 s:
+// every read gets a byte well within the client's per-read timeout (5 s).
+class Dribbler {
+public:
+    explicit Dribbler(int port) {
+        server_.Post(".*", [this](const httplib::Request&, httplib::Response& response) {
+            ++calls;
+            response.set_chunked_content_provider(
+                "application/json", [this](std::size_t, httplib::DataSink& sink) {
+                    for (int i = 0; i < 200 && !done_; ++i) {
+                        if (!sink.write(" ", 1)) return false;
+                        std::this_thread::sleep_for(std::chrono::milliseconds(200));
+                    }
+                    sink.done();
+                    return true;
+                });
+        });
+        REQUIRE(server_.bind_to_port("127.0.0.1", port));
+        thread_ = std::thread([this] { server_.listen_after_bind(); });
+        REQUIRE(eventually([this] { return server_.is_running(); }));
+    }
+    ~Dribbler() {
+        done_ = true;
+        server_.stop();
+        if (thread_.joinable()) thread_.join();
+    }
+    Dribbler(const Dribbler&) = delete;
+    Dribbler& operator=(const Dribbler&) = delete;
+    std::atomic<int> calls{0};
+
+private:
+    std::atomic<bool> done_{false};
+    httplib::Server server_;
+    std::thread thread_;
+};
+
+}  // namespace webhooks_http_test
+
+TEST_CASE("callbacks: a receiver that dribbles its answer is cut at --webhook-timeout-ms") {
+    const int port = free_loopback_port();
+    wht::Dribbler receiver(port);
+    service::ServerConfig config = wht::webhook_config(port);
+    config.webhook_timeout = std::chrono::milliseconds(1000);
+    config.webhook_max_attempts = 2;
+    config.webhook_backoff = std::chrono::milliseconds(50);
+    TestServer server(config);
+    auto client = server.client();
+    const auto started = std::chrono::steady_clock::now();
+    const std::string location =
+        submit_job(client, {{"analysis", "roll_gap"}, {"callback_url", wht::hook_url(port)}});
+    REQUIRE(
+        eventually([&] { return wht::job_at(client, location)["callback"]["state"] == "failed"; },
+                   std::chrono::milliseconds(20000)));
+    // Two attempts, each cut after 1 s: not the 40 s a dribbled answer would hold each (and
+    // the 30 s lease would have let another replica attempt meanwhile).
+    const auto took = std::chrono::steady_clock::now() - started;
+    MESSAGE("two attempts cut in " << std::chrono::duration<double>(took).count() << " s");
+    CHECK(took < std::chrono::seconds(20));
+    const json job = wht::job_at(client, location);
+    CHECK(job["callback"]["attempts"] == 2);
+    CHECK(receiver.calls == 2);
+    CAPTURE(job.dump());
+    CHECK(job["callback"]["last_error"].get<std::string>().find("--webhook-timeout-ms") !=
+          std::string::npos);
 }
 
 TEST_CASE("callbacks: two replicas on one store deliver each callback once") {
