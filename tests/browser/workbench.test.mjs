@@ -266,6 +266,16 @@ try {
       check(text.startsWith(schema.title) && tip === pointer, `${pointer} offered as ${text}`);
     }
     check(options.some(([p, text]) => p === '/lubricant/viscosity_Pa_s' && text === 'Lubricant viscosity [Pa·s]'), 'the viscosity with its unit');
+    // The options by their titles too (the option table's name column), never by their keys.
+    await page.click('#tab-stability');
+    const optionLabels = await page.$$eval('#options-form [data-pointer]', (all) => all.map((i) => [i.dataset.pointer, document.querySelector(`label[for="${i.id}"]`).querySelector('.name').textContent]));
+    const stability = doc.components.schemas.StabilityOptions.properties;
+    equalArrays(optionLabels.map(([p]) => p).sort(), Object.keys(stability).map((k) => `/options/${k}`).sort(), 'one input per stability option');
+    for (const [pointer, name] of optionLabels) {
+      const title = stability[pointer.replace('/options/', '')].title;
+      check(title && name === title && !name.includes('_'), `${pointer}: labelled ${name}, titled ${title}`);
+    }
+    check(optionLabels.some(([p, name]) => p === '/options/relative_tolerance' && name === 'Search tolerance'), 'relative_tolerance is the search tolerance');
     await page.click('#tab-roll_gap');
   });
 
@@ -837,6 +847,16 @@ try {
     })));
     check(canon(await listValue('f-options-parameters')) === canon(options.parameters) && canon(await listValue('f-options-observations')) === canon(options.observations),
       `the rows make the example's options: ${JSON.stringify(await listValue('f-options-observations'))}`);
+    // The measured quantities offered by the document's titles and units (x-enum-descriptions,
+    // x-units), their names the values sent.
+    const quantity = doc.components.schemas.CalibrateOptions.properties.observations.items.properties.quantity;
+    const offered = await page.$$eval('#f-options-observations-0-quantity option', (all) => all.filter((o) => o.value).map((o) => [o.value, o.textContent]));
+    equalArrays(offered.map(([v]) => v), quantity.enum, 'the quantities offered');
+    offered.forEach(([value, text], i) => {
+      const unit = quantity['x-units'][i] === '1' ? '' : ` [${quantity['x-units'][i].replace('.', '·')}]`;
+      check(text === `${quantity['x-enum-descriptions'][i]}${unit}`, `${value} offered as ${text}`);
+    });
+    check(offered.some(([v, text]) => v === 'roll_force_kN' && text === 'Roll force [kN]'), 'the roll force in kN');
     const [api, sent] = await Promise.all([post('/v1/calibrate', { options }).then((r) => r.body.result), postedDuring('/v1/jobs', () => runAndWait('calibration-residuals'))]);
     check(sent.length === 1 && canon(sent[0].options) === canon(options), `the page sent: ${JSON.stringify(sent.map((b) => b.options))}`);
     await page.waitForFunction(() => /job succeeded/.test(document.getElementById('status').textContent), null, { timeout: 120000 });
@@ -994,6 +1014,38 @@ try {
     check(other.url().includes('base=stand-3'), 'the base is in the link');
     await shot('stored-scenario', other);
     await scenarios.close();
+  });
+
+  await test('the editor\'s stand against a stored one: the stored stand run as stored and pinned, the editor\'s drawn beside it, both the API\'s', async () => {
+    await page.goto(base + '/');
+    await page.waitForSelector('body[data-ready="true"]');
+    await page.click('#tab-stability');
+    check(await page.isVisible('#compare-row'), 'a stored stand can be compared');
+    await page.selectOption('#compare-stored', 'stand-3');
+    await page.fill('#f-scenario-strip-reduction', '0.25');
+    await page.evaluate(() => document.getElementById('plots').replaceChildren());
+    const sent = await postedDuring('/v1/stability', async () => {
+      await page.click('#compare-run');
+      await page.waitForFunction(() => /^done in/.test(document.getElementById('status').textContent) && document.getElementById('plot-damping'), null, { timeout: 120000 });
+    });
+    // The stored stand as stored (its name as base, no changes), then the editor's stand; the
+    // same options for both.
+    check(sent.length === 2 && sent[0].base === 'stand-3' && canon(sent[0].scenario) === '{}', `first: ${JSON.stringify(sent[0])}`);
+    check(sent[1].base === undefined && sent[1].scenario.strip.reduction === 0.25 && canon(sent[1].options) === canon(sent[0].options), `then: ${JSON.stringify(sent[1])}`);
+    const version = (await fetch(base + '/v1/scenarios/stand-3')).headers.get('etag').replace(/"/g, '');
+    const name = await page.textContent('#pinned-name');
+    check(await page.isVisible('#pinned') && name === `stored stand stand-3 (version ${version})`, `pinned: ${name}`);
+    const [storedApi, currentApi] = await Promise.all(sent.map(async (b) => (await post('/v1/stability', b)).body.result.critical_speed));
+    // stand-3 is stored with a flow stress of 520 MPa: another stand, another critical speed.
+    check(storedApi.critical_speed_m_per_s !== currentApi.critical_speed_m_per_s, 'two different stands');
+    const damping = await chartData('damping');
+    const theirs = damping.datasets.filter((d) => d.label === `pinned (${name}): each mode, dashed`);
+    equalArrays(theirs.map((d) => d.data.map((p) => p.y).join()), storedApi.damping_branches.map((b) => b.damping_ratio.join()), 'the stored stand\'s modes');
+    currentApi.damping_branches.forEach((b, i) => equalArrays(damping.datasets[i].data.map((p) => p.y), b.damping_ratio, `the editor's mode ${i + 1}`));
+    check(dataset(damping, 'critical speed — pinned')[0].x === storedApi.critical_speed_m_per_s, 'the stored stand\'s critical speed');
+    check(dataset(damping, 'critical speed — this run')[0].x === currentApi.critical_speed_m_per_s, 'the editor\'s critical speed');
+    await shot('stability-compare-stored');
+    await page.click('#unpin');
   });
 
   await test('a stored stand calibrated from a coil\'s measurements on the page: a new version with its posterior (If-Match)', async () => {
@@ -1409,8 +1461,23 @@ try {
     const gains = api.what_to_change.changes.filter((x) => x.speed_gain_m_per_s !== null).slice(0, 3);
     const shown = Object.keys(headline).filter((k) => k.startsWith('to run faster: '));
     check(gains.length > 0 && shown.length === gains.length, `what to change: ${JSON.stringify(shown)} for ${gains.length} gains`);
+    // Each named by the Tandem document's title, with the stand or span it belongs to, its
+    // pointer beside it ("Lubricant viscosity of stand 2", "Interstand tension between stands 1 and 2").
+    const doc = await (await fetch(base + '/openapi.json')).json();
+    const tandemTitle = (pointer) => pointer.split('/').slice(1).reduce((node, key) => {
+      if (/^\d+$/.test(key)) {
+        const item = node.items && node.items.$ref ? doc.components.schemas[node.items.$ref.split('/').pop()] : node.items;
+        return item && item.properties ? item : node;
+      }
+      return node.properties[key];
+    }, doc.components.schemas.Tandem).title;
     gains.forEach((x, i) => {
-      check(shown[i].startsWith(`to run faster: ${x.direction} ${x.field} by `), `row ${i}: ${shown[i]}, the API ${x.direction} ${x.field}`);
+      const stand = /^\/stands\/(\d+)\//.exec(x.field) || /^\/exit_thickness_mm\/(\d+)$/.exec(x.field);
+      const span = /^\/spans\/[^/]+\/(\d+)$/.exec(x.field);
+      const where = stand ? ` of stand ${Number(stand[1]) + 1}` : span ? ` between stands ${Number(span[1]) + 1} and ${Number(span[1]) + 2}` : '';
+      const title = tandemTitle(x.field);
+      check(title, `the document names ${x.field}`);
+      check(shown[i].startsWith(`to run faster: ${x.direction} ${`${title}${where}`.toLowerCase()} (${x.field}) by `), `row ${i}: ${shown[i]}, the API ${x.direction} ${x.field}`);
       near(Number(headline[shown[i]]), x.speed_gain_m_per_s, `${x.field}'s gain [m/s]`);
     });
     check(chart.datasets.every((d) => !d.label.startsWith('critical speed:')), 'no uncertainty band without posteriors');

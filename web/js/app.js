@@ -43,6 +43,7 @@ function selectAnalysis(name) {
   const { job } = viewOf(app.analysis.name);
   $('run').textContent = job ? `Run ${app.analysis.label.toLowerCase()} as a job` : `Run ${app.analysis.label.toLowerCase()}`;
   $('run-job').hidden = Boolean(job);
+  $('compare-row').hidden = !$('compare-stored').options.length || ofMill(app.analysis);
 }
 
 function buildTabs() {
@@ -153,9 +154,10 @@ function runName(response) {
   return what.length ? `${from}: ${what.join(', ')}` : from;
 }
 
-// Pins the result shown (or unpins): the next runs draw it beside theirs.
-function setPinned(response) {
-  app.pinned = response ? { response, name: runName(response) } : null;
+// Pins the result shown (or unpins): the next runs draw it beside theirs. `name`: the legend's
+// (by default the run's stand and its first differences).
+function setPinned(response, name = response && runName(response)) {
+  app.pinned = response ? { response, name } : null;
   $('pinned').hidden = !app.pinned;
   $('pinned-name').textContent = app.pinned ? app.pinned.name : '';
   $('pin').textContent = app.pinned ? 'Pin this run instead' : 'Pin this run to compare';
@@ -174,6 +176,41 @@ function render(response, source) {
   $('download-csv').hidden = !row.csv;
   $('result-actions').hidden = false;
   if (app.report) fillReportView();
+}
+
+// One request's answer, as a job when its view runs as one (a sweep), else posted.
+async function answerOf(body) {
+  if (!viewOf(body.analysis).job) {
+    const { analysis, ...payload } = body;
+    return (await call('POST', analysisNamed(analysis).path, payload)).body;
+  }
+  const job = await runner.run(body);
+  if (job.state !== 'succeeded') throw new ProblemError(0, job.problem || { title: `The stored stand's run ${job.state}`, detail: `the job ${job.state}` });
+  return job.result.result ? job.result : { ...body, result: job.result };
+}
+
+// The editor's stand against a stored one: the analysis and options shown, run on the stored
+// stand as it is stored (its name as base, no changes), pinned under its name and version; then
+// the editor's run, drawn beside it as any pinned run is.
+async function compareWithStored() {
+  const name = $('compare-stored').value;
+  if (!name || ofMill(app.analysis)) return;
+  clearFieldErrors(document.body);
+  $('problem').hidden = true;
+  $('compare-run').disabled = true;
+  setStatus(`running the stored stand ${name}…`);
+  try {
+    const response = await answerOf({ analysis: app.analysis.name, base: name, scenario: {}, options: app.options.options() });
+    const version = response.base && response.base.version ? ` (version ${String(response.base.version).replace(/"/g, '')})` : '';
+    setPinned(response, `stored stand ${name}${version}`);
+  } catch (error) {
+    showProblem(error instanceof ProblemError ? error.problem : { title: `The stored stand ${name} could not be run`, detail: String(error) });
+    setStatus('failed');
+    return;
+  } finally {
+    $('compare-run').disabled = false;
+  }
+  await run(false);
 }
 
 // A run that did not succeed must not leave an earlier result on screen as if it were its own.
@@ -351,6 +388,9 @@ async function listStoredScenarios() {
   $('base').replaceChildren(Object.assign(document.createElement('option'), { value: '', textContent: 'the default scenario' }),
     ...list.map((s) => Object.assign(document.createElement('option'), { value: s.name, textContent: `${s.name}${s.updated_at ? ` (${s.updated_at})` : ''}` })));
   $('base').value = app.baseName;
+  const compared = $('compare-stored').value;
+  $('compare-stored').replaceChildren(...list.map((s) => Object.assign(document.createElement('option'), { value: s.name, textContent: s.name })));
+  if (list.some((s) => s.name === compared)) $('compare-stored').value = compared;
   return list;
 }
 
@@ -362,7 +402,9 @@ async function offerStoredScenarios(wanted) {
     app.storedOffered = true;
     $('base').addEventListener('change', () => chooseBase($('base').value).then(saveState).catch((error) => showProblem(error.problem || { detail: String(error) })));
     $('save').addEventListener('click', saveCurrentStand);
+    $('compare-run').addEventListener('click', compareWithStored);
   }
+  $('compare-row').hidden = !list.length || ofMill(app.analysis);
   if (wanted && list.some((s) => s.name === wanted)) await chooseBase(wanted);
 }
 

@@ -60,9 +60,19 @@ export function fieldInfo(doc, pointer, component = 'Scenario') {
   const code = schema['x-unit'] || (schema.items && resolve(doc, schema.items)['x-unit']) || '';
   return { title: schema.title || pointer, unit: unitText(code), pointer };
 }
-// A calibration's measured quantity as a label names it: 'roll_force_kN' → 'roll force [kN]'
-// (the unit is in the quantity's name, docs/model.md §11).
-export function quantityLabel(quantity) {
+// A calibration's measured quantity as a label names it: its title and unit from the document
+// ('roll_force_kN' → 'Roll force [kN]': the quantity table's x-enum-descriptions and x-units),
+// else from its name ('roll force [kN]': the unit is in the quantity's name, docs/model.md §11).
+export function quantityLabel(quantity, doc) {
+  const options = doc && resolve(doc, doc.components.schemas.CalibrateOptions || {});
+  const observations = options && options.properties && resolve(doc, options.properties.observations || {});
+  const item = observations && observations.items && resolve(doc, observations.items);
+  const schema = item && item.properties && item.properties.quantity;
+  const i = schema && Array.isArray(schema.enum) ? schema.enum.indexOf(quantity) : -1;
+  if (i >= 0 && Array.isArray(schema['x-enum-descriptions'])) {
+    const unit = unitText((schema['x-units'] || [])[i]);
+    return `${schema['x-enum-descriptions'][i]}${unit ? ` [${unit}]` : ''}`;
+  }
   const [, name, unit] = /^(.*?)(?:_(kN_m|kN|m_per_s|Hz))?$/.exec(quantity);
   const printed = unit ? unit.replace('_per_', '/').replace('kN_m', 'kN·m') : '';
   return `${name.replace(/_/g, ' ')}${printed ? ` [${printed}]` : ''}`;
@@ -202,7 +212,7 @@ function boundsOf(doc, pointer) {
   const schema = leafSchema(doc, pointer, 'Scenario');
   return { min: schema.minimum ?? schema.exclusiveMinimum, max: schema.maximum ?? schema.exclusiveMaximum };
 }
-const quantityUnit = (quantity) => (/\[(.*)\]$/.exec(quantityLabel(quantity || '')) || [])[1] || '';
+const quantityUnit = (quantity, doc) => (/\[(.*)\]$/.exec(quantityLabel(quantity || '', doc)) || [])[1] || '';
 
 // What rows a list's items get: columns (a member's path in the item, its header, its kind),
 // the unit of a row's numbers, how a row is named; null for a list edited as JSON only.
@@ -237,9 +247,9 @@ function rowsSpec(doc, items, list) {
   }
   if (p.quantity && Array.isArray(p.quantity.enum) && p.standard_uncertainty) {  // a fit's observations
     return {
-      what: 'observation', rowName: (i) => `observation ${i + 1}`, rowHead: (i) => String(i + 1), unit: (item) => quantityUnit(item.quantity),
+      what: 'observation', rowName: (i) => `observation ${i + 1}`, rowHead: (i) => String(i + 1), unit: (item) => quantityUnit(item.quantity, doc),
       columns: [
-        { path: ['quantity'], header: 'quantity', kind: 'choice', choices: p.quantity.enum.map((q) => [q, quantityLabel(q)]), row: true },
+        { path: ['quantity'], header: 'quantity', kind: 'choice', choices: p.quantity.enum.map((q) => [q, quantityLabel(q, doc)]), row: true },
         { path: ['value'], header: 'measured', kind: 'number' },
         { path: ['standard_uncertainty'], header: 'uncertainty (1σ)', kind: 'number', min: 0 },
         // The condition a coil is usually measured at; other conditions stay in the JSON.

@@ -49,6 +49,17 @@ const axisLabel = (doc, pointer, unit) => {
   return u ? `${pointer} [${u}]` : pointer;
 };
 const fieldName = (doc, pointer) => (doc ? fieldInfo(doc, pointer).title : pointer);
+// A number of the tandem document as a label names it: its title and the stand or span it
+// belongs to ("Lubricant viscosity of stand 3", "Interstand tension between stands 2 and 3"),
+// and its unit; its pointer when the document has no title for it.
+function millField(doc, pointer) {
+  const { title, unit } = doc ? fieldInfo(doc, pointer, 'Tandem') : { title: pointer, unit: '' };
+  if (title === pointer) return { name: pointer, unit };
+  const stand = /^\/stands\/(\d+)\//.exec(pointer) || /^\/exit_thickness_mm\/(\d+)$/.exec(pointer);
+  const span = /^\/spans\/[^/]+\/(\d+)$/.exec(pointer);
+  const where = stand ? ` of stand ${Number(stand[1]) + 1}` : span ? ` between stands ${Number(span[1]) + 1} and ${Number(span[1]) + 2}` : '';
+  return { name: `${title}${where}`, unit };
+}
 
 // A figure holding tables or controls rather than a plot (full width of the plots grid).
 function panel(plots, title) {
@@ -987,7 +998,7 @@ export const views = {
     },
   },
   tandem_speed_limit: {
-    render(response, plots) {
+    render(response, plots, { doc } = {}) {
       const r = response.result;
       speedLimitAxis(plots, response, true);
       const c = r.critical_speeds;
@@ -1009,7 +1020,10 @@ export const views = {
         row('its standard deviation', u ? u.standard_deviation_m_per_s : null, 'm/s'),
         row('its lower bound', u ? u.lower_bound_m_per_s : null, 'm/s'),
         ...(u && u.sampled ? [row(`its standard deviation over ${u.sampled.samples} seeded draws`, u.sampled.standard_deviation_m_per_s, 'm/s')] : []),
-        ...changes.slice(0, 3).map((x) => row(`to run faster: ${x.direction} ${x.field} by ${fmt(x.step)}`, x.speed_gain_m_per_s, 'm/s')),
+        ...changes.slice(0, 3).map((x) => {
+          const { name, unit } = millField(doc, x.field);
+          return row(`to run faster: ${x.direction} ${name.toLowerCase()} (${x.field}) by ${fmt(x.step)}${unit ? ` ${unit}` : ''}`, x.speed_gain_m_per_s, 'm/s');
+        }),
       ];
     },
   },
@@ -1059,7 +1073,7 @@ export const views = {
       if (!(r.warnings || []).length) list.append(Object.assign(document.createElement('li'), { textContent: 'none' }));
       warnings.append(list);
       quantities.forEach((quantity) => {
-        const named = quantityLabel(quantity);
+        const named = quantityLabel(quantity, doc);
         const mine = observations.map((o, i) => ({ o, n: i + 1 })).filter(({ o }) => o.quantity === quantity);
         addPlot(plots, {
           id: `calibration-${quantity}`, title: `${named.replace(/ \[.*\]$/, '')}: observed ± standard uncertainty and fitted`, small: true, pointLegend: true,
