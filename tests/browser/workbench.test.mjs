@@ -159,6 +159,18 @@ const heatmap = () => page.evaluate(() => {
     colours: m.values.map((v) => (v === null ? null : m.colorOf(v))) };
 });
 
+// The damping chart of a stability drawn beside a pinned one (`name`): the pinned modes share
+// one legend entry that names the run, this run's keep theirs; both critical speeds marked; each
+// the API's (`pinnedApi`, `currentApi`: the answers' critical_speed).
+async function checkPinnedDamping(name, pinnedApi, currentApi) {
+  const damping = await chartData('damping');
+  const theirs = damping.datasets.filter((d) => d.label === `pinned (${name}): each mode, dashed`);
+  equalArrays(theirs.map((d) => d.data.map((p) => p.y).join()), pinnedApi.damping_branches.map((b) => b.damping_ratio.join()), 'the pinned modes');
+  currentApi.damping_branches.forEach((b, i) => equalArrays(damping.datasets[i].data.map((p) => p.y), b.damping_ratio, `this run's mode ${i + 1}`));
+  check(dataset(damping, 'critical speed — pinned')[0].x === pinnedApi.critical_speed_m_per_s, 'the pinned critical speed');
+  check(dataset(damping, 'critical speed — this run')[0].x === currentApi.critical_speed_m_per_s, 'this run\'s critical speed');
+}
+
 async function runAndWait(plot) {
   await page.evaluate(() => document.getElementById('plots').replaceChildren());
   await page.click('#run');
@@ -444,13 +456,7 @@ try {
     await page.fill('#f-scenario-strip-reduction', '0.25');
     await runAndWait('damping');
     const [pinnedApi, currentApi] = await Promise.all([patch, { strip: { reduction: 0.25 } }].map(async (p) => (await post('/v1/stability', { scenario: p })).body.result.critical_speed));
-    const damping = await chartData('damping');
-    // The pinned modes share one legend entry that names the run; this run's keep theirs.
-    const theirs = damping.datasets.filter((d) => d.label === `pinned (${name}): each mode, dashed`);
-    equalArrays(theirs.map((d) => d.data.map((p) => p.y).join()), pinnedApi.damping_branches.map((b) => b.damping_ratio.join()), 'the pinned modes');
-    currentApi.damping_branches.forEach((b, i) => equalArrays(damping.datasets[i].data.map((p) => p.y), b.damping_ratio, `this run's mode ${i + 1}`));
-    check(dataset(damping, 'critical speed — pinned')[0].x === pinnedApi.critical_speed_m_per_s, 'the pinned critical speed');
-    check(dataset(damping, 'critical speed — this run')[0].x === currentApi.critical_speed_m_per_s, 'this run\'s critical speed');
+    await checkPinnedDamping(name, pinnedApi, currentApi);
     check((await page.textContent('figure:has(#plot-damping) figcaption')).includes(`this run (default stand: Reduction 0.25, solid) and the pinned (${name}, dashed)`), 'the caption names both runs');
     const growth = await chartData('growth');
     equalArrays(dataset(growth, `max growth rate [1/s] — pinned (${name})`).map((p) => p.y), pinnedApi.scan.map((q) => q.max_growth_rate_per_s), 'the pinned growth rate');
@@ -1038,12 +1044,7 @@ try {
     const [storedApi, currentApi] = await Promise.all(sent.map(async (b) => (await post('/v1/stability', b)).body.result.critical_speed));
     // stand-3 is stored with a flow stress of 520 MPa: another stand, another critical speed.
     check(storedApi.critical_speed_m_per_s !== currentApi.critical_speed_m_per_s, 'two different stands');
-    const damping = await chartData('damping');
-    const theirs = damping.datasets.filter((d) => d.label === `pinned (${name}): each mode, dashed`);
-    equalArrays(theirs.map((d) => d.data.map((p) => p.y).join()), storedApi.damping_branches.map((b) => b.damping_ratio.join()), 'the stored stand\'s modes');
-    currentApi.damping_branches.forEach((b, i) => equalArrays(damping.datasets[i].data.map((p) => p.y), b.damping_ratio, `the editor's mode ${i + 1}`));
-    check(dataset(damping, 'critical speed — pinned')[0].x === storedApi.critical_speed_m_per_s, 'the stored stand\'s critical speed');
-    check(dataset(damping, 'critical speed — this run')[0].x === currentApi.critical_speed_m_per_s, 'the editor\'s critical speed');
+    await checkPinnedDamping(name, storedApi, currentApi);
     await shot('stability-compare-stored');
     await page.click('#unpin');
   });
