@@ -2,6 +2,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include <chrono>
 #include <mutex>
 #include <string>
 #include <thread>
@@ -108,16 +109,19 @@ bool WebhookDeliverer::deliver_one() {
         // The attempt as a whole ends at --webhook-timeout-ms, or when the deliverer stops: a
         // receiver that sends its answer a byte every few seconds passes every per-read
         // timeout and would hold this thread past the lease. The watchdog shuts the socket
-        // (httplib's stop() is the thread-safe way), and Post returns.
+        // (httplib's stop() is the thread-safe way), and Post returns; again until it has (a
+        // stop() before Post opened its socket has nothing to shut yet).
         bool attempt_over = false;
         bool cut = false;
         std::thread watchdog([&] {
             std::unique_lock lock(mutex_);
             wake_.wait_for(lock, state_.config.webhook_timeout,
                            [&] { return attempt_over || stopping_; });
-            if (attempt_over) return;
-            cut = true;
-            client.stop();
+            while (!attempt_over) {
+                cut = true;
+                client.stop();
+                wake_.wait_for(lock, std::chrono::milliseconds(50), [&] { return attempt_over; });
+            }
         });
         const auto answer = client.Post(url->target(), headers, body, "application/json");
         {
