@@ -168,12 +168,15 @@ TEST_CASE(
     const json document = service::openapi_document();
     const json& schemas = document.at("components").at("schemas");
     int titled = 0;
-    for (const auto& [name, schema] : schemas.items()) {
+    for (const auto& component : schemas.items()) {
+        const std::string name = component.key();  // a plain local: CAPTURE takes it by lambda
         if (name.find("Options") == std::string::npos && name != "MapAxis") continue;
         CAPTURE(name);
         std::set<std::string> titles;
-        const json properties = schema.value("properties", json::object());
-        for (const auto& [member, property] : properties.items()) {
+        const json properties = component.value().value("properties", json::object());
+        for (const auto& entry : properties.items()) {
+            const std::string member = entry.key();
+            const json& property = entry.value();
             CAPTURE(member);
             REQUIRE(property.contains("title"));
             const std::string title = property.at("title").get<std::string>();
