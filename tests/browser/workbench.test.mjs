@@ -665,6 +665,47 @@ try {
     check(!page.url().includes('units='), `SI is the default: ${page.url()}`);
   });
 
+  await test('plant units in the editor: a speed typed in m/min and a viscosity in mPa·s are sent in SI, as the API converts its plant keys', async () => {
+    await page.click('#tab-roll_gap');
+    const speed = '#f-scenario-rolls-speed-m-per-s';
+    const viscosity = '#f-scenario-lubricant-viscosity-Pa-s';
+    const [speedSi, viscositySi] = [Number(await page.inputValue(speed)), Number(await page.inputValue(viscosity))];
+    const diffPointers = () => page.$$eval('#diff li', (all) => all.map((li) => li.dataset.pointer));
+    const diffBefore = await diffPointers();
+    await page.check('#units-plant');
+    try {
+      // The same values in the units shown, the labels saying so; switching changes nothing.
+      check(Number(await page.inputValue(speed)) === speedSi * 60, `the roll speed shown: ${await page.inputValue(speed)} for ${speedSi} m/s`);
+      check(await page.textContent(`label[for="${speed.slice(1)}"] .unit`) === ' [m/min]', 'the speed in m/min');
+      check(Number(await page.inputValue(viscosity)) === Number((viscositySi * 1000).toPrecision(12)), `the viscosity shown: ${await page.inputValue(viscosity)} for ${viscositySi} Pa·s`);
+      check(await page.textContent(`label[for="${viscosity.slice(1)}"] .unit`) === ' [mPa·s]', 'the viscosity in mPa·s');
+      equalArrays(await diffPointers(), diffBefore, 'switching units changes no field');
+      // Typed in plant units: the request carries the SI values the API makes of the plant keys.
+      await page.fill(speed, '1200');
+      await page.fill(viscosity, '0.7');
+      const sent = await postedDuring('/v1/roll-gap', () => runAndWait('pressure'));
+      const api = (await post('/v1/roll-gap', { scenario: { ...patch, rolls: { speed_m_per_min: 1200 }, lubricant: { viscosity_mPa_s: 0.7 } } })).body.scenario;
+      check(sent.length === 1 && sent[0].scenario.rolls.speed_m_per_s === api.rolls.speed_m_per_s && api.rolls.speed_m_per_s === 20, `speed sent ${JSON.stringify(sent[0] && sent[0].scenario.rolls)}, the API's ${api.rolls.speed_m_per_s}`);
+      check(sent[0].scenario.lubricant.viscosity_Pa_s === api.lubricant.viscosity_Pa_s && api.lubricant.viscosity_Pa_s === 0.0007, `viscosity sent ${JSON.stringify(sent[0].scenario.lubricant)}, the API's ${api.lubricant.viscosity_Pa_s}`);
+      const speedChange = await page.textContent('#diff li[data-pointer="/rolls/speed_m_per_s"]');
+      check(speedChange === `Roll speed [m/min]: ${speedSi * 60} → 1200`, `the change in m/min: ${speedChange}`);
+      // An option in m/s too: its default and bound in m/min.
+      await page.click('#tab-stability');
+      check(await page.getAttribute('#f-options-speed-max-m-per-s', 'placeholder') === 'default 3600', `highest search speed: ${await page.getAttribute('#f-options-speed-max-m-per-s', 'placeholder')}`);
+      await page.fill('#f-options-speed-max-m-per-s', '2400');
+      check(JSON.stringify(await page.evaluate(() => document.getElementById('f-options-speed-max-m-per-s').value)) === '"2400"', 'typed in m/min');
+      await page.check('#units-si');
+      check(await page.inputValue('#f-options-speed-max-m-per-s') === '40' && await page.inputValue(speed) === '20' && await page.inputValue(viscosity) === '0.0007', 'back in SI: the same values');
+    } finally {  // the tests after this one start from the editor as it was
+      await page.check('#units-si');
+      await page.fill('#f-options-speed-max-m-per-s', '');
+      await page.fill(speed, String(speedSi));
+      await page.fill(viscosity, String(viscositySi));
+      await page.click('#tab-roll_gap');
+    }
+    equalArrays(await diffPointers(), diffBefore, 'the editor as it was');
+  });
+
   // A 3 x 4 map with changes of chatter type and cells stable over the whole search range.
   const mapOptions = { parameters: [
     { parameter: '/mill/rayleigh/damping_ratio', values: [0.03, 0.06, 0.1] },

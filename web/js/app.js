@@ -2,8 +2,8 @@
 // report together. Everything it knows about fields and analyses comes from /openapi.json (the
 // analyses: its x-rollgap-analyses, the rows of the service's analysis table).
 import { ProblemError, call, fetchBlob, getJson, setToken, token } from './api.js';
-import { clearPlots, setUnitsShown, unitsShown } from './charts.js';
-import { MillForm, OptionsForm, ScenarioForm, attachRows, clearFieldErrors, diffPatch, fieldInfo, fieldLabel, mergePatch, patchLeaves, resolve, showFieldErrors } from './editor.js';
+import { clearPlots, labelShown, unitsShown } from './charts.js';
+import { MillForm, OptionsForm, ScenarioForm, attachRows, clearFieldErrors, diffPatch, fieldInfo, fieldLabel, mergePatch, patchLeaves, resolve, showFieldErrors, switchInputUnits, valueShown } from './editor.js';
 import { JobRunner, openJob, recentJobs, useServerJobList } from './jobs.js';
 import { createScenario, saveMill, storedMill, storedMills, storedScenario, storedScenarios, updateScenario } from './scenarios.js';
 import { downloadCsv, downloadJson, fillReport, table } from './report.js';
@@ -77,10 +77,13 @@ function saveState() {
 // SI or plant units (m/min, mPa·s) for what the page shows; the result on screen is drawn again
 // in them (the answer is kept: nothing is computed again).
 function setUnits(mode, { redraw = true } = {}) {
-  setUnitsShown(mode);
+  switchInputUnits(document, mode);  // the inputs too: a speed typed in m/min, a viscosity in mPa·s
   $('units-si').checked = unitsShown() === 'si';
   $('units-plant').checked = unitsShown() === 'plant';
-  if (redraw && app.response) render(app.response, app.source);
+  if (!redraw) return;
+  showDiff();
+  showMillDiff();
+  if (app.response) render(app.response, app.source);
 }
 
 // One changed field: its name and unit, the base's value and the value; its pointer as the tooltip.
@@ -98,7 +101,12 @@ function showDiff() {
   const base = app.baseName ? `stored scenario ${app.baseName}` : 'default scenario';
   $('diff-count').textContent = changes.length ? `${changes.length} field${changes.length > 1 ? 's differ' : ' differs'} from the ${base}` : `the ${base}`;
   $('diff').setAttribute('aria-label', `Fields that differ from the ${base}`);
-  $('diff').replaceChildren(...changes.map(([pointer, base, value]) => diffItem(fieldLabel(app.doc, pointer), pointer, base, value)));
+  // In the units shown, as the inputs are ("Roll speed [m/min]: 1140 → 1200").
+  const item = ([pointer, from, to]) => {
+    const { unit } = fieldInfo(app.doc, pointer);
+    return diffItem(labelShown(fieldLabel(app.doc, pointer)), pointer, valueShown(from, unit), valueShown(to, unit));
+  };
+  $('diff').replaceChildren(...changes.map(item));
 }
 
 function showMillDiff() {
@@ -107,7 +115,11 @@ function showMillDiff() {
   const base = app.millBase ? `stored mill ${app.millBase}` : 'default mill';
   $('mill-diff-count').textContent = changes.length ? `${changes.length} field${changes.length > 1 ? 's differ' : ' differs'} from the ${base}` : `the ${base}`;
   $('mill-diff').setAttribute('aria-label', `Fields that differ from the ${base}`);
-  $('mill-diff').replaceChildren(...changes.map(([pointer, base, value]) => diffItem(fieldLabel(app.doc, pointer, 'Tandem'), pointer, base ?? '—', value)));
+  const item = ([pointer, from, to]) => {
+    const { unit } = fieldInfo(app.doc, pointer, 'Tandem');
+    return diffItem(labelShown(fieldLabel(app.doc, pointer, 'Tandem')), pointer, valueShown(from ?? '—', unit), valueShown(to, unit));
+  };
+  $('mill-diff').replaceChildren(...changes.map(item));
 }
 
 function setStatus(text) { $('status').textContent = text; }

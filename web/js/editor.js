@@ -3,7 +3,7 @@
 // schema, so a field added to the service appears here without touching the page. A field is
 // named by its title (the field table's name column: "Lubricant viscosity"), its JSON pointer
 // kept in the label's tooltip for those who type requests.
-import { unitText } from './charts.js';
+import { setUnitsShown, shown, unitText } from './charts.js';
 
 const fieldId = (pointer) => 'f' + pointer.replace(/[^A-Za-z0-9]+/g, '-');
 
@@ -99,6 +99,21 @@ export function numberText(x) {
   return x !== 0 && (Math.abs(x) < 1e-3 || Math.abs(x) >= 1e6) ? x.toExponential().replace('e+', 'e') : String(x);
 }
 
+// Plant units on the inputs: in plant units a speed is typed in m/min and a viscosity in mPa·s
+// (charts.js `shown`); the input shows the SI value converted and reads what is typed back into
+// SI as the API converts its plant keys (docs/http-api.md "Plant units": a power of ten shifts
+// the number's shortest decimal form, ÷ 60 is one correctly rounded division). The requests and
+// the link stay in the API's units; an untouched input gives back its SI value as it was.
+function shiftDecimal(x, places) {
+  const [mantissa, exponent = '0'] = String(x).split('e');
+  return Number(`${mantissa}e${Number(exponent) + places}`);
+}
+const inShownUnit = (si, factor) => (factor === 1 ? si : factor === 1000 ? shiftDecimal(si, 3) : Number((si * factor).toPrecision(15)));
+const fromShownUnit = (value, factor) => (factor === 1 ? value : factor === 1000 ? shiftDecimal(value, -3) : value / factor);
+const factorOfInput = (input) => (input.dataset.unit ? shown(input.dataset.unit).factor : 1);
+// A value in `unit` (as printed) in the units shown, converted as the inputs convert it.
+export const valueShown = (si, unit) => (typeof si === 'number' && unit ? inShownUnit(si, shown(unit).factor) : si);
+
 function boundText(schema) {
   const low = schema.minimum ?? schema.exclusiveMinimum;
   const high = schema.maximum ?? schema.exclusiveMaximum;
@@ -151,7 +166,41 @@ function leafInput(doc, schema, pointer, optional) {
   if (optional && schema.default !== undefined && input.tagName === 'INPUT') {
     input.placeholder = `default ${Array.isArray(schema.default) ? schema.default.map(numberText).join(', ') : numberText(schema.default)}`;
   }
+  // A number in a unit the page may show in plant units: its SI bounds and default kept, shown
+  // in the unit of the moment (showInputUnit).
+  const unit = unitText(schema['x-unit']);
+  if (input.dataset.kind === 'number' && input.tagName === 'INPUT' && unit) {
+    input.dataset.unit = unit;
+    input.siSchema = schema;
+    input.siOptional = optional;
+  }
   return input;
+}
+
+// An input's unit, bounds and default in the units shown (the label's unit, the placeholder,
+// the browser's min and max, the bound in the tooltip).
+function showInputUnit(input) {
+  if (!input.dataset.unit) return;
+  const factor = factorOfInput(input);
+  const schema = input.siSchema;
+  const convert = (v) => (typeof v === 'number' ? inShownUnit(v, factor) : v);
+  const low = schema.minimum ?? schema.exclusiveMinimum;
+  const high = schema.maximum ?? schema.exclusiveMaximum;
+  if (low !== undefined) input.min = String(convert(low)); else input.removeAttribute('min');
+  if (high !== undefined) input.max = String(convert(high)); else input.removeAttribute('max');
+  if (input.siOptional && schema.default !== undefined) input.placeholder = `default ${numberText(convert(schema.default))}`;
+  const unit = shown(input.dataset.unit).unit;
+  const bound = boundText({ ...schema, minimum: convert(schema.minimum), exclusiveMinimum: convert(schema.exclusiveMinimum), maximum: convert(schema.maximum), exclusiveMaximum: convert(schema.exclusiveMaximum) });
+  if (bound) input.title = `allowed ${bound} ${unit}`;
+  if (input.unitLabel) input.unitLabel.textContent = ` [${unit}]`;
+}
+
+// Shows every input under `root` in `mode`'s units ('si' or 'plant'), their values unchanged.
+export function switchInputUnits(root, mode) {
+  const converted = [...root.querySelectorAll('input[data-unit]')];
+  const values = converted.map((input) => readInput(input));
+  setUnitsShown(mode);
+  converted.forEach((input, i) => { writeInput(input, values[i]); showInputUnit(input); });
 }
 
 // `name`: what the label says when the schema has no title (an option's member name).
@@ -161,7 +210,10 @@ function field(doc, schema, name, pointer, optional) {
   const unit = unitText(schema['x-unit'] || (schema.items && schema.items['x-unit']));
   const label = el('label', { for: input.id });
   label.append(el('span', { class: 'name' }, schema.title || name));
-  if (unit) label.append(el('span', { class: 'unit' }, ` [${unit}]`));
+  if (unit) {
+    input.unitLabel = el('span', { class: 'unit' }, ` [${unit}]`);
+    label.append(input.unitLabel);
+  }
   // The field's pointer in the request (without the form's /scenario or /tandem), for experts.
   if (schema.title) label.title = pointer.replace(/^\/(scenario|tandem)(?=\/)/, '');
   const help = el('p', { class: 'help', id: `${input.id}-help` },
@@ -170,6 +222,7 @@ function field(doc, schema, name, pointer, optional) {
   if (optional) label.title = help.textContent;
   const bound = boundText(schema);
   if (bound) input.title = `allowed ${bound}${unit && unit !== '1' ? ' ' + unit : ''}`;
+  showInputUnit(input);
   const error = el('p', { class: 'field-error', id: `${input.id}-error`, hidden: true });
   if (input.dataset.kind === 'json') wrapper.classList.add('wide');
   if (input.dataset.kind === 'array') wrapper.classList.add('list');  // room for its default's numbers
@@ -427,7 +480,13 @@ function readInput(input) {
   if (input.type === 'checkbox') return raw;
   if (raw === '') return undefined;
   switch (input.dataset.kind) {
-    case 'number': { const n = Number(raw); return Number.isNaN(n) ? raw : n; }
+    case 'number': {
+      const n = Number(raw);
+      if (Number.isNaN(n)) return raw;
+      // In plant units: the value written there, untouched, is its SI value as it was.
+      if (input.dataset.si !== undefined && raw === input.dataset.shownText) return Number(input.dataset.si);
+      return fromShownUnit(n, factorOfInput(input));
+    }
     case 'boolean': return raw === 'true';
     case 'json': try { return JSON.parse(raw); } catch { return raw; }  // the service names what is wrong
     case 'array': return raw.split(/[\s,;]+/).filter(Boolean).map((v) => (Number.isNaN(Number(v)) ? v : Number(v)));
@@ -440,7 +499,14 @@ function writeInput(input, value) {
   else if (value === undefined || value === null) input.value = '';
   else if (input.dataset.kind === 'json') input.value = Array.isArray(value) ? `[\n${value.map((item) => ' ' + JSON.stringify(item)).join(',\n')}\n]` : JSON.stringify(value);
   else if (Array.isArray(value)) input.value = value.join(', ');
-  else input.value = String(value);
+  else input.value = String(typeof value === 'number' ? inShownUnit(value, factorOfInput(input)) : value);
+  if (input.dataset.unit && typeof value === 'number' && factorOfInput(input) !== 1) {
+    input.dataset.si = String(value);
+    input.dataset.shownText = input.value;
+  } else {
+    delete input.dataset.si;
+    delete input.dataset.shownText;
+  }
   if (input.rowsEditor) input.rowsEditor.refresh();
 }
 
