@@ -34,7 +34,6 @@ const json* at(const json& document, std::string_view pointer) {
     return document.contains(location) ? &document.at(location) : nullptr;
 }
 
-// Appends the records of one block of rows, each led by `lead`.
 // Per field of a record (the leading columns, then the columns): the plant unit its values
 // are converted to, or null for a field that stays as it is. Empty: every field stays.
 using Conversions = std::vector<const AlternateUnit*>;
@@ -47,6 +46,7 @@ std::string converted_record(std::vector<json> fields, const Conversions& conver
     return csv_record(fields);
 }
 
+// Appends the records of one block of rows, each led by `lead`, converted by `conversions`.
 bool append_rows(const json& rows, const std::vector<std::string>& columns,
                  const std::vector<json>& lead, const Conversions& conversions, std::string& text) {
     if (rows.is_array()) {

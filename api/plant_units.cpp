@@ -311,6 +311,26 @@ std::optional<double> tension_cross_section_m2(const core::Scenario& scenario,
     return std::nullopt;
 }
 
+std::optional<double> stress_of_force(const nlohmann::json& force, const std::string& at,
+                                      double area_m2, const Interval& range,
+                                      std::string_view section, FieldErrors& errors) {
+    if (!force.is_number()) {
+        errors.add({at, "must be a number in kN (or null)", std::nullopt, "kN"});
+        return std::nullopt;
+    }
+    const double force_kn = force.get<double>();
+    const double stress = force_kn / area_m2 / 1000.0;  // kN/m² is kPa: ÷ 1000 for MPa
+    if (std::isfinite(force_kn) && range.contains(stress)) return stress;
+    const Interval in_kilonewton{range.min * area_m2 * 1000.0, range.max * area_m2 * 1000.0,
+                                 range.min_open, range.max_open};
+    errors.add({at,
+                concat(format_number(force_kn), " kN over the strip's ",
+                       format_number(area_m2 * 1e6), " mm² (", section, ") is ",
+                       format_number(stress), " MPa, outside ", range.text(), " MPa"),
+                in_kilonewton.text(), "kN"});
+    return std::nullopt;
+}
+
 std::vector<GivenAs> resolve_tension_forces(const nlohmann::json& document,
                                             const std::string& pointer, core::Scenario& scenario,
                                             FieldErrors& errors) {
@@ -332,33 +352,15 @@ std::vector<GivenAs> resolve_tension_forces(const nlohmann::json& document,
                 if (errors.has_error_at_or_below(concat(pointer, "/strip"))) continue;
                 const ScenarioField* field = find_scenario_field(concat(group, "/", member));
                 if (field == nullptr) continue;
-                if (!given->is_number()) {
-                    errors.add(
-                        {where, concat("must be a number in kN (or null)"), std::nullopt, "kN"});
-                    continue;
-                }
                 const double area = *tension_cross_section_m2(scenario, group);
-                const double force_kn = given->get<double>();
-                // kN/m² is kPa: the stress in the field's unit (MPa) is ÷ 1000
-                const double stress = force_kn / area / 1000.0;
-                if (!std::isfinite(force_kn) || !field->range.contains(stress)) {
-                    const Interval in_kilonewton{field->range.min * area * 1000.0,
-                                                 field->range.max * area * 1000.0,
-                                                 field->range.min_open, field->range.max_open};
-                    errors.add(
-                        {where,
-                         concat(format_number(force_kn), " kN over the strip's ",
-                                format_number(area * 1e6), " mm² (",
-                                group == "/tension/back" ? "width × entry thickness"
-                                                         : "width × exit thickness",
-                                ") is ", format_number(stress), " ", field->unit.code, ", outside ",
-                                field->range.text(), " ", field->unit.code, " (", member, ")"),
-                         in_kilonewton.text(), "kN"});
-                    continue;
-                }
-                field->number(scenario) = to_si(stress, field->unit);
+                const auto stress = stress_of_force(
+                    *given, where, area, field->range,
+                    group == "/tension/back" ? "width × entry thickness" : "width × exit thickness",
+                    errors);
+                if (!stress) continue;
+                field->number(scenario) = to_si(*stress, field->unit);
                 converted.push_back({field->path, concat(group, "/", alternate), area * 1000.0,
-                                     unit->unit, force_kn});
+                                     unit->unit, given->get<double>()});
             }
         }
     }

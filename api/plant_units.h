@@ -81,6 +81,14 @@ std::vector<std::string> deferred_alternates(std::span<const std::string_view> m
 std::optional<double> tension_cross_section_m2(const core::Scenario& scenario,
                                                std::string_view group);
 
+// A tension given as a force: `force` (JSON, in kN) over `area_m2` as a stress in the unit of
+// `range` (MPa), when it is a finite number whose stress lies in `range`; else an error at `at`
+// (not a number, or outside the range with the bound in kN over this cross-section; `section`
+// names it: "width × entry thickness"). One rule for a stand's sides and a mill's spans.
+std::optional<double> stress_of_force(const nlohmann::json& force, const std::string& at,
+                                      double area_m2, const Interval& range,
+                                      std::string_view section, FieldErrors& errors);
+
 // A field the client gave in another unit by another member (a tension as a force): a rule
 // that involves the canonical field (scenario_consistency.h) reports at the member given, with
 // its bound in that unit (bound × per_canonical).

@@ -249,22 +249,9 @@ void resolve_mill_tension_forces(const json& document, const std::string& base, 
                           !errors.has_error_at_or_below(base + "/strip/width_mm");
     // One force: its stress in MPa over `area` m², or an error at `at` with the bound in kN.
     const auto stress_of = [&errors](const json& force, const std::string& at, double area,
-                                     const Interval& range) -> std::optional<double> {
-        if (!force.is_number()) {
-            errors.add({at, "must be a number in kN", std::nullopt, "kN"});
-            return std::nullopt;
-        }
-        const double force_kn = force.get<double>();
-        const double stress = force_kn / area / 1000.0;  // kN/m² is kPa
-        if (std::isfinite(force_kn) && range.contains(stress)) return stress;
-        const Interval in_kilonewton{range.min * area * 1000.0, range.max * area * 1000.0,
-                                     range.min_open, range.max_open};
-        errors.add({at,
-                    concat(format_number(force_kn), " kN over the strip's ",
-                           format_number(area * 1e6), " mm² there is ", format_number(stress),
-                           " MPa, outside ", range.text(), " MPa"),
-                    in_kilonewton.text(), "kN"});
-        return std::nullopt;
+                                     const Interval& range) {
+        return stress_of_force(force, at, area, range, "mill width × thickness in that span",
+                               errors);
     };
     for (const std::string_view group :
          {std::string_view("/entry"), std::string_view("/spans"), std::string_view("/exit")}) {

@@ -214,13 +214,20 @@ TEST_CASE("csv: amplitude points and time series, led by the speed") {
     CHECK(first == series.size());
 }
 
+namespace csv_test_sweep {
+// A sweep of the lubricant's viscosity over two values (a column in Pa·s and one in m/s).
+json viscosity_sweep() {
+    return answer({{"analysis", "sweep"},
+                   {"options",
+                    {{"parameter", "/lubricant/viscosity_Pa_s"},
+                     {"values", {4e-4, 7e-4}},
+                     {"critical_speed", {{"speed_min_m_per_s", 10}, {"speed_max_m_per_s", 35}}}}}});
+}
+}  // namespace csv_test_sweep
+using csv_test_sweep::viscosity_sweep;
+
 TEST_CASE("csv: sweep points, the value first under its unit-carrying name") {
-    const json body =
-        answer({{"analysis", "sweep"},
-                {"options",
-                 {{"parameter", "/lubricant/viscosity_Pa_s"},
-                  {"values", {4e-4, 7e-4}},
-                  {"critical_speed", {{"speed_min_m_per_s", 10}, {"speed_max_m_per_s", 35}}}}}});
+    const json body = viscosity_sweep();
     const Rows rows = table(body);
     CHECK(rows[0] == std::vector<std::string>{"value_Pa_s", "status", "critical_speed_m_per_s",
                                               "frequency_Hz", "chatter_type", "chatter_band"});
@@ -228,12 +235,7 @@ TEST_CASE("csv: sweep points, the value first under its unit-carrying name") {
 }
 
 TEST_CASE("csv: units=plant shows speeds in m/min and viscosities in mPa.s, the rest as it is") {
-    const json body =
-        answer({{"analysis", "sweep"},
-                {"options",
-                 {{"parameter", "/lubricant/viscosity_Pa_s"},
-                  {"values", {4e-4, 7e-4}},
-                  {"critical_speed", {{"speed_min_m_per_s", 10}, {"speed_max_m_per_s", 35}}}}}});
+    const json body = viscosity_sweep();
     const service::CsvAnswer csv = service::csv_answer(body, "", "plant");
     REQUIRE_MESSAGE(csv.status == 200, csv.body);
     const Rows rows = parse_csv(csv.body);
